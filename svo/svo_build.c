@@ -719,6 +719,20 @@ static uint32_t run_intern(bld* b, outw* o, const uint32_t* ids, unsigned n, con
 }
 
 /* With add false: UINT32_MAX when the run is not stored yet. */
+/* The run's records appended to the model's (not stored in the run table);
+ * its first record's index, UINT32_MAX on failure. */
+static uint32_t run_append(bld* b, outw* o, const uint32_t* ids, unsigned n) {
+    if (o->nid + n >= 0xFFFFFFF0u) {
+        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 attribute records");
+        return UINT32_MAX;
+    }
+    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
+    uint32_t st = (uint32_t)o->nid;
+    memcpy(o->ids + o->nid, ids, n * sizeof *ids);
+    o->nid += n;
+    return st;
+}
+
 static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp) {
     uint64_t h = 0;
     size_t j = 0;
@@ -749,13 +763,8 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
         }
         if (!add) return UINT32_MAX;
     }
-    if (o->nid + n >= 0x0FFFFFF0u) {
-        /* beyond what the run table can address: stop sharing, keep going */
-        if (o->nid + n >= 0xFFFFFFF0u) {
-            b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 attribute records");
-            return UINT32_MAX;
-        }
-    } else if (b->dag) {
+    /* beyond what the run table can address (0x0FFFFFF0 records): stop sharing, keep going */
+    if (b->dag && o->nid + n < 0x0FFFFFF0u) {
         o->runh[j] = (h & 0xFFFFFFFF00000000ull) | ((uint64_t)n << 28) | ((uint32_t)o->nid + 1);
         o->nrun++;
         bool uni = true;
@@ -767,11 +776,7 @@ static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned 
             e->start[n - 1] = (uint32_t)o->nid;
         }
     }
-    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
-    uint32_t st = (uint32_t)o->nid;
-    memcpy(o->ids + o->nid, ids, n * sizeof *ids);
-    o->nid += n;
-    return st;
+    return run_append(b, o, ids, n);
 }
 
 /* The node's run from the runs stream (bld.runs, FORMAT.md 3.7): one byte a
@@ -806,15 +811,7 @@ static uint32_t run_take(bld* b, outw* o, const uint32_t* ids, unsigned n, const
                           o->runs_taken - 1, f);
         return UINT32_MAX;
     }
-    if (o->nid + n >= 0xFFFFFFF0u) {
-        b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 attribute records");
-        return UINT32_MAX;
-    }
-    if (!vx_grow(b->a, (void**)&o->ids, &o->capid, o->nid + n, sizeof(uint32_t))) return oom(b, "records"), UINT32_MAX;
-    uint32_t st = (uint32_t)o->nid;
-    memcpy(o->ids + o->nid, ids, n * sizeof *ids);
-    o->nid += n;
-    return st;
+    return run_append(b, o, ids, n);
 }
 
 static inline bool node_has_block(const bld* b, const uint32_t* n) {
