@@ -865,7 +865,7 @@ static vx_result choose_layout(vx_gpu* gpu, const vx_svo_scene* s, const vx_rend
     uint32_t max_depth = 0;
     if (r || (r = drawn_depth(gpu, s, &max_depth, err))) return r;
     vx_render_layout_info li = {.layout = desc ? desc->layout : VX_RENDER_LAYOUT_AUTO,
-                                .budget = desc && desc->memory_budget ? desc->memory_budget : default_budget(gpu)};
+                                .budget = vx_render_scene_budget(gpu, desc)};
     if (li.layout > VX_RENDER_LAYOUT_COMPACT)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "unknown render layout %d", (int)li.layout);
     uint64_t words, colors;
