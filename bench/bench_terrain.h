@@ -4,7 +4,9 @@
  * them), heights from a few sines up to ~3/4 of the extent, plus 2048
  * single-cell "pebbles" near the top: extent^3, depth log2(extent). With
  * deep_offset the terrain sits at that cell offset in a model 2^20 cells
- * wide (20 levels: the float64 trace variant). Returns 0 on success. */
+ * wide (20 levels: the float64 trace variant). Returns 0 on success.
+ * bench_terrain_desc builds it with bd (NULL: the defaults; the tests lower
+ * the far limit through bd->testing). */
 #ifndef VX_BENCH_TERRAIN_H
 #define VX_BENCH_TERRAIN_H
 #include <math.h>
@@ -12,7 +14,7 @@
 
 #include "svo/svo.h"
 
-static inline int bench_terrain(vx_svo_scene* s, uint32_t extent, uint32_t deep_offset, vx_error* err) {
+static inline int bench_terrain_desc(vx_svo_scene* s, uint32_t extent, uint32_t deep_offset, const vx_svo_build_desc* bd, vx_error* err) {
     const uint32_t cols = extent / 8;
     const double hs = extent / 4096.0;
     size_t cap = (size_t)cols * cols * 2 + 4096, n = 0;
@@ -55,7 +57,7 @@ static inline int bench_terrain(vx_svo_scene* s, uint32_t extent, uint32_t deep_
         vx_svo_scene_free(s);
         return 1;
     }
-    vx_result r = vx_svo_build_model(NULL, &v, &s->models[0], NULL, err);
+    vx_result r = vx_svo_build_model(bd, &v, &s->models[0], NULL, err);
     free(keys), free(level), free(pal);
     if (r) {
         vx_svo_scene_free(s);
@@ -69,5 +71,8 @@ static inline int bench_terrain(vx_svo_scene* s, uint32_t extent, uint32_t deep_
     for (int i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (uint32_t)(i * 0x010203);
     vx_svo_scene_update_bounds(s);
     return 0;
+}
+static inline int bench_terrain(vx_svo_scene* s, uint32_t extent, uint32_t deep_offset, vx_error* err) {
+    return bench_terrain_desc(s, extent, deep_offset, NULL, err);
 }
 #endif

@@ -268,6 +268,22 @@ uint32_t vx_crc32(uint32_t crc, const void* data, size_t n);
 vx_result vx_file_read(const char* path, const vx_allocator* a, uint64_t max_bytes, uint8_t** out_data,
                        size_t* out_size, vx_error* err);
 
+/* Test hooks of svo/ (as sokol's sg_desc.disable_validation): they let small
+ * test scenes reach paths that real inputs reach only at scale (far
+ * pointers, threads, streamed output, the split form) without a mutable
+ * global. Zero-initialised: the library's own behaviour, which users keep.
+ * Each desc that holds one (vx_write_desc, vx_svo_read_desc,
+ * vx_svo_build_desc, vx_svo_editor_desc) reads only the fields named for it
+ * here; the defaults are written once, in svo/svo_internal.h. */
+typedef struct vx_svo_testing {
+    uint32_t far_limit;   /* build, edit, .svo write: largest near child pointer laid out or tried (0: the 15-bit maximum, 32767) */
+    bool parallel_always; /* .svo read and write: per-model and layout threads for models of any size (default: 2^20 words and more) */
+    size_t flush_bytes;   /* vx_svo_write_file: NODE is flushed after a model once it holds this many bytes (0: 16 MB) */
+    uint32_t split_words; /* .svo write: models of at least this many words take the split form (0: 2^20) */
+    bool split_no_runs;   /* .svo write: the split form without its runs stream (format version 5's, for the old-file tests) */
+    bool unchecked;       /* .svo write: no validation; words and records stored raw (tests write corrupt trees) */
+} vx_svo_testing;
+
 /* Options of the writers to a file (vx_svo_write_file, vx_vox_write_file,
  * vx_probe_write_file, vx_glb_write_file, vx_vdb_write_file). NULL or
  * zero-initialised: the defaults. */
@@ -327,6 +343,7 @@ typedef struct vx_write_desc {
                                   several times faster to read and write for
                                   a few percent more bytes, docs/PERFORMANCE.md
                                   issue 18). */
+    vx_svo_testing testing;    /* .svo: test hooks (all of vx_svo_testing's); leave zeroed */
 } vx_write_desc;
 
 /* Suggested vx_write_desc.svo_chunk_words (vox2svo --chunked): a model of

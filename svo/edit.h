@@ -82,6 +82,7 @@ typedef struct vx_svo_editor_desc {
      * restoring an older header and may restore a newer one again gives the
      * largest counts it may restore (0: node_count, attr_count). */
     uint32_t words_in_use, records_in_use;
+    vx_svo_testing testing; /* test hooks: far_limit only (svo/core.h); leave zeroed */
 } vx_svo_editor_desc;
 
 typedef struct vx_svo_editor vx_svo_editor;

@@ -503,6 +503,7 @@ typedef struct vx_svo_build_desc {
     uint32_t max_depth; /* 0 == VX_SVO_MAX_DEPTH */
     const vx_allocator* alloc;
     vx_progress progress;
+    vx_svo_testing testing; /* test hooks: far_limit only (svo/core.h); leave zeroed */
 } vx_svo_build_desc;
 
 typedef struct vx_svo_build_stats {
@@ -590,6 +591,7 @@ typedef struct vx_svo_read_desc {
      * not a SIGBUS. */
     void (*on_open)(void* user, const char* path);
     void* on_open_user;
+    vx_svo_testing testing; /* test hooks: parallel_always only (svo/core.h); leave zeroed */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out

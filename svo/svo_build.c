@@ -17,9 +17,6 @@
 
 #include "svo/svo_internal.h"
 
-uint32_t vx__svo_far_limit = VX__SVO_PTR_MAX;
-
-
 typedef vx__svo_rec rec;
 
 /* Node record in the pool, addressed by its word offset (the node id):
@@ -41,7 +38,7 @@ typedef struct bld {
     const vx_allocator* a;
     uint32_t attrs;
     bool collapse, dag;
-    uint32_t limit; /* largest near pointer (vx__svo_far_limit when building) */
+    uint32_t limit; /* largest near pointer (vx_svo_build_desc.testing.far_limit when building) */
     /* One channel only: attribute references in nodes and runs are the
      * 32-bit values themselves, so representatives need no interning. */
     bool direct;
@@ -1722,7 +1719,7 @@ static vx_result build(const vx_svo_build_desc* desc, const vx_svo_voxels* in, c
     b.collapse = !d.no_collapse;
     b.dag = !d.no_dag;
     b.depth = depth;
-    b.limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
+    b.limit = vx__svo_far_limit(&d.testing);
     b.err = err;
     b.direct = in->attrs && (in->attrs & (in->attrs - 1)) == 0;
     b.vattr = in->attrs;
@@ -2429,7 +2426,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
      * had, the layout runs after the decoding as before: same result. */
     lay_job lj, lj2;
     lj.started = lj2.started = lj.gates = lj2.gates = false;
-    if (d->layout_threads && u.max_words >= vx__svo_parallel_words) {
+    if (d->layout_threads) { /* 0 for models under vx__svo_parallel_words (the callers) */
         uint64_t words = (uint64_t)(N_KIDS + 8) * u.max_words + 16;
         if (words > 0xFFFFFFF0u) words = 0xFFFFFFF0u;
         b.pool = (uint32_t*)vx_alloc(b.a, (size_t)words * sizeof *b.pool);

@@ -661,9 +661,9 @@ static void analyze_job(void* ctx, unsigned thread, uint32_t i) {
 
 /* Analyses every model but those marked in skip (may be NULL), in parallel
  * for large scenes; the first failing model in index order gives the error. */
-static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, const uint8_t* skip, unsigned want, uint32_t* bad,
-                                vx_error* err) {
-    unsigned threads = vx__svo_threads(s, want);
+static vx_result analyze_models(const vx_svo_scene* s, vx__svo_extent* ext, const uint8_t* skip, unsigned want, const vx_svo_testing* t,
+                                uint32_t* bad, vx_error* err) {
+    unsigned threads = vx__svo_threads(s, want, t);
     vx_result* res = threads > 1 ? (vx_result*)vx_calloc(s->alloc, s->model_count, sizeof *res) : NULL;
     vx_error* errs = threads > 1 ? (vx_error*)vx_calloc(s->alloc, s->model_count, sizeof *errs) : NULL;
     vx_result r = VX_OK;
@@ -704,15 +704,15 @@ static void digest_job(void* ctx, unsigned thread, uint32_t i) {
     j->digest[i] = !j->only || j->only[i] ? vx_svo_model_digest(&j->s->models[i]) : 0;
 }
 
-static void digests(const vx_svo_scene* s, const uint8_t* only, unsigned threads, uint32_t* out) {
+static void digests(const vx_svo_scene* s, const uint8_t* only, unsigned threads, const vx_svo_testing* t, uint32_t* out) {
     digest_jobs j = {s, out, only};
-    vx_run_jobs(vx__svo_threads(s, threads), s->model_count, digest_job, &j);
+    vx_run_jobs(vx__svo_threads(s, threads, t), s->model_count, digest_job, &j);
 }
 
-void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads) {
+void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads, const vx_svo_testing* t) {
     uint32_t* d = s->model_count ? (uint32_t*)vx_calloc(s->alloc, s->model_count, sizeof *d) : NULL;
     if (!d) return; /* no checks: a later write validates */
-    digests(s, NULL, threads, d);
+    digests(s, NULL, threads, t, d);
     for (uint32_t i = 0; i < s->model_count; i++) {
         vx_svo_model_check* c = &s->models[i].check;
         c->digest = d[i];
@@ -722,8 +722,8 @@ void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned thr
     vx_free(s->alloc, d);
 }
 
-void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
-                            vx__svo_extent* ext) {
+void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, const vx_svo_testing* t,
+                            uint8_t* skip, vx__svo_extent* ext) {
     uint32_t n = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
@@ -733,7 +733,7 @@ void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, ui
         n += skip[i];
     }
     uint32_t* d = n ? (uint32_t*)vx_calloc(alloc, s->model_count, sizeof *d) : NULL;
-    if (d) digests(s, skip, threads, d);
+    if (d) digests(s, skip, threads, t, d);
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         skip[i] = skip[i] && d && d[i] == m->check.digest;
@@ -746,18 +746,18 @@ void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, ui
 }
 
 vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, vx_error* err) {
-    return vx__svo_validate_scene_opt(s, ext, threads, true, NULL, err);
+    return vx__svo_validate_scene_opt(s, ext, threads, NULL, true, NULL, err);
 }
 
-vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
-                                     vx_error* err) {
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, const vx_svo_testing* t, bool models,
+                                     const uint8_t* skip, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: null");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
         (s->material_count && !s->materials) || (s->light_count && !s->lights))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo scene: a non-empty array is NULL");
     uint32_t bad = 0;
     if (models) {
-        vx_result r = analyze_models(s, ext, skip, threads, &bad, err);
+        vx_result r = analyze_models(s, ext, skip, threads, t, &bad, err);
         if (r != VX_OK) {
             char p[32];
             snprintf(p, sizeof p, "model %u", bad);

@@ -260,7 +260,7 @@ vx_result vx_svo_editor_create(const vx_svo_editor_desc* desc, vx_svo_model* m, 
     e->a = d.alloc;
     e->m = m;
     e->dag = !d.no_dag;
-    e->limit = vx__svo_far_limit >= 1 && vx__svo_far_limit <= VX__SVO_PTR_MAX ? vx__svo_far_limit : VX__SVO_PTR_MAX;
+    e->limit = vx__svo_far_limit(&d.testing);
     e->nend = d.words_in_use > m->node_count ? d.words_in_use : m->node_count;
     e->aend = d.records_in_use > m->attr_count ? d.records_in_use : m->attr_count;
     e->ncap = e->nend;

@@ -7,11 +7,40 @@
 
 #include <pthread.h>
 
-/* Largest relative child pointer the builder writes before it switches to a
- * far slot. The encoding allows 32767 (15 bits); tests lower it so that far
- * pointers appear in small trees. Not thread-safe by design: test-only. */
-extern uint32_t vx__svo_far_limit;
+/* Largest relative child pointer the encoding allows (15 bits): the
+ * builder's, the editor's and the writer's far limit unless a test lowers it
+ * (vx_svo_testing.far_limit) so that far pointers appear in small trees. */
 #define VX__SVO_PTR_MAX 0x7FFFu
+/* Node words from which a scene's models are handled on threads, and a
+ * model's layout follows its decoding on threads (2^20). */
+#define VX__SVO_PARALLEL_WORDS ((uint64_t)1 << 20)
+/* NODE bytes a streamed write holds before it flushes them (16 MB). */
+#define VX__SVO_FLUSH_BYTES ((size_t)16 << 20)
+/* Node words from which writers store a model in the split form (2^20). */
+#define VX__SPLIT_WORDS (1u << 20)
+
+/* The test hooks of a desc (vx_svo_testing, svo/core.h) with the defaults
+ * applied: the one place the defaults are written. t NULL: the defaults. */
+static inline uint32_t vx__svo_far_limit(const vx_svo_testing* t) {
+    return t && t->far_limit >= 1 && t->far_limit <= VX__SVO_PTR_MAX ? t->far_limit : VX__SVO_PTR_MAX;
+}
+static inline uint64_t vx__svo_parallel_words(const vx_svo_testing* t) {
+    return t && t->parallel_always ? 0 : VX__SVO_PARALLEL_WORDS;
+}
+static inline size_t vx__svo_flush_bytes(const vx_svo_testing* t) {
+    return t && t->flush_bytes ? t->flush_bytes : VX__SVO_FLUSH_BYTES;
+}
+static inline uint32_t vx__svo_split_words(const vx_svo_testing* t) {
+    return t && t->split_words ? t->split_words : VX__SPLIT_WORDS;
+}
+static inline bool vx__svo_split_runs(const vx_svo_testing* t) { return !(t && t->split_no_runs); }
+static inline bool vx__svo_unchecked(const vx_svo_testing* t) { return t && t->unchecked; }
+/* A write desc's hooks (NULL for a NULL desc), and its split threshold:
+ * 0 (never) with vx_write_desc.svo_range_coded, else vx__svo_split_words. */
+static inline const vx_svo_testing* vx__svo_write_testing(const vx_write_desc* d) { return d ? &d->testing : NULL; }
+static inline uint32_t vx__svo_split_min(const vx_write_desc* d) {
+    return d && d->svo_range_coded ? 0 : vx__svo_split_words(vx__svo_write_testing(d));
+}
 
 /* Bit count of an 8-bit mask. A SWAR sum rather than __builtin_popcount:
  * without -mpopcnt (the x86-64 baseline Debian builds for) the builtin
@@ -48,12 +77,11 @@ vx_result vx__svo_analyze_opt(const vx_svo_model* m, vx__svo_extent* ext, bool u
  * error are the one-thread ones. */
 vx_result vx__svo_analyze_mt(const vx_svo_model* m, vx__svo_extent* ext, bool unreferenced_ok, unsigned threads, vx_error* err);
 
-/* Node words from which a scene's models are handled in parallel (2^20);
- * tests lower it to exercise the threaded paths on small scenes. */
-extern uint64_t vx__svo_parallel_words;
-/* Threads worth using for per-model work on s (1 for small scenes); want:
- * the caller's limit (a desc's threads field: 0 = one per CPU, up to 16). */
-unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want);
+/* Threads worth using for per-model work on s (1 for small scenes: under
+ * vx__svo_parallel_words(t) node words or one model); want: the caller's
+ * limit (a desc's threads field: 0 = one per CPU, up to 16); t: the desc's
+ * test hooks (may be NULL). */
+unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want, const vx_svo_testing* t);
 /* The CPUs to use for want (0: one per online CPU, capped at 16). */
 unsigned vx__svo_cpus(unsigned want);
 /* Asks the kernel for 2 MB pages behind the whole 2 MB units of p[0, n)
@@ -109,18 +137,18 @@ vx_result vx__svo_validate_scene_ext(const vx_svo_scene* s, vx__svo_extent* ext,
  * untouched); VX__SVO_SKIP_REBUILT, models the reader rebuilt, whose ext
  * entries hold their trees' extents (vx__svo_check_rebuilt). */
 enum { VX__SVO_SKIP_TRUSTED = 1, VX__SVO_SKIP_REBUILT = 2 };
-vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, bool models, const uint8_t* skip,
-                                     vx_error* err);
+vx_result vx__svo_validate_scene_opt(const vx_svo_scene* s, vx__svo_extent* ext, unsigned threads, const vx_svo_testing* t, bool models,
+                                     const uint8_t* skip, vx_error* err);
 /* Sets each model's vx_svo_model.check from its extent (the reader, after
  * validating the scene): the digests on up to `threads` threads. */
-void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads);
+void vx__svo_set_checks(vx_svo_scene* s, const vx__svo_extent* ext, unsigned threads, const vx_svo_testing* t);
 /* The models the writer need not validate (skip[i] = 1, ext[i] from the
  * check): stored chunked (chunk_min, vx_write_desc.svo_chunk_words) or
  * rebuilt by the reader from the structural form (check.structural), and
  * their check's digest current. alloc: the writer's (a failed allocation
  * leaves every model to the validation). */
-void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, uint8_t* skip,
-                            vx__svo_extent* ext);
+void vx__svo_trusted_models(const vx_svo_scene* s, const vx_allocator* alloc, uint32_t chunk_min, unsigned threads, const vx_svo_testing* t,
+                            uint8_t* skip, vx__svo_extent* ext);
 /* Scene bounds from extents already known (known may be NULL: analyse). */
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]);
 
@@ -167,9 +195,9 @@ typedef struct vx__svo_unpack_desc {
     uint64_t max_words;    /* declared node_count: the symbols may not describe more */
     const vx_allocator* alloc;
     /* Threads the layout may follow the decoding on (0: none, it runs
-     * afterwards; 1: one; 2: the records' runs and the blocks apart), for
-     * models of at least vx__svo_parallel_words words; the result never
-     * depends on it. */
+     * afterwards; 1: one; 2: the records' runs and the blocks apart); the
+     * callers give 0 for models under vx__svo_parallel_words words. The
+     * result never depends on it. */
     unsigned layout_threads;
     /* When non-NULL: receives the extent of the rebuilt tree at the depth,
      * and every back-reference is checked to name a node that fits below
@@ -209,11 +237,12 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
 typedef struct vx__svo_sink {
     bool (*flush)(void* user, vx_buf* out);
     void* user;
+    size_t flush_bytes; /* vx__svo_pack_write flushes between model streams from this many bytes on
+                           (vx__svo_flush_bytes: 16 MB; tests lower it to flush after every model) */
 } vx__svo_sink;
 /* Appends the NODE section to out; with a sink, out is flushed between model
- * streams whenever it holds vx__svo_flush_bytes or more (sink NULL: all in
- * memory). The threshold is 16 MB; tests lower it to flush after every model. */
-extern size_t vx__svo_flush_bytes;
+ * streams whenever it holds sink->flush_bytes or more (sink NULL: all in
+ * memory). */
 /* One model's stream of the NODE section (without its length varint): the
  * model alone decides its bytes. m must be valid. */
 /* chunked: 0 the structural or raw form, VX__CHUNK_DEFLATE, VX__CHUNK_STORED or
@@ -225,16 +254,18 @@ enum { VX__CHUNK_NONE = 0, VX__CHUNK_DEFLATE = 1, VX__CHUNK_STORED = 2, VX__CHUN
 int vx__svo_chunk_mode(const vx_write_desc* desc);
 /* trusted: m's check is current (vx__svo_trusted_models): a model the reader
  * rebuilt from the structural form is coded in it with the check's settings
- * and without the rebuild that proves the form. */
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out);
+ * and without the rebuild that proves the form. hooks: the write desc's test
+ * hooks (may be NULL): far_limit, parallel_always, split_no_runs, unchecked. */
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx_svo_testing* hooks, bool trusted,
+                        vx_buf* out);
 /* Whether a writer with vx_write_desc.svo_chunk_words = min_words stores m in
  * the chunked form (FORMAT.md 3.6): a model with a root descriptor and at
  * least min_words words (0: never). */
 bool vx__svo_model_chunked(const vx_svo_model* m, uint32_t min_words);
 /* split_min: vx__svo_model_split's; trusted (model_count entries, or NULL):
  * the models whose check vx__svo_trusted_models found current */
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, uint32_t chunk_min,
-                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink);
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned threads, const vx_svo_testing* t,
+                        uint32_t chunk_min, int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink);
 /* A guess of the bytes vx__svo_pack_write appends for s (without coding
  * anything): the file writer places NODE behind a header that holds its
  * size as a varint, and only that varint's length must come out right for
@@ -248,8 +279,10 @@ uint64_t vx__svo_pack_estimate(const vx_svo_scene* s, uint32_t chunk_min, int ch
  * the structural form gets rebuilt[i] = VX__SVO_SKIP_REBUILT and its tree's
  * extent in ext[i] (others: untouched), for the validation to check its
  * head only (vx__svo_validate_scene_opt). */
+/* t: the read desc's test hooks (parallel_always; may be NULL). */
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned threads, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
+                            unsigned threads, const vx_svo_testing* t, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt,
+                            vx_error* err);
 
 /* What is wrong with src[0..zn) as the one zstd frame of a chunk or stream
  * that must decode to exactly `want` bytes (checked before decoding, so the
@@ -271,13 +304,9 @@ enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3 };
  * placed it (vx__svo_unpack_desc.runs). Writers add it to every split model
  * with attributes and the DAG. */
 enum { VX__SPLIT_RUNS = 4 };
-/* Test-only (like vx__svo_split_words): false writes version 5's split form
- * (no runs stream), so that tests can check that old files still read. */
-extern bool vx__svo_split_runs;
-#define VX__SPLIT_WORDS (1u << 20)
-/* Test-only (like vx__svo_far_limit): the writers' split threshold,
- * VX__SPLIT_WORDS; tests lower it to write small models in the split form. */
-extern uint32_t vx__svo_split_words;
+/* (Tests write version 5's split form, without the runs stream, with
+ * vx_svo_testing.split_no_runs, and small models in the split form with
+ * vx_svo_testing.split_words.) */
 /* v, kind, ctx: the symbols of a model of `depth` levels (as the writer's
  * walk gives them, references as distances); appends the bytes after the
  * form byte to out. */
@@ -325,15 +354,11 @@ bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t spl
  * `threads` threads within the model; ext and rebuilt as vx__svo_pack_read's
  * for this model (both or neither). The model is not validated here. */
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
-                             const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err);
+                             const vx_allocator* A, unsigned threads, const vx_svo_testing* t, vx__svo_extent* ext, uint8_t* rebuilt,
+                             vx_error* err);
 /* vx_crc32 (the same CRC-32), by libdeflate where the build has it: the
  * sections' checksums are one thread's pass over the whole file, about
  * 0.2 s for the 311 MB helmet with slicing-by-8. */
 uint32_t vx__svo_crc32(uint32_t crc, const void* data, size_t n);
-
-/* Test-only (like vx__svo_far_limit): the writer skips validation and the
- * structural form, storing words and records as they are, so that tests can
- * write corrupt trees and check that the reader rejects them. */
-extern bool vx__svo_write_raw_unchecked;
 
 #endif

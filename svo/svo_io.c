@@ -917,13 +917,13 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     }
     if ((r = vx__svo_pack_read(known[S_NODE]->p, (size_t)known[S_NODE]->size, known[S_NODE]->offset, &s, chunked, A, rdd.threads,
-                               rdd.chunk_stats, ext, rebuilt, err)) != VX_OK)
+                               &rdd.testing, rdd.chunk_stats, ext, rebuilt, err)) != VX_OK)
         goto fail;
     if (known[S_PALT] && (r = read_palt(known[S_PALT], &s, err)) != VX_OK) goto fail;
     if (known[S_MATL] && (r = read_matl(known[S_MATL], A, &s, err)) != VX_OK) goto fail;
     if (known[S_LGHT] && (r = read_lght(known[S_LGHT], A, &s, err)) != VX_OK) goto fail;
     if (known[S_FRMS] && (r = read_frms(known[S_FRMS], &s, err)) != VX_OK) goto fail;
-    r = vx__svo_validate_scene_opt(&s, ext, rdd.threads, true, rebuilt, err);
+    r = vx__svo_validate_scene_opt(&s, ext, rdd.threads, &rdd.testing, true, rebuilt, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
         if (err) err->code = r;
@@ -931,7 +931,7 @@ vx_result vx_svo_read(const vx_svo_read_desc* desc, const void* data, size_t siz
         goto fail;
     }
     if (bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&s, ext, s.bounds_min, s.bounds_max);
-    vx__svo_set_checks(&s, ext, rdd.threads);
+    vx__svo_set_checks(&s, ext, rdd.threads, &rdd.testing);
     vx_free(A, ext);
     vx_free(A, rebuilt);
     vx_free(A, secs);
@@ -1052,6 +1052,7 @@ struct vx_svo_model_reader {
     uint64_t node_base;
     uint32_t node_crc; /* as the table says */
     unsigned cpus;
+    vx_svo_testing testing; /* vx_svo_read_desc.testing */
     pthread_mutex_t lock;
     /* under lock: */
     size_t pos;    /* in NODE: the next model's length varint */
@@ -1132,6 +1133,7 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
     vx_svo_scene_init(&r->s, A);
     r->skip_crc = rdd.skip_checksums;
     r->cpus = vx__svo_cpus(rdd.threads);
+    r->testing = rdd.testing;
     sec* secs = NULL;
     uint8_t* bytes = NULL;
     uint32_t version, count;
@@ -1172,7 +1174,7 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
         (known[S_FRMS] && (res = read_frms(known[S_FRMS], &r->s, err)) != VX_OK))
         goto fail;
     /* the scene's own rules now (the models' as they are read) */
-    if ((res = vx__svo_validate_scene_opt(&r->s, NULL, 1, false, NULL, err)) != VX_OK) {
+    if ((res = vx__svo_validate_scene_opt(&r->s, NULL, 1, &r->testing, false, NULL, err)) != VX_OK) {
         if (res == VX_ERR_INVALID_ARG) res = VX_ERR_BAD_FORMAT;
         if (err) err->code = res;
         vx_error_prefix(err, "svo: structure");
@@ -1275,7 +1277,7 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
     memset(&m.check, 0, sizeof m.check);
     vx__svo_extent ext = {0}, tree = {0};
     uint8_t rebuilt = 0;
-    res = vx__svo_unpack_one(stream, len, stream_at, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads,
+    res = vx__svo_unpack_one(stream, len, stream_at, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads, &r->testing,
                              &tree, &rebuilt, err);
     if (res == VX_OK) {
         res = rebuilt == VX__SVO_SKIP_REBUILT ? vx__svo_check_rebuilt(&m, &tree, &ext, err)
@@ -1652,12 +1654,13 @@ static void write_frms(vx_buf* b, const vx_svo_scene* s) {
 typedef struct wplan {
     vx__svo_extent* ext;
     uint8_t* chunked; /* per model: stored in the chunked form, 1 DEFLATE, 2 tagged; 3 the split form (NULL: none is) */
-    uint32_t split_min; /* VX__SPLIT_WORDS, 0 with vx_write_desc.svo_range_coded */
+    uint32_t split_min; /* vx__svo_split_min: VX__SPLIT_WORDS, 0 with vx_write_desc.svo_range_coded */
     uint8_t* trusted;   /* per model: its check current (vx__svo_trusted_models), or NULL */
     uint16_t version;
     unsigned threads;   /* the caller's limit (vx_write_desc.threads) */
     uint32_t chunk_min; /* vx_write_desc.svo_chunk_words */
     int chunk_mode;     /* vx_write_desc.svo_chunk_stored / svo_chunk_fast: VX__CHUNK_* */
+    const vx_svo_testing* t; /* vx_write_desc.testing (NULL: none) */
     int order[S_COUNT], ns;
     uint64_t sizes[S_COUNT];
     uint32_t flags[S_COUNT], crcs[S_COUNT];
@@ -1678,7 +1681,8 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     w->threads = desc ? desc->threads : 0;
     w->chunk_min = desc ? desc->svo_chunk_words : 0;
     w->chunk_mode = vx__svo_chunk_mode(desc);
-    w->split_min = desc && desc->svo_range_coded ? 0 : vx__svo_split_words;
+    w->split_min = vx__svo_split_min(desc);
+    w->t = vx__svo_write_testing(desc);
     /* validation analyses every model; the extents it finds give the bounds
      * written to SCNE without a second pass over the trees (models coded
      * elsewhere bring theirs) */
@@ -1687,8 +1691,8 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
     /* chunked models that the reader validated and nobody changed since (their
      * check's digest current) are not validated again (svo.h vx_svo_model.check) */
     uint8_t* skip = !cs && s->model_count ? (uint8_t*)vx_calloc(alloc, s->model_count, 1) : NULL;
-    if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, skip, w->ext);
-    vx_result r = vx__svo_write_raw_unchecked && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, !cs, skip, err);
+    if (skip) vx__svo_trusted_models(s, alloc, w->chunk_min, w->threads, w->t, skip, w->ext);
+    vx_result r = vx__svo_unchecked(w->t) && !cs ? VX_OK : vx__svo_validate_scene_opt(s, w->ext, w->threads, w->t, !cs, skip, err);
     w->trusted = skip; /* the coder takes those models' checks too (freed with the plan) */
     for (uint32_t i = 0; cs && r == VX_OK && i < s->model_count; i++) {
         const vx_svo_model_coded* c = &cs->info[i];
@@ -1707,7 +1711,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
         vx_error_prefix(err, "svo write");
         return r;
     }
-    if (vx__svo_write_raw_unchecked && w->ext) {
+    if (vx__svo_unchecked(w->t) && w->ext) {
         vx_free(alloc, w->ext); /* tests writing deliberately broken models: analyse lazily */
         w->ext = NULL;
     }
@@ -1733,7 +1737,7 @@ static vx_result plan_write(const vx_svo_scene* s, const vx_write_desc* desc, co
         }
         if (sp) { /* the split form (version 5; with attributes its runs stream, version 6) */
             w->chunked[i] = 3;
-            uint16_t v = s->models[i].attrs && vx__svo_split_runs ? VERSION_RUNS : VERSION_SPLIT;
+            uint16_t v = s->models[i].attrs && vx__svo_split_runs(w->t) ? VERSION_RUNS : VERSION_SPLIT;
             if (w->version < v) w->version = v;
             continue;
         }
@@ -1771,7 +1775,7 @@ static bool write_section(vx_buf* b, const wplan* w, int si, const vx_svo_scene*
     int t = w->order[si];
     if (t == S_SCNE) write_scne(b, s, w->ext, w->chunked);
     else if (t == S_NODE && cs) return write_node_coded(b, s, cs, sink);
-    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->chunk_min, w->chunk_mode, w->split_min, w->trusted, sink) && !b->failed;
+    else if (t == S_NODE) return vx__svo_pack_write(b, s, alloc, w->threads, w->t, w->chunk_min, w->chunk_mode, w->split_min, w->trusted, sink) && !b->failed;
     else if (t == S_PALT) write_palt(b, s, cs);
     else if (t == S_MATL) return write_matl(b, s, alloc) && !b->failed;
     else if (t == S_LGHT) write_lght(b, s);
@@ -1958,7 +1962,7 @@ static vx_result write_file(const vx_write_desc* desc, const vx_svo_scene* s, co
             }
             vx_buf b = {.alloc = a};
             spill sp = {.f = (FILE*)af.f};
-            vx__svo_sink sink = {spill_flush, &sp};
+            vx__svo_sink sink = {spill_flush, &sp, vx__svo_flush_bytes(w.t)};
             bool ok = write_section(&b, &w, si, s, a, &sink, cs) && spill_flush(&sp, &b);
             if (!ok) io = sp.failed || (cs && cs->read_failed), nomem = !io, e = sp.failed ? errno : EIO;
             w.sizes[si] = sp.size;
@@ -2036,10 +2040,10 @@ vx_result vx_svo_model_encode(const vx_write_desc* desc, const vx_svo_model* m, 
     }
     vx_buf b = {.alloc = a};
     info->chunked = vx__svo_model_chunked(m, chunk_words);
-    info->split = vx__svo_model_split(m, desc ? desc->svo_chunk_words : 0, desc && desc->svo_range_coded ? 0 : vx__svo_split_words);
+    info->split = vx__svo_model_split(m, desc ? desc->svo_chunk_words : 0, vx__svo_split_min(desc));
     int mode = info->split ? VX__CHUNK_SPLIT : !info->chunked ? VX__CHUNK_NONE : vx__svo_chunk_mode(desc);
     info->chunk_tagged = mode == VX__CHUNK_ZSTD;
-    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), trusted, &b)) {
+    if (!vx__svo_pack_model(m, a, mode, vx__svo_cpus(desc ? desc->threads : 0), vx__svo_write_testing(desc), trusted, &b)) {
         vx_buf_free(&b);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo encode: out of memory");
     }

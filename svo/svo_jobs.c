@@ -16,17 +16,15 @@
 
 #define MAX_THREADS VX_MAX_THREADS /* every CPU of a 64-CPU host (the read of a 65536^3 scene: docs/PERFORMANCE.md issue 18) */
 
-uint64_t vx__svo_parallel_words = (uint64_t)1 << 20;
-
 unsigned vx__svo_cpus(unsigned want) {
     if (want) return want > MAX_THREADS ? MAX_THREADS : want;
     return vx_cpu_count(MAX_THREADS);
 }
 
-unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want) {
+unsigned vx__svo_threads(const vx_svo_scene* s, unsigned want, const vx_svo_testing* hooks) {
     uint64_t words = 0;
     for (uint32_t i = 0; i < s->model_count; i++) words += s->models[i].node_count;
-    if (s->model_count < 2 || words < vx__svo_parallel_words) return 1;
+    if (s->model_count < 2 || words < vx__svo_parallel_words(hooks)) return 1;
     unsigned t = vx__svo_cpus(want);
     return t < s->model_count ? t : s->model_count;
 }

@@ -30,8 +30,6 @@
 
 #include "svo/svo_internal.h"
 
-bool vx__svo_write_raw_unchecked = false;
-
 #define STRUCT_ATTRS (VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL)
 /* Sane maximum of words and of records per byte of NODE (the coder can
  * spend less than a bit per word on repetitive input, not 1/4096 of one). */
@@ -766,7 +764,7 @@ static bool try_struct(const vx_svo_model* m, const vx_allocator* A, bool dag, u
  * the stream. Threads are only used for large scenes: small ones stay on the
  * caller's thread, which keeps allocation order (and the OOM tests) exact.
  * The bytes never depend on the thread count. */
-static unsigned pack_threads(const vx_svo_scene* s, unsigned want) { return vx__svo_threads(s, want); }
+static unsigned pack_threads(const vx_svo_scene* s, unsigned want, const vx_svo_testing* t) { return vx__svo_threads(s, want, t); }
 #define run_jobs vx_run_jobs
 
 static bool put_var(vx_buf* b, uint64_t v) {
@@ -1296,7 +1294,7 @@ static bool pack_chunked_run(vx_buf* out, const vx_svo_model* models, uint32_t n
  * (VX__CHUNK_ZSTD: tagged chunks, VX__CHUNK_DEFLATE: level 1,
  * VX__CHUNK_STORED: stored blocks; on up to
  * `threads` threads), else the structural or raw form; there, with
- * `threads` >= 2 and a model of at least vx__svo_parallel_words words, the
+ * `threads` >= 2 and a model of at least vx__svo_parallel_words(hooks) words, the
  * symbols of the first setting tried are coded on a second thread while the
  * check rebuilds the model, whose layout follows its decoding on the
  * threads left. The bytes never depend on `threads`. */
@@ -1305,7 +1303,8 @@ bool vx__svo_model_split(const vx_svo_model* m, uint32_t chunk_min, uint32_t spl
            m->node_count >= split_min;
 }
 
-bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, bool trusted, vx_buf* out) {
+bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunked, unsigned threads, const vx_svo_testing* hooks, bool trusted,
+                        vx_buf* out) {
     const bool split = chunked == VX__CHUNK_SPLIT;
     if (chunked && !split) return pack_chunked(m, A, chunked, threads, false, out, NULL);
     coder cd, spec;
@@ -1320,9 +1319,9 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
     memset(&src, 0, sizeof src);
     bool structural = false, dag = false;
     uint32_t limit = VX__SVO_PTR_MAX;
-    bool par = threads >= 2 && m->node_count >= vx__svo_parallel_words;
+    bool par = threads >= 2 && m->node_count >= vx__svo_parallel_words(hooks);
     unsigned lay = par ? (threads - 2 > 2 ? 2 : threads - 2) : 0;
-    if (!vx__svo_write_raw_unchecked && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
+    if (!vx__svo_unchecked(hooks) && m->root < m->node_count && !(m->attrs & ~(uint32_t)STRUCT_ATTRS)) {
         x.m = m;
         size_t need = 16;
         while (need < 2 * (size_t)m->node_count) need *= 2;
@@ -1359,7 +1358,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             limit = st_lim;
             x.tries++;
             /* the split form: straight into its streams, one walk */
-            x.runs = split && m->attrs && dag && vx__svo_split_runs;
+            x.runs = split && m->attrs && dag && vx__svo_split_runs(hooks);
             if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, x.runs, A))) ok = false;
             if (ok) ext_visit(&x, m->root, m->depth);
             if (x.oom) ok = false;
@@ -1389,12 +1388,12 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             src.v = x.v, src.kind = x.kind, src.ctx = x.ctx, src.n = x.n, src.pos = 0;
         }
         /* the builder's settings are not stored in the model: try them */
-        uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit};
+        uint32_t lims[2] = {VX__SVO_PTR_MAX, vx__svo_far_limit(hooks)};
         for (int t = 0; ok && t < 4 && !structural; t++) {
             dag = t < 2;
             limit = lims[t & 1];
             if ((t & 1) && (limit == VX__SVO_PTR_MAX || limit < 1 || limit > VX__SVO_PTR_MAX)) continue;
-            x.runs = split && m->attrs && dag && vx__svo_split_runs;
+            x.runs = split && m->attrs && dag && vx__svo_split_runs(hooks);
             structural = try_struct(m, A, dag, limit, &x, &src, t == 0 && par && !split ? &spec : NULL, lay);
             if (spec.started) {
                 pthread_join(spec.th, NULL);
@@ -1462,32 +1461,31 @@ typedef struct pack_jobs {
     uint32_t chunk_min, split_min;
     const uint8_t* trusted; /* the scene's (index first + i) */
     uint32_t first;
+    const vx_svo_testing* t;
 } pack_jobs;
 
 static void pack_job(void* ctx, unsigned thread, uint32_t i) {
     (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
     const vx_svo_model* m = &j->s->models[i];
-    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1,
+    j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1, j->t,
                                   j->trusted && j->trusted[j->first + i], &j->bufs[i]);
 }
 
-size_t vx__svo_flush_bytes = (size_t)16 << 20;
-
 /* A writer's chance to move what is in `out` elsewhere (to disk) between
- * model streams, once it holds more than a few MB. */
+ * model streams, once it holds sink->flush_bytes (16 MB). */
 static bool maybe_flush(vx_buf* out, const vx__svo_sink* sink) {
-    if (!sink || out->size < vx__svo_flush_bytes) return !out->failed;
+    if (!sink || out->size < sink->flush_bytes) return !out->failed;
     return !out->failed && sink->flush(sink->user, out);
 }
 
 /* One model's stream in the structural or raw form with its length,
  * straight into the output (chunked models: pack_chunked_run). */
-static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, int mode, bool trusted,
+static bool pack_one(vx_buf* out, const vx_svo_model* m, const vx_allocator* A, unsigned cpus, const vx_svo_testing* t, int mode, bool trusted,
                      const vx__svo_sink* sink) {
     vx_buf one = {0};
     one.alloc = A;
-    bool ok = vx__svo_pack_model(m, A, mode, cpus, trusted, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
+    bool ok = vx__svo_pack_model(m, A, mode, cpus, t, trusted, &one) && put_var(out, one.size) && vx_buf_append(out, one.data, one.size);
     vx_buf_free(&one);
     return ok && maybe_flush(out, sink);
 }
@@ -1499,16 +1497,16 @@ static uint32_t chunked_run(const vx_svo_scene* s, uint32_t first, uint32_t chun
     return n;
 }
 
-bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, uint32_t chunk_min,
-                        int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink) {
+bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* A, unsigned want, const vx_svo_testing* t,
+                        uint32_t chunk_min, int chunk_mode, uint32_t split_min, const uint8_t* trusted, const vx__svo_sink* sink) {
     if (s->model_count == 0) return true;
     const int mode = chunk_mode ? chunk_mode : VX__CHUNK_ZSTD;
-    unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want);
+    unsigned threads = pack_threads(s, want, t), cpus = vx__svo_cpus(want);
     if (threads == 1) { /* one stream at a time, straight into the output */
         for (uint32_t mi = 0, n; mi < s->model_count; mi += n) {
             n = chunked_run(s, mi, chunk_min);
             if (n ? !pack_chunked_run(out, s->models + mi, n, A, mode, cpus, sink)
-                  : !pack_one(out, &s->models[mi], A, cpus,
+                  : !pack_one(out, &s->models[mi], A, cpus, t,
                               vx__svo_model_split(&s->models[mi], chunk_min, split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE,
                               trusted && trusted[mi], sink))
                 return false;
@@ -1537,7 +1535,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             memset(&bufs[i], 0, sizeof bufs[i]);
             bufs[i].alloc = A;
         }
-        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first};
+        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first, t};
         run_jobs(threads < n ? threads : n, n, pack_job, &j);
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
@@ -1880,7 +1878,7 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
             /* with threads to spare, the symbols are decoded ahead on one */
             sym_pipe* q = NULL;
             bool piped = false;
-            if (lay && m->node_count >= vx__svo_parallel_words && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) {
+            if (lay && (q = (sym_pipe*)vx_calloc(A, 1, sizeof *q))) { /* lay: 0 under vx__svo_parallel_words (lay_for) */
                 q->k = k;
                 q->A = A;
                 q->depth = m->depth;
@@ -2279,6 +2277,7 @@ typedef struct unpack_jobs {
     vx__svo_extent* ext;    /* with rebuilt: see vx__svo_pack_read */
     uint8_t* rebuilt;
     const uint32_t* order; /* job k decodes model order[k] (largest first), or NULL: model k */
+    const vx_svo_testing* t;
 } unpack_jobs;
 
 /* Threads the layout of each structural model may follow its decoding on,
@@ -2292,6 +2291,11 @@ static unsigned layout_threads(const vx_svo_scene* s, unsigned threads, unsigned
     (void)s;
     return cpus > threads ? 2 : 0;
 }
+/* The layout threads model m takes of lay: none under vx__svo_parallel_words(t)
+ * node words (declared), where the threads cost more than they save. */
+static unsigned lay_for(const vx_svo_model* m, unsigned lay, const vx_svo_testing* t) {
+    return m->node_count >= vx__svo_parallel_words(t) ? lay : 0;
+}
 
 static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
     (void)thread;
@@ -2299,10 +2303,12 @@ static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
     uint32_t i = j->order ? j->order[k] : k;
     if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
     if (j->chunked && j->chunked[i] >= 3)
-        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1, j->lay, j->chunked[i] == 4,
+        j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1,
+                                 lay_for(&j->s->models[i], j->lay, j->t), j->chunked[i] == 4,
                                  j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
     else
-        j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, j->lay,
+        j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A,
+                                 lay_for(&j->s->models[i], j->lay, j->t),
                                  j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
 }
 
@@ -2334,7 +2340,8 @@ static uint32_t* largest_first(const vx_svo_scene* s, const vx_allocator* A) {
 }
 
 vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_scene* s, const uint8_t* chunked, const vx_allocator* A,
-                            unsigned want, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+                            unsigned want, const vx_svo_testing* t, vx_svo_chunk_stats* stats, vx__svo_extent* ext, uint8_t* rebuilt,
+                            vx_error* err) {
     if (!ext) rebuilt = NULL;
     if (s->model_count == 0) {
         if (n) return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE has %zu bytes but there are no models", n);
@@ -2388,14 +2395,15 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
     if (r == VX_OK && pos != n)
         r = vx_fail(err, VX_ERR_BAD_FORMAT, base + pos, "svo: section NODE: %zu bytes after the last model's stream", n - pos);
     if (r == VX_OK) {
-        unsigned threads = pack_threads(s, want), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
+        unsigned threads = pack_threads(s, want, t), cpus = vx__svo_cpus(want), lay = layout_threads(s, threads, cpus);
         if (threads == 1) {
             for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
                 r = chunked && chunked[mi] >= 3
-                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay, chunked[mi] == 4, rebuilt ? &ext[mi] : NULL,
+                        ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay_for(&s->models[mi], lay, t), chunked[mi] == 4,
+                                       rebuilt ? &ext[mi] : NULL,
                                        rebuilt ? &rebuilt[mi] : NULL, err)
                     : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
-                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay,
+                                           : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay_for(&s->models[mi], lay, t),
                                                           rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
         } else {
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
@@ -2403,7 +2411,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             uint32_t* order = largest_first(s, A); /* NULL (out of memory): file order, the same result */
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order, t};
                 run_jobs(threads, s->model_count, unpack_job, &j);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi] == 1 || chunked[mi] == 2) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
@@ -2424,10 +2432,11 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
 }
 
 vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, uint8_t chunked,
-                             const vx_allocator* A, unsigned threads, vx__svo_extent* ext, uint8_t* rebuilt, vx_error* err) {
+                             const vx_allocator* A, unsigned threads, const vx_svo_testing* t, vx__svo_extent* ext, uint8_t* rebuilt,
+                             vx_error* err) {
     if (chunked >= 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
-        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, threads > 2 ? 2 : 0, chunked == 4, ext, rebuilt, err);
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, lay_for(m, threads > 2 ? 2 : 0, t), chunked == 4, ext, rebuilt, err);
     if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
     /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
-    return unpack_model(p, n, base, m, mi, A, threads > 2 ? 2 : 0, ext, rebuilt, err);
+    return unpack_model(p, n, base, m, mi, A, lay_for(m, threads > 2 ? 2 : 0, t), ext, rebuilt, err);
 }

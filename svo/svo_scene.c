@@ -168,7 +168,7 @@ static void extent_job(void* ctx, unsigned thread, uint32_t i) {
 void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]) {
     /* large scenes: every model's extent in parallel first (each is a full
      * pass over its tree), then the instances */
-    unsigned threads = s->models ? vx__svo_threads(s, 0) : 1;
+    unsigned threads = s->models ? vx__svo_threads(s, 0, NULL) : 1;
     vx__svo_extent* ext = threads > 1 ? (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *ext) : NULL;
     if (ext) {
         extent_jobs j = {s, ext};

@@ -16,9 +16,6 @@
 
 #include "svo/svo_internal.h"
 
-uint32_t vx__svo_split_words = VX__SPLIT_WORDS;
-bool vx__svo_split_runs = true;
-
 static unsigned lclass(unsigned level) { return level >= 4 ? 3 : level - 1; }
 static const unsigned CH_W[5] = {1, 4, 4, 2, 4}; /* bytes per value: palette, RGBA8, normal, material, density */
 

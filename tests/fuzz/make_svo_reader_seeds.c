@@ -11,7 +11,6 @@
 #include <string.h>
 
 #include "svo/svo.h"
-#include "svo/svo_internal.h"
 
 static uint64_t rs = 0x2545F4914F6CDD1Dull;
 static uint64_t rnd(void) {
@@ -72,31 +71,27 @@ static int make_scene(vx_svo_scene* s, uint32_t models) {
 
 int main(int argc, char** argv) {
     if (argc != 2) return fprintf(stderr, "usage: make_svo_reader_seeds DIR\n"), 2;
+    /* testing.split_words: the models of at least that many words in the
+     * split form; split_no_runs: without its runs stream (version 5) */
     struct {
         const char* name;
         vx_write_desc w;
-        uint32_t split_words;
-        bool v5; /* the split form without its runs stream (version 5) */
     } forms[] = {
-        {"coded", {0}, VX__SPLIT_WORDS, false},
-        {"chunked_zstd", {.svo_chunk_words = 1}, VX__SPLIT_WORDS, false},
-        {"chunked_deflate", {.svo_chunk_words = 1, .svo_chunk_deflate = true}, VX__SPLIT_WORDS, false},
-        {"chunked_stored", {.svo_chunk_words = 1, .svo_chunk_stored = true}, VX__SPLIT_WORDS, false},
-        {"split", {0}, 1, false},
-        {"split_mixed", {.svo_chunk_words = 64}, 16, false}, /* larger models chunked, middle ones split, small coded */
-        {"split_v5", {0}, 1, true},
+        {"coded", {0}},
+        {"chunked_zstd", {.svo_chunk_words = 1}},
+        {"chunked_deflate", {.svo_chunk_words = 1, .svo_chunk_deflate = true}},
+        {"chunked_stored", {.svo_chunk_words = 1, .svo_chunk_stored = true}},
+        {"split", {.testing.split_words = 1}},
+        {"split_mixed", {.svo_chunk_words = 64, .testing.split_words = 16}}, /* larger models chunked, middle ones split, small coded */
+        {"split_v5", {.testing = {.split_words = 1, .split_no_runs = true}}},
     };
     for (size_t f = 0; f < sizeof forms / sizeof forms[0]; f++) {
         vx_svo_scene s;
         if (!make_scene(&s, 9)) return fprintf(stderr, "make_svo_reader_seeds: out of memory\n"), 1;
         char path[4096];
         snprintf(path, sizeof path, "%s/%s.svo", argv[1], forms[f].name);
-        vx__svo_split_words = forms[f].split_words;
-        vx__svo_split_runs = !forms[f].v5;
         vx_error e;
         vx_result r = vx_svo_write_file(&forms[f].w, &s, path, &e);
-        vx__svo_split_words = VX__SPLIT_WORDS;
-        vx__svo_split_runs = true;
         vx_svo_scene_free(&s);
         if (r != VX_OK) return fprintf(stderr, "%s: %s\n", path, e.msg), 1;
     }

@@ -16,22 +16,26 @@ static uint32_t ts_rng(uint32_t* s) {
     return *s;
 }
 
-/* Builds a model from n cells (xyz triples) with palette indices. */
-static vx_result ts_model(vx_svo_model* m, const uint32_t size[3], const uint32_t* xyz, const uint8_t* pal, size_t n) {
+/* Builds a model from n cells (xyz triples) with palette indices; far: the
+ * builder's far limit (vx_svo_testing.far_limit; 0: the default). */
+static vx_result ts_model_far(vx_svo_model* m, const uint32_t size[3], const uint32_t* xyz, const uint8_t* pal, size_t n, uint32_t far) {
     uint64_t* keys = malloc((n ? n : 1) * sizeof *keys);
     if (!keys) return VX_ERR_NOMEM;
     for (size_t i = 0; i < n; i++) keys[i] = vx_svo_morton(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
     vx_svo_voxels v = {.size = {size[0], size[1], size[2]}, .count = n, .keys = keys, .attrs = pal ? VX_ATTR_PALETTE : 0,
                        .palette = pal};
     vx_error err = {0};
-    vx_result r = vx_svo_build_model(NULL, &v, m, NULL, &err);
+    vx_result r = vx_svo_build_model(&(vx_svo_build_desc){.testing.far_limit = far}, &v, m, NULL, &err);
     if (r) fprintf(stderr, "build: %s\n", err.msg);
     free(keys);
     return r;
 }
+static vx_result ts_model(vx_svo_model* m, const uint32_t size[3], const uint32_t* xyz, const uint8_t* pal, size_t n) {
+    return ts_model_far(m, size, xyz, pal, n, 0);
+}
 
-/* Random model: each cell of size^3 filled with probability pct/100. */
-static vx_result ts_random_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t pct, uint32_t seed) {
+/* Random model: each cell of size^3 filled with probability pct/100 (far: as ts_model_far's). */
+static vx_result ts_random_model_far(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t pct, uint32_t seed, uint32_t far) {
     size_t cap = (size_t)sx * sy * sz, n = 0;
     uint32_t* xyz = malloc(cap * 12);
     uint8_t* pal = malloc(cap);
@@ -44,10 +48,13 @@ static vx_result ts_random_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint
                     pal[n++] = (uint8_t)(1 + ts_rng(&seed) % 255);
                 }
     uint32_t size[3] = {sx, sy, sz};
-    vx_result r = ts_model(m, size, xyz, pal, n);
+    vx_result r = ts_model_far(m, size, xyz, pal, n, far);
     free(xyz);
     free(pal);
     return r;
+}
+static vx_result ts_random_model(vx_svo_model* m, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t pct, uint32_t seed) {
+    return ts_random_model_far(m, sx, sy, sz, pct, seed, 0);
 }
 
 /* The compact layout's field seams (render/compact.h): a 32^3 palette

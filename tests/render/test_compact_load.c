@@ -16,7 +16,6 @@
 
 #include "render/compact.h"
 #include "svo/svo.h"
-#include "svo/svo_internal.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"
@@ -236,9 +235,7 @@ static void test_damaged(void) {
     vx_error err = {0};
     char path[128];
     file_path(path, sizeof path, "damaged");
-    vx__svo_write_raw_unchecked = true;
-    vx_result wr = vx_svo_write_file(NULL, &s, path, &err);
-    vx__svo_write_raw_unchecked = false;
+    vx_result wr = vx_svo_write_file(&(vx_write_desc){.testing.unchecked = true}, &s, path, &err);
     REQUIRE(wr == VX_OK);
     s.models[6].voxel_count--;
     static const uint32_t threads[] = {1, 3, 3, 8};

@@ -20,7 +20,6 @@
 #include "render/compact.h"
 #include "render/render.h"
 #include "svo/svo.h"
-#include "svo/svo_internal.h"
 #include "tests/gpu_test.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
@@ -182,9 +181,7 @@ static void test_damaged(void) {
     vx_error err = {0};
     char path[128];
     snprintf(path, sizeof path, "%s/damaged.svo", g_dir);
-    vx__svo_write_raw_unchecked = true;
-    vx_result wr = vx_svo_write_file(NULL, &s, path, &err);
-    vx__svo_write_raw_unchecked = false;
+    vx_result wr = vx_svo_write_file(&(vx_write_desc){.testing.unchecked = true}, &s, path, &err);
     REQUIRE(wr == VX_OK);
     vx_svo_scene_free(&s);
     for (int layout = VX_RENDER_LAYOUT_AUTO; layout <= VX_RENDER_LAYOUT_COMPACT; layout += 2) {

@@ -34,7 +34,6 @@
 #include "svo/svo.h"
 #include "tests/render/scenes.h"
 #include "render/render_internal.h" /* vx__render_scene_far */
-#include "svo/svo_internal.h"     /* vx__svo_far_limit */
 #include "tests/test.h"
 #include "tests/gpu_test.h"
 
@@ -253,9 +252,7 @@ static void test_far_pointers(void) {
     for (int lim = 0; lim < 2; lim++) {
         vx_svo_scene s;
         vx_error err = {0};
-        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
-        int br = bench_terrain(&s, 256, 0, &err);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        int br = bench_terrain_desc(&s, 256, 0, &(vx_svo_build_desc){.testing.far_limit = lim ? 3 : 0}, &err);
         REQUIRE(br == 0);
         vx_render_scene* rs = NULL;
         vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);

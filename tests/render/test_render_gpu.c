@@ -11,7 +11,6 @@
 
 #include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
 #include "svo/edit.h"
-#include "svo/svo_internal.h" /* vx__svo_far_limit */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"
@@ -555,10 +554,8 @@ static void test_far_pointers(void) {
     vx_render_desc views[2] = {cam(-9, -14, 30, 10, 8, 11), cam(40, 31, -6, 10, 8, 11)};
     views[0].width = views[1].width = 64, views[0].height = views[1].height = 48;
     for (int lim = 0; lim < 2; lim++) {
-        vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
         vx_svo_model m;
-        vx_result br = ts_random_model(&m, 20, 17, 23, 35, 777);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        vx_result br = ts_random_model_far(&m, 20, 17, 23, 35, 777, lim ? 3 : 0);
         REQUIRE(br == VX_OK);
         uint32_t nfar = far_descs(&m, m.root);
         CHECKF(lim ? nfar > 20 : nfar == 0, "far limit %s: %u far descriptors", lim ? "3" : "default", nfar);
@@ -589,10 +586,8 @@ static void test_far_pointers(void) {
             vx_render_image_free(&ci);
         } else {
             /* an edit with the far limit at 3 appends far pointers: FAR turns on */
-            vx__svo_far_limit = 3;
             vx_svo_editor* e = NULL;
-            vx_result er = vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e, &err);
-            vx__svo_far_limit = VX__SVO_PTR_MAX;
+            vx_result er = vx_svo_editor_create(&(vx_svo_editor_desc){.testing.far_limit = 3}, &s.models[0], &e, &err);
             REQUIRE(er == VX_OK);
             static vx_svo_cell_write w[7 * 7 * 7];
             size_t nw = 0;
@@ -687,9 +682,7 @@ static void test_path_start(void) {
             if (used[i]) xyz[3 * n] = i % 64, xyz[3 * n + 1] = i / 64 % 64, xyz[3 * n + 2] = i / 4096, pal[n++] = (uint8_t)(1 + i % 250);
         for (int tf = 0; tf < 2; tf++) {
             vx_svo_model mc;
-            vx__svo_far_limit = lim ? 3 : VX__SVO_PTR_MAX;
-            vx_result br = ts_model(&mc, (uint32_t[3]){64, 64, 64}, xyz, pal, n);
-            vx__svo_far_limit = VX__SVO_PTR_MAX;
+            vx_result br = ts_model_far(&mc, (uint32_t[3]){64, 64, 64}, xyz, pal, n, lim ? 3 : 0);
             REQUIRE(br == VX_OK);
             CHECKF(lim ? far_descs(&mc, mc.root) > 20 : far_descs(&mc, mc.root) == 0, "far limit %s: %u far descriptors",
                    lim ? "3" : "default", far_descs(&mc, mc.root));

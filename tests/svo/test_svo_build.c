@@ -425,7 +425,7 @@ static void test_bad_input(void) {
 }
 
 static void far_case(uint32_t limit) {
-    vx__svo_far_limit = limit;
+    const vx_svo_build_desc bd = {.testing.far_limit = limit};
     const uint32_t S = 48;
     dense ref = dense_make(S, S, S);
     size_t n = 4000;
@@ -443,7 +443,7 @@ static void far_case(uint32_t limit) {
         vx_svo_model m;
         vx_svo_build_stats st;
         vx_error e;
-        REQUIRE(vx_svo_build_model(NULL, &in, &m, &st, &e) == VX_OK);
+        REQUIRE(vx_svo_build_model(&bd, &in, &m, &st, &e) == VX_OK);
         CHECKF(st.far_pointers > 0, "limit %u: no far pointers", limit);
         CHECK(vx_svo_validate_model(&m, &e) == VX_OK);
         check_cell_box(&m);
@@ -458,7 +458,6 @@ static void far_case(uint32_t limit) {
         }
         vx_svo_model_free(NULL, &m);
     }
-    vx__svo_far_limit = VX__SVO_PTR_MAX;
     free(ref.v);
     free(keys);
     free(pal);
@@ -897,7 +896,8 @@ static void tr_free(truns* t) { free(t->tab), free(t->recs), free(t->key), free(
  * the model equals the builder's own, check_pool accepts the pool, and
  * broken pools are refused. */
 static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const uint32_t* ids, size_t n, const vx__svo_rec* tab,
-                      size_t ntab, bool thread) {
+                      size_t ntab, bool thread, uint32_t far) {
+    const vx_svo_build_desc bd = {.testing.far_limit = far};
     uint64_t* uk = (uint64_t*)calloc(n + 1, 8);
     uint32_t* ui = (uint32_t*)calloc(n + 1, 4);
     REQUIRE(uk && ui);
@@ -924,9 +924,9 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
     vx_svo_model a, b;
     vx_svo_build_stats sa, sb;
     vx_error e;
-    REQUIRE(vx__svo_build_interned(NULL, &in, &pre, &a, &sa, &e) == VX_OK);
+    REQUIRE(vx__svo_build_interned(&bd, &in, &pre, &a, &sa, &e) == VX_OK);
     pre.pool = &pool;
-    vx_result r = vx__svo_build_interned(NULL, &in, &pre, &b, &sb, &e);
+    vx_result r = vx__svo_build_interned(&bd, &in, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "pool, attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
         size_t na = a.attr_count;
@@ -940,7 +940,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         vx_svo_model_free(NULL, &b);
     }
     pre.check_pool = true; /* the builder's own pool is the brute-force one */
-    r = vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e);
+    r = vx__svo_build_interned(&bd, &in, &pre, &b, NULL, &e);
     CHECKF(r == VX_OK, "check_pool, attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) vx_svo_model_free(NULL, &b);
     if (p.n >= 4 && !rl) {
@@ -953,13 +953,13 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
             for (unsigned o = 0; o < 8 && !((leaf >> o) & 1u); o++) j += (valid >> o) & 1u;
             uint32_t keep = p.w[off + 3 + j];
             p.w[off + 3 + j] = (keep + 1) % (uint32_t)ntab;
-            CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "differs"));
+            CHECK(vx__svo_build_interned(&bd, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "differs"));
             p.w[off + 3 + j] = keep;
         }
         pre.check_pool = false;
         uint32_t h0 = p.w[0];
         p.w[0] = 0;
-        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "header"));
+        CHECK(vx__svo_build_interned(&bd, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "header"));
         p.w[0] = h0;
         /* the last node's first node child pointing at itself, or its leaf at a tuple beyond the table */
         size_t last = 0;
@@ -968,11 +968,11 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         uint32_t lv = p.w[last] & 0xFFu, first = lv & (~lv + 1u); /* its first valid child */
         bool leaf0 = ((p.w[last] >> 8) & first) != 0;
         p.w[last + 3] = leaf0 ? (uint32_t)ntab : (uint32_t)last;
-        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG &&
+        CHECK(vx__svo_build_interned(&bd, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG &&
               strstr(e.msg, leaf0 ? "tuple" : "earlier node"));
         p.w[last + 3] = keep;
         pool.root = (uint32_t)p.n + 5;
-        CHECK(vx__svo_build_interned(NULL, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "root"));
+        CHECK(vx__svo_build_interned(&bd, &in, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "root"));
     }
     /* the representatives and attribute runs given too (as the GPU gives
      * them): the same model; a run that is not the node's children's refused */
@@ -984,7 +984,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         pr.reps = pr.runs = true;
         pr.recs = t.recs, pr.nrecs = t.nrecs;
         vx__svo_interned pi = {ui, t.tab, t.ntab, thread, 3, &pr, false}; /* 3 threads: the large cases copy and convert in parallel */
-        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        r = vx__svo_build_interned(&bd, &in, &pi, &b, NULL, &e);
         CHECKF(r == VX_OK, "runs given, attrs 0x%x: %s", attrs, e.msg);
         if (r == VX_OK) {
             size_t na = a.attr_count;
@@ -1002,8 +1002,8 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         vx_svo_build_stats sl;
         pr.laid = a.nodes, pr.laid_count = a.node_count, pr.laid_far = sa.far_pointers, pr.laid_desc = sa.desc_dag;
         pr.root_rep = p.w[rr + 1];
-        r = vx__svo_build_interned(NULL, &in, &pi, &b, &sl, &e);
-        if (vx__svo_far_limit != VX__SVO_PTR_MAX) { /* forced far pointers: the caller's layout cannot have them */
+        r = vx__svo_build_interned(&bd, &in, &pi, &b, &sl, &e);
+        if (vx__svo_far_limit(&bd.testing) != VX__SVO_PTR_MAX) { /* forced far pointers: the caller's layout cannot have them */
             CHECK(r == VX_ERR_INVALID_ARG && strstr(e.msg, "near pointers"));
             r = VX_ERR_INVALID_ARG;
         } else {
@@ -1021,16 +1021,16 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
             vx_svo_model_free(NULL, &b);
         }
         pi.check_pool = true;
-        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        r = vx__svo_build_interned(&bd, &in, &pi, &b, NULL, &e);
         CHECKF(r == VX_OK, "laid out, checked, attrs 0x%x: %s", attrs, e.msg);
         if (r == VX_OK) vx_svo_model_free(NULL, &b);
         a.nodes[a.node_count / 2] ^= 1u << 17; /* a pointer one off */
-        CHECK(vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "blocks differ"));
+        CHECK(vx__svo_build_interned(&bd, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "blocks differ"));
         a.nodes[a.node_count / 2] ^= 1u << 17;
         pi.check_pool = false;
         pr.laid = NULL;
         pi.check_pool = true; /* the builder's own layout's runs are these */
-        r = vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e);
+        r = vx__svo_build_interned(&bd, &in, &pi, &b, NULL, &e);
         CHECKF(r == VX_OK, "runs checked, attrs 0x%x: %s", attrs, e.msg);
         if (r == VX_OK) vx_svo_model_free(NULL, &b);
         pi.check_pool = false;
@@ -1044,7 +1044,7 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
         for (unsigned k = 0; k < nk; k++)
             moved_same = moved_same && p.w[last + 2] + k < t.nrecs && t.recs[p.w[last + 2] + k] == t.recs[keep + k];
         if (!moved_same)
-            CHECK(vx__svo_build_interned(NULL, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "run at record"));
+            CHECK(vx__svo_build_interned(&bd, &in, &pi, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "run at record"));
         p.w[last + 2] = keep;
         tr_free(&t);
     }
@@ -1052,8 +1052,10 @@ static void pool_case(uint32_t attrs, uint32_t S, const uint64_t* keys, const ui
     free(uk), free(ui), free(p.w), free(p.tab);
 }
 
+/* far: the builder's far limit (vx_svo_testing.far_limit; 0: the default) */
 static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nrand, unsigned nvals, bool shuffle,
-                          bool thread, unsigned threads) {
+                          bool thread, unsigned threads, uint32_t far) {
+    const vx_svo_build_desc bd = {.testing.far_limit = far};
     size_t cap = nblocks * 64 + nrand;
     uint64_t* keys = (uint64_t*)calloc(cap, 8);
     vx__svo_rec* full = (vx__svo_rec*)calloc(cap, sizeof *full);
@@ -1118,11 +1120,11 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
     vx_svo_model a, b;
     vx_svo_build_stats sa, sb;
     vx_error e;
-    REQUIRE(vx_svo_build_model(NULL, &in, &a, &sa, &e) == VX_OK);
+    REQUIRE(vx_svo_build_model(&bd, &in, &a, &sa, &e) == VX_OK);
     vx_svo_voxels bare = in;
     bare.palette = NULL, bare.rgba = NULL, bare.normal = NULL, bare.material = NULL, bare.density = NULL;
     vx__svo_interned pre = {ids, tab, ntab, thread, threads, NULL, false};
-    vx_result r = vx__svo_build_interned(NULL, &bare, &pre, &b, &sb, &e);
+    vx_result r = vx__svo_build_interned(&bd, &bare, &pre, &b, &sb, &e);
     CHECKF(r == VX_OK, "attrs 0x%x: %s", attrs, e.msg);
     if (r == VX_OK) {
         CHECKF(a.node_count == b.node_count && a.root == b.root && a.root_attr == b.root_attr && a.attr_count == b.attr_count &&
@@ -1137,16 +1139,16 @@ static void interned_case(uint32_t attrs, uint32_t S, size_t nblocks, size_t nra
         CHECK(sa.desc_collapsed < sa.desc_plain || nblocks == 0); /* the blocks did collapse */
         vx_svo_model_free(NULL, &b);
     }
-    if (!shuffle && n) pool_case(attrs, S, keys, ids, n, tab, ntab, thread);
+    if (!shuffle && n) pool_case(attrs, S, keys, ids, n, tab, ntab, thread, far);
     /* rejected: an id out of range, two equal tuples */
     if (n && ntab) {
         uint32_t keep = ids[n / 2];
         ids[n / 2] = (uint32_t)ntab;
-        CHECK(vx__svo_build_interned(NULL, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "tuple"));
+        CHECK(vx__svo_build_interned(&bd, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "tuple"));
         ids[n / 2] = keep;
         tab[ntab] = tab[0];
         pre.count = ntab + 1;
-        CHECK(vx__svo_build_interned(NULL, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "equal"));
+        CHECK(vx__svo_build_interned(&bd, &bare, &pre, &b, NULL, &e) == VX_ERR_INVALID_ARG && strstr(e.msg, "equal"));
     }
     vx_svo_model_free(NULL, &a);
     free(keys), free(full), free(vals), free(pal), free(rgba), free(nrm), free(ids), free(mat), free(den), free(tab);
@@ -1156,22 +1158,18 @@ static void test_interned(void) {
     const uint32_t mixes[] = {VX_ATTR_RGBA8, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL,
                               VX_ATTR_PALETTE, VX_ATTR_MATERIAL, VX_ATTR_NORMAL | VX_ATTR_DENSITY};
     for (size_t i = 0; i < sizeof mixes / sizeof *mixes; i++) {
-        interned_case(mixes[i], 32, 12, 900, 3, false, false, 0);   /* few tuples: much sharing */
-        interned_case(mixes[i], 64, 6, 2500, 400, false, false, 0); /* many tuples */
-        interned_case(mixes[i], 16, 4, 300, 2, true, false, 0);     /* unsorted, duplicates */
+        interned_case(mixes[i], 32, 12, 900, 3, false, false, 0, 0);   /* few tuples: much sharing */
+        interned_case(mixes[i], 64, 6, 2500, 400, false, false, 0, 0); /* many tuples */
+        interned_case(mixes[i], 16, 4, 300, 2, true, false, 0, 0);     /* unsorted, duplicates */
     }
-    vx__svo_far_limit = 40;
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false, 0);
-    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 64, 20, 3000, 50, false, false, 0, 40);
     /* the layout on a second thread (from 2^16 entries): the same words */
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true, 0);
-    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true, 0);
-    vx__svo_far_limit = 200;
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true, 0);
-    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 128, 300, 90000, 60, false, true, 0, 0);
+    interned_case(VX_ATTR_RGBA8, 256, 100, 120000, 5000, false, true, 0, 0);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL, 128, 400, 80000, 30, false, true, 0, 200);
     /* many tuples (from 2^18) interned on 4 threads, with and without the layout thread */
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 256, 200, 600000, 1000000, false, true, 4);
-    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, 256, 200, 600000, 1000000, false, true, 4, 0);
+    interned_case(VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL, 256, 50, 500000, 900000, false, false, 3, 0);
     uint64_t k = 0;
     vx_svo_voxels in = {.size = {4, 4, 4}, .count = 1, .keys = &k, .attrs = VX_ATTR_RGBA8};
     vx__svo_interned pre = {NULL, NULL, 0, false, 0, NULL, false};

@@ -65,7 +65,8 @@ static vx_svo_cell cell_value(uint32_t attrs, uint32_t pick) {
     return c;
 }
 
-static vx_result build_from_grid(const grid* g, uint32_t attrs, vx_svo_model* out) {
+/* far: the builder's far limit (vx_svo_testing.far_limit; 0: the default) */
+static vx_result build_from_grid(const grid* g, uint32_t attrs, uint32_t far, vx_svo_model* out) {
     size_t n = 0, cap = (size_t)GMAX * GMAX * GMAX;
     uint64_t* keys = malloc(cap * 8);
     uint8_t* pal = malloc(cap);
@@ -90,7 +91,7 @@ static vx_result build_from_grid(const grid* g, uint32_t attrs, vx_svo_model* ou
     if (attrs & VX_ATTR_MATERIAL) v.material = mat;
     if (attrs & VX_ATTR_DENSITY) v.density = den;
     vx_error err;
-    vx_result r = vx_svo_build_model(&(vx_svo_build_desc){0}, &v, out, NULL, &err);
+    vx_result r = vx_svo_build_model(&(vx_svo_build_desc){.testing.far_limit = far}, &v, out, NULL, &err);
     free(keys), free(pal), free(rgba), free(nrm), free(mat), free(den);
     return r;
 }
@@ -177,7 +178,7 @@ static seq tree_seq(const vx_svo_model* m) {
 
 static void check_same_tree(const vx_svo_model* m, const grid* g) {
     vx_svo_model b = {0};
-    REQUIRE(build_from_grid(g, m->attrs, &b) == VX_OK);
+    REQUIRE(build_from_grid(g, m->attrs, 0, &b) == VX_OK);
     seq x = tree_seq(m), y = tree_seq(&b);
     size_t diff = x.n == y.n ? 0 : SIZE_MAX;
     for (size_t i = 0; diff == 0 && i < x.n; i++)
@@ -286,18 +287,17 @@ static void fill_start(grid* g, uint32_t attrs, uint32_t sx, uint32_t sy, uint32
     }
 }
 
+/* far_limit: the builder's and the editor's (vx_svo_testing.far_limit) */
 static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int rounds) {
-    uint32_t saved_limit = vx__svo_far_limit;
-    vx__svo_far_limit = far_limit;
     grid g = grid_new();
     fill_start(&g, attrs, 20 + rnd_below(12), 17, 24);
     vx_svo_model m = {0};
-    REQUIRE(build_from_grid(&g, attrs, &m) == VX_OK);
+    REQUIRE(build_from_grid(&g, attrs, far_limit, &m) == VX_OK);
     vx_svo_editor* e = NULL;
     vx_error err;
-    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){.no_dag = no_dag}, &m, &e, &err) == VX_OK);
+    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){.no_dag = no_dag, .testing.far_limit = far_limit}, &m, &e, &err) == VX_OK);
     vx_svo_cell_write* w = malloc(9 * 9 * 9 * sizeof *w);
-    uint64_t shared = 0;
+    uint64_t shared = 0, far_new = 0;
     for (int it = 0; it < rounds; it++) {
         grid before = grid_copy(&g);
         vx_svo_model_header h0 = vx_svo_model_header_get(&m);
@@ -310,6 +310,7 @@ static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int round
         }
         shared += st.blocks_shared;
         CHECK(st.words_from >= h0.node_count && (m.node_count == 0 || m.node_count == st.words_from + st.words_added));
+        for (uint32_t i = st.words_from; i < m.node_count; i++) far_new += vx_svo_desc_far(m.nodes[i]) && vx_svo_desc_valid(m.nodes[i]);
         check_cells(&m, &g);
         if (it % 4 == 0) check_box(e, &g);
         if (it % 8 == 0 || it == rounds - 1) check_same_tree(&m, &g);
@@ -324,10 +325,13 @@ static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int round
         if (vx_t_cur_failed) break;
     }
     if (!no_dag) CHECK(shared > 0); /* unchanged neighbours of the paths are found again */
-    /* compaction gives the builder's words and records exactly */
+    /* a low limit reaches the editor: the words it appends hold far slots */
+    if (far_limit < VX__SVO_PTR_MAX) CHECKF(far_new > 0, "far limit %u: no far descriptor among the edits' words", far_limit);
+    /* compaction gives the builder's words and records exactly (its own
+     * build: the default far limit) */
     vx_svo_model c = {0}, b = {0};
     CHECK(vx_svo_model_compact(NULL, &m, &c, &err) == VX_OK);
-    CHECK(build_from_grid(&g, attrs, &b) == VX_OK);
+    CHECK(build_from_grid(&g, attrs, 0, &b) == VX_OK);
     CHECK(c.node_count == b.node_count && c.attr_count == b.attr_count && c.root == b.root && c.root_attr == b.root_attr);
     CHECK(c.node_count == b.node_count && (!b.node_count || !memcmp(c.nodes, b.nodes, (size_t)b.node_count * 4)));
     CHECK(!b.rgba || !memcmp(c.rgba, b.rgba, (size_t)b.attr_count * 4));
@@ -361,7 +365,6 @@ static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int round
     vx_svo_model_free(NULL, &m);
     free(w);
     grid_free(&g);
-    vx__svo_far_limit = saved_limit;
 }
 
 static void test_edit_palette(void) { run_edits(VX_ATTR_PALETTE, false, VX__SVO_PTR_MAX, 120); }
@@ -378,7 +381,7 @@ static void test_edit_edges(void) {
     g.set[gi(0, 0, 0)] = true;
     g.v[gi(0, 0, 0)] = cell_value(VX_ATTR_RGBA8, 1);
     vx_svo_model m = {0};
-    REQUIRE(build_from_grid(&g, VX_ATTR_RGBA8, &m) == VX_OK);
+    REQUIRE(build_from_grid(&g, VX_ATTR_RGBA8, 0, &m) == VX_OK);
     REQUIRE(m.root == VX_SVO_ROOT_LEAF && m.depth == 0);
     vx_svo_editor* e = NULL;
     vx_error err;

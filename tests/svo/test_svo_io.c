@@ -25,7 +25,8 @@ static uint64_t rnd(void) {
     return rs;
 }
 
-static bool build(vx_svo_model* m, uint32_t S, size_t n, uint32_t attrs) {
+/* far: the builder's far limit (vx_svo_testing.far_limit; 0: the default) */
+static bool build_far(vx_svo_model* m, uint32_t S, size_t n, uint32_t attrs, uint32_t far) {
     uint64_t* k = (uint64_t*)malloc(n * 8);
     uint8_t* p = (uint8_t*)malloc(n);
     uint32_t* c = (uint32_t*)malloc(n * 4);
@@ -55,20 +56,22 @@ static bool build(vx_svo_model* m, uint32_t S, size_t n, uint32_t attrs) {
         }
     in.count = w;
     vx_error e;
-    bool ok = vx_svo_build_model(NULL, &in, m, NULL, &e) == VX_OK;
+    bool ok = vx_svo_build_model(&(vx_svo_build_desc){.testing.far_limit = far}, &in, m, NULL, &e) == VX_OK;
     if (!ok) fprintf(stderr, "build: %s\n", e.msg);
     free(k), free(p), free(c), free(nr), free(mt), free(d);
     return ok;
 }
+static bool build(vx_svo_model* m, uint32_t S, size_t n, uint32_t attrs) { return build_far(m, S, n, attrs, 0); }
 
-/* A scene with three models (palette; all other channels; geometry only). */
-static void make_scene(vx_svo_scene* s, size_t n) {
+/* A scene with three models (palette; all other channels; geometry only),
+ * built with the far limit far (0: the default). */
+static void make_scene_far(vx_svo_scene* s, size_t n, uint32_t far) {
     vx_svo_scene_init(s, NULL);
     s->model_count = 3;
     s->models = (vx_svo_model*)calloc(3, sizeof *s->models);
-    build(&s->models[0], 16, n, VX_ATTR_PALETTE);
-    build(&s->models[1], 8, n / 2, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL | VX_ATTR_DENSITY);
-    build(&s->models[2], 32, n, 0);
+    build_far(&s->models[0], 16, n, VX_ATTR_PALETTE, far);
+    build_far(&s->models[1], 8, n / 2, VX_ATTR_RGBA8 | VX_ATTR_NORMAL | VX_ATTR_MATERIAL | VX_ATTR_DENSITY, far);
+    build_far(&s->models[2], 32, n, 0, far);
     s->has_palette = true;
     for (int i = 0; i < 256; i++) s->palette[i] = 0xFF000000u | (uint32_t)i * 0x010203u;
     s->instance_count = 4;
@@ -98,6 +101,7 @@ static void make_scene(vx_svo_scene* s, size_t n) {
     s->world_from_grid[0] = s->world_from_grid[5] = s->world_from_grid[10] = 0.1;
     vx_svo_scene_update_bounds(s);
 }
+static void make_scene(vx_svo_scene* s, size_t n) { make_scene_far(s, n, 0); }
 
 static bool model_equal(const vx_svo_model* a, const vx_svo_model* b) {
     if (memcmp(a->size, b->size, sizeof a->size) || a->depth != b->depth || a->root != b->root || a->root_attr != b->root_attr ||
@@ -870,9 +874,7 @@ static void test_bad_crc_and_skip(void) {
     /* a bad node word stored as it is (raw form): rejected by structure */
     uint32_t root = s.models[0].root, keep = s.models[0].nodes[root];
     s.models[0].nodes[root] |= 0xFFFEu << 17; /* pointer far beyond the array start */
-    vx__svo_write_raw_unchecked = true;
-    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
-    vx__svo_write_raw_unchecked = false;
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing.unchecked = true}, &s, &d, &n, &e) == VX_OK);
     s.models[0].nodes[root] = keep;
     CHECK(vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, d, n, &r, &e) == VX_ERR_BAD_FORMAT &&
           strstr(e.msg, "structure"));
@@ -915,9 +917,7 @@ static void test_corrupt_pointers(void) {
         m->nodes[cases[i].word] = cases[i].value;
         uint8_t* d;
         size_t n;
-        vx__svo_write_raw_unchecked = true;
-        vx_result wr = vx_svo_write(&s, NULL, &d, &n, &e);
-        vx__svo_write_raw_unchecked = false;
+        vx_result wr = vx_svo_write_ex(&(vx_write_desc){.testing.unchecked = true}, &s, &d, &n, &e);
         REQUIRE(wr == VX_OK);
         vx_svo_scene r;
         vx_result res = vx_svo_read(NULL, d, n, &r, &e);
@@ -1253,10 +1253,8 @@ static void test_unknown_sections(void) {
 
 /* A real far-pointer model through the file. */
 static void test_far_file(void) {
-    vx__svo_far_limit = 2;
     vx_svo_scene s;
-    make_scene(&s, 800);
-    vx__svo_far_limit = VX__SVO_PTR_MAX;
+    make_scene_far(&s, 800, 2);
     vx_svo_scene r;
     uint8_t* d;
     size_t n;
@@ -1318,21 +1316,19 @@ static void test_streamed_file(void) {
     REQUIRE(mkdtemp(dir));
     char path[256];
     snprintf(path, sizeof path, "%s/out.svo", dir);
-    size_t saved = vx__svo_flush_bytes;
-    uint64_t saved_par = vx__svo_parallel_words;
-    const size_t thresholds[4] = {0, 1, saved, 0};
+    /* NODE flushed after every model (from 1 byte), once it holds 4 KB, at
+     * the default 16 MB (0: here only at the end), and after every model with
+     * the models coded in parallel batches */
+    const size_t thresholds[4] = {1, 4096, 0, 1};
     for (int i = 0; i < 4; i++) {
-        vx__svo_flush_bytes = thresholds[i];
-        vx__svo_parallel_words = i == 3 ? 0 : saved_par; /* last: models coded in parallel batches */
-        REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
+        const vx_write_desc wd = {.testing = {.flush_bytes = thresholds[i], .parallel_always = i == 3}};
+        REQUIRE(vx_svo_write_file(&wd, &s, path, &e) == VX_OK);
         size_t nf = 0;
         uint8_t* file = slurp_file(path, &nf);
         CHECKF(file && nf == nm && !memcmp(file, mem, nm), "flush threshold %zu: %zu vs %zu bytes", thresholds[i], nf,
                nm);
         free(file);
     }
-    vx__svo_flush_bytes = saved;
-    vx__svo_parallel_words = saved_par;
     /* only the output is left in the directory (no scratch or temporary files) */
     char cmd[512];
     snprintf(cmd, sizeof cmd, "test \"$(ls -A %s)\" = out.svo", dir);
@@ -1412,7 +1408,7 @@ static void test_node_in_place(void) {
             int ns = t_table(mem, nm, t, 8, &tcrc);
             REQUIRE(ns >= 2 && !strcmp(t[1].tag, "NODE"));
             unsigned real = t_var_len(t[1].size);
-            unsigned guess = t_var_len(vx__svo_pack_estimate(&s, wd.svo_chunk_words, vx__svo_chunk_mode(&wd), vx__svo_split_words));
+            unsigned guess = t_var_len(vx__svo_pack_estimate(&s, wd.svo_chunk_words, vx__svo_chunk_mode(&wd), vx__svo_split_min(&wd)));
             seen[guess < real ? 0 : guess == real ? 1 : 2]++;
             REQUIRE(vx_svo_write_file(&wd, &s, path, &e) == VX_OK);
             size_t nf = 0;
@@ -1467,7 +1463,7 @@ static bool lights_equal(const vx_svo_scene* a, const vx_svo_scene* b) {
 
 /* The threads option (vx_write_desc.threads, vx_svo_read_desc.threads):
  * the bytes written and the scene read never depend on it, with the
- * parallel paths forced on (vx__svo_parallel_words 0); a corrupt model gives
+ * parallel paths forced on (vx_svo_testing.parallel_always); a corrupt model gives
  * the same error whatever the thread count (the first bad model in order). */
 static void test_thread_counts(void) {
     vx_svo_scene s;
@@ -1475,17 +1471,16 @@ static void test_thread_counts(void) {
     vx_error e;
     uint8_t* base = NULL;
     size_t nb = 0;
-    uint64_t saved_par = vx__svo_parallel_words;
     vx_write_desc one = {.threads = 1};
     REQUIRE(vx_svo_write_ex(&one, &s, &base, &nb, &e) == VX_OK);
-    vx__svo_parallel_words = 0;
+    const vx_svo_testing par = {.parallel_always = true};
     char dir[] = "/tmp/vx_svo_threadsXXXXXX";
     REQUIRE(mkdtemp(dir));
     char path[256];
     snprintf(path, sizeof path, "%s/out.svo", dir);
     const unsigned counts[4] = {1, 2, 4, 0};
     for (int i = 0; i < 4; i++) {
-        vx_write_desc wd = {.threads = counts[i]};
+        vx_write_desc wd = {.threads = counts[i], .testing = par};
         uint8_t* mem = NULL;
         size_t nm = 0;
         REQUIRE(vx_svo_write_ex(&wd, &s, &mem, &nm, &e) == VX_OK);
@@ -1496,14 +1491,14 @@ static void test_thread_counts(void) {
         CHECKF(file && nf == nb && !memcmp(file, base, nb), "%u threads, file: %zu vs %zu bytes", counts[i], nf, nb);
         free(file);
         /* read back with this thread count: the same scene (it writes the same bytes) */
-        vx_svo_read_desc rd = {.threads = counts[i]};
+        vx_svo_read_desc rd = {.threads = counts[i], .testing = par};
         vx_svo_scene b;
         REQUIRE(vx_svo_read(&rd, mem, nm, &b, &e) == VX_OK);
         CHECK(b.model_count == s.model_count);
         CHECK(!memcmp(b.bounds_min, s.bounds_min, sizeof b.bounds_min) && !memcmp(b.bounds_max, s.bounds_max, sizeof b.bounds_max));
         uint8_t* again = NULL;
         size_t na = 0;
-        REQUIRE(vx_svo_write_ex(&one, &b, &again, &na, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1, .testing = par}, &b, &again, &na, &e) == VX_OK);
         CHECKF(na == nb && !memcmp(again, base, nb), "%u threads: read and written again differs", counts[i]);
         vx_free(NULL, again);
         vx_svo_scene_free(&b);
@@ -1524,7 +1519,7 @@ static void test_thread_counts(void) {
         REQUIRE(node_n > 16);
         bad[node_at + node_n / 2] ^= 0x5A;
         bad[node_at + node_n * 3 / 4] ^= 0x5A;
-        vx_svo_read_desc rd = {.threads = counts[i], .skip_checksums = true};
+        vx_svo_read_desc rd = {.threads = counts[i], .skip_checksums = true, .testing = par};
         vx_svo_scene b;
         vx_result r = vx_svo_read(&rd, bad, nb, &b, &e);
         if (r == VX_OK) vx_svo_scene_free(&b);
@@ -1533,7 +1528,6 @@ static void test_thread_counts(void) {
         else CHECKF(!strcmp(first_msg, e.msg), "%u threads: '%s' vs '%s'", counts[i], e.msg, first_msg);
         free(bad);
     }
-    vx__svo_parallel_words = saved_par;
     remove(path);
     rmdir(dir);
     vx_free(NULL, base);
@@ -3063,13 +3057,15 @@ static void test_frames_bad(void) {
 /* ---- the split form (docs/FORMAT.md 3.7, version 5) ---------------------------------------- */
 
 /* make_scene with model 1 reduced to channels the structural form takes
- * (RGBA8 and material), so that two of its models are split. */
-static void make_split_scene(vx_svo_scene* s, size_t n) {
-    make_scene(s, n);
+ * (RGBA8 and material), so that two of its models are split; built with the
+ * far limit far (0: the default). */
+static void make_split_scene_far(vx_svo_scene* s, size_t n, uint32_t far) {
+    make_scene_far(s, n, far);
     vx_svo_model_free(NULL, &s->models[1]);
-    build(&s->models[1], 8, n / 2 + 1, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL);
+    build_far(&s->models[1], 8, n / 2 + 1, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL, far);
     vx_svo_scene_update_bounds(s);
 }
+static void make_split_scene(vx_svo_scene* s, size_t n) { make_split_scene_far(s, n, 0); }
 
 /* The model streams of file d that start with the split form's byte 1 (a
  * split structural model; the range-coded form starts with its side length). */
@@ -3086,37 +3082,34 @@ static void test_split_form(void) {
     for (int k = 0; k < 4; k++) {
         vx_svo_scene s;
         make_split_scene(&s, k == 0 ? 4 : (size_t)(60 * k));
-        if (k == 2) vx__svo_far_limit = 3; /* the limit is stored in the split header */
+        const uint32_t far = k == 2 ? 3 : 0; /* the writers' far limit: it is stored in the split header */
         uint8_t *d0, *d1, *d2;
         size_t n0, n1, n2;
         /* below the threshold: the range-coded bytes of versions 1 and 2 */
-        REQUIRE(vx_svo_write(&s, NULL, &d0, &n0, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing.far_limit = far}, &s, &d0, &n0, &e) == VX_OK);
         CHECK((d0[8] | d0[9] << 8) == 1);
-        vx__svo_split_words = 1;
-        REQUIRE(vx_svo_write(&s, NULL, &d1, &n1, &e) == VX_OK);
+        const vx_svo_testing split = {.far_limit = far, .split_words = 1}; /* every structural model split */
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing = split}, &s, &d1, &n1, &e) == VX_OK);
         /* svo_range_coded keeps the old form at any size */
-        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.svo_range_coded = true}, &s, &d2, &n2, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.svo_range_coded = true, .testing = split}, &s, &d2, &n2, &e) == VX_OK);
         CHECKF(n2 == n0 && memcmp(d0, d2, n0) == 0, "case %d: svo_range_coded changes the bytes", k);
         free(d2);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
         /* models with attributes: the runs stream, version 6 */
         CHECKF((d1[8] | d1[9] << 8) == 6 && n1 != n0, "case %d: version %u, %zu bytes against %zu", k, d1[8] | d1[9] << 8, n1, n0);
         CHECK(t_split_models(d1, n1) == 3);
         /* read(write(x)) == x on one thread and three (the parallel paths
          * forced on: models in jobs, streams on threads, the layout's); the
          * bytes come back */
-        uint64_t saved_par = vx__svo_parallel_words;
         for (unsigned t = 1; t <= 3; t += 2) {
-            vx__svo_parallel_words = t == 3 ? 0 : saved_par;
+            const vx_svo_testing tk = {.split_words = 1, .parallel_always = t == 3};
             vx_svo_scene r;
-            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, d1, n1, &r, &e) == VX_OK);
+            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t, .testing = tk}, d1, n1, &r, &e) == VX_OK);
             for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "case %d model %u threads %u", k, i, t);
-            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t}, &r, &d2, &n2, &e) == VX_OK);
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t, .testing = tk}, &r, &d2, &n2, &e) == VX_OK);
             CHECKF(n2 == n1 && memcmp(d1, d2, n1) == 0, "case %d threads %u: the bytes differ on a second write", k, t);
             free(d2);
             vx_svo_scene_free(&r);
         }
-        vx__svo_parallel_words = saved_par;
         /* damaged files: every cut refused with a message; a flip (the CRCs
          * fixed, so the structure decides) refused or read into models that
          * validate */
@@ -3155,7 +3148,6 @@ static void test_split_form(void) {
         vx_svo_scene r;
         CHECKF(vx_svo_read(NULL, c, n1, &r, &e) == VX_ERR_BAD_FORMAT && strstr(e.msg, "split form needs format version 5"), "%s", e.msg);
         free(c);
-        vx__svo_split_words = VX__SPLIT_WORDS;
         free(d0);
         free(d1);
         vx_svo_scene_free(&s);
@@ -3171,9 +3163,7 @@ static void test_split_hand(void) {
     vx_error e;
     uint8_t* d;
     size_t n;
-    vx__svo_split_words = 1;
-    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
-    vx__svo_split_words = VX__SPLIT_WORDS;
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing.split_words = 1}, &s, &d, &n, &e) == VX_OK);
     const uint8_t* node = section(d, n, "NODE", NULL);
     size_t node_n = 0;
     section(d, n, "NODE", &node_n);
@@ -3291,27 +3281,22 @@ static void test_split_runs(void) {
     vx_error e;
     uint8_t *d5, *d6, *d2;
     size_t n5, n6, n2;
-    vx__svo_split_words = 1;
-    vx__svo_split_runs = false;
-    REQUIRE(vx_svo_write(&s, NULL, &d5, &n5, &e) == VX_OK);
-    vx__svo_split_runs = true;
-    REQUIRE(vx_svo_write(&s, NULL, &d6, &n6, &e) == VX_OK);
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing = {.split_words = 1, .split_no_runs = true}}, &s, &d5, &n5, &e) == VX_OK);
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing.split_words = 1}, &s, &d6, &n6, &e) == VX_OK);
     CHECKF((d5[8] | d5[9] << 8) == 5 && (d6[8] | d6[9] << 8) == 6, "versions %u, %u", d5[8] | d5[9] << 8, d6[8] | d6[9] << 8);
     CHECK(t_split_models(d5, n5) == 3 && t_split_models(d6, n6) == 3);
-    uint64_t saved_par = vx__svo_parallel_words;
     for (int v = 5; v <= 6; v++)
         for (unsigned t = 1; t <= 3; t += 2) {
-            vx__svo_parallel_words = t == 3 ? 0 : saved_par;
+            const vx_svo_testing tk = {.split_words = 1, .parallel_always = t == 3};
             vx_svo_scene r;
-            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, v == 5 ? d5 : d6, v == 5 ? n5 : n6, &r, &e) == VX_OK);
+            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t, .testing = tk}, v == 5 ? d5 : d6, v == 5 ? n5 : n6, &r, &e) == VX_OK);
             for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "version %d model %u threads %u", v, i, t);
             /* read from either version, written in version 6's form again */
-            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t}, &r, &d2, &n2, &e) == VX_OK);
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t, .testing = tk}, &r, &d2, &n2, &e) == VX_OK);
             CHECKF(n2 == n6 && memcmp(d6, d2, n6) == 0, "version %d threads %u: written again, the bytes differ", v, t);
             free(d2);
             vx_svo_scene_free(&r);
         }
-    vx__svo_parallel_words = saved_par;
     /* model 0 (palette indices 1..5: runs found again): its runs stream is
      * the last of 12 (10, the channel, the runs); geometry (model 2) has none */
     const uint8_t* node = section(d6, n6, "NODE", NULL);
@@ -3428,7 +3413,6 @@ static void test_split_runs(void) {
         free(b.d);
     }
     for (int i = 0; i < 12; i++) free(raw[i]);
-    vx__svo_split_words = VX__SPLIT_WORDS;
     free(d5);
     free(d6);
     vx_svo_scene_free(&s);
@@ -3447,19 +3431,19 @@ static void test_trusted_write(void) {
     uint8_t *d, *d2;
     size_t n, n2;
     for (int split = 0; split < 2; split++) {
-        vx__svo_split_words = split ? 1 : VX__SPLIT_WORDS;
-        REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+        const vx_write_desc wd = {.testing.split_words = split ? 1 : 0}; /* split: every structural model split */
+        REQUIRE(vx_svo_write_ex(&wd, &s, &d, &n, &e) == VX_OK);
         vx_svo_scene r;
         REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
         for (uint32_t i = 0; i < r.model_count; i++) {
             CHECKF(r.models[i].check.structural == (1u << 16 | VX__SVO_PTR_MAX), "model %u: 0x%x", i, r.models[i].check.structural);
             CHECK(s.models[i].check.structural == r.models[i].check.structural); /* built: the builder's check (test_built_trusted) */
         }
-        REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&wd, &r, &d2, &n2, &e) == VX_OK);
         CHECKF(n2 == n && !memcmp(d, d2, n), "split %d: the trusted write differs", split);
         free(d2);
         /* the other form from the same trusted models: as from the built ones */
-        vx_write_desc rc = {.svo_range_coded = true};
+        vx_write_desc rc = {.svo_range_coded = true, .testing = wd.testing};
         uint8_t* d3;
         size_t n3;
         REQUIRE(vx_svo_write_ex(&rc, &r, &d2, &n2, &e) == VX_OK);
@@ -3476,7 +3460,7 @@ static void test_trusted_write(void) {
             m->nodes[w] ^= t % 3 == 0 ? (uint32_t)rnd() : 1u << (rnd() % 32);
             uint32_t digest = m->check.digest;
             m->check.digest = vx_svo_model_digest(m);
-            vx_result wr = vx_svo_write(&r, NULL, &d2, &n2, &e);
+            vx_result wr = vx_svo_write_ex(&wd, &r, &d2, &n2, &e);
             if (wr == VX_OK) {
                 written++;
                 vx_svo_scene b;
@@ -3500,27 +3484,25 @@ static void test_trusted_write(void) {
          * with the check current are those without it (the write is the
          * same whatever the reader's allocations let it record) */
         vx_svo_scene s2;
-        vx__svo_far_limit = 2; /* built and written with it (as fuzz seed3) */
-        make_split_scene(&s2, 3000);
-        REQUIRE(vx_svo_write(&s2, NULL, &d, &n, &e) == VX_OK);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        make_split_scene_far(&s2, 3000, 2); /* built and written with a far limit of 2 (as fuzz seed3) */
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing = {.far_limit = 2, .split_words = wd.testing.split_words}}, &s2, &d, &n, &e) ==
+                VX_OK);
         vx_svo_scene_free(&s2);
         REQUIRE(vx_svo_read(NULL, d, n, &r, &e) == VX_OK);
         uint32_t limited = 0;
         for (uint32_t i = 0; i < r.model_count; i++) limited += (r.models[i].check.structural & 0xFFFFu) == 2;
         CHECKF(limited > 0, "split %d: no model stored with the far limit", split);
-        REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&wd, &r, &d2, &n2, &e) == VX_OK);
         for (uint32_t i = 0; i < r.model_count; i++) r.models[i].check.digest = 0;
         uint8_t* d4;
         size_t n4;
-        REQUIRE(vx_svo_write(&r, NULL, &d4, &n4, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&wd, &r, &d4, &n4, &e) == VX_OK);
         CHECKF(n2 == n4 && !memcmp(d2, d4, n2), "split %d: a far-limited model's bytes depend on its check", split);
         free(d4);
         free(d2);
         vx_svo_scene_free(&r);
         free(d);
     }
-    vx__svo_split_words = VX__SPLIT_WORDS;
     vx_svo_scene_free(&s);
 }
 
@@ -3558,16 +3540,16 @@ static void clear_checks(vx_svo_scene* s) {
 }
 
 /* The scene's bytes in four forms: default, every structural model split,
- * range coded, chunked (small chunks). */
-static void write_forms(const vx_svo_scene* s, uint8_t* d[4], size_t n[4]) {
+ * range coded, chunked (small chunks); par: the writer's threaded paths
+ * forced on small models (vx_svo_testing.parallel_always). */
+static void write_forms(const vx_svo_scene* s, bool par, uint8_t* d[4], size_t n[4]) {
     vx_error e;
     for (int f = 0; f < 4; f++) {
-        vx_write_desc wd = {.svo_range_coded = f == 2, .svo_chunk_words = f == 3 ? 64 : 0};
-        vx__svo_split_words = f == 1 ? 1 : VX__SPLIT_WORDS;
+        vx_write_desc wd = {.svo_range_coded = f == 2, .svo_chunk_words = f == 3 ? 64 : 0,
+                            .testing = {.split_words = f == 1 ? 1 : 0, .parallel_always = par}};
         d[f] = NULL, n[f] = 0;
         CHECKF(vx_svo_write_ex(&wd, s, &d[f], &n[f], &e) == VX_OK, "form %d: %s", f, e.msg);
     }
-    vx__svo_split_words = VX__SPLIT_WORDS;
 }
 
 static void test_built_trusted(void) {
@@ -3600,10 +3582,8 @@ static void test_built_trusted(void) {
         {128, 6000, RGBM, false, false, false, 0},
     };
     for (uint32_t i = 0; i < NB; i++) {
-        vx_svo_build_desc bd = {.no_collapse = cases[i].no_collapse, .no_dag = cases[i].no_dag};
-        if (cases[i].far_limit) vx__svo_far_limit = cases[i].far_limit;
+        vx_svo_build_desc bd = {.no_collapse = cases[i].no_collapse, .no_dag = cases[i].no_dag, .testing.far_limit = cases[i].far_limit};
         REQUIRE(build_desc(&s.models[i], &bd, cases[i].S, cases[i].n, cases[i].attrs, cases[i].full));
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
         vx_svo_model* m = &s.models[i];
         double id[12] = {1, 0, 0, 40.0 * i, 0, 1, 0, 0, 0, 0, 1, 0};
         memcpy(s.instances[i].xform, id, sizeof id);
@@ -3628,12 +3608,10 @@ static void test_built_trusted(void) {
     for (uint32_t i = 0; i < NB; i++) saved[i] = s.models[i].check;
     uint8_t *dt[4], *df[4];
     size_t nt[4], nf[4];
-    uint64_t saved_par = vx__svo_parallel_words;
-    for (int par = 0; par < 2; par++) {
-        vx__svo_parallel_words = par ? 0 : saved_par; /* the writer's threaded paths forced on small models */
-        write_forms(&s, dt, nt);
+    for (int par = 0; par < 2; par++) { /* par: the writer's (and reader's) threaded paths forced on small models */
+        write_forms(&s, par, dt, nt);
         clear_checks(&s);
-        write_forms(&s, df, nf);
+        write_forms(&s, par, df, nf);
         for (uint32_t i = 0; i < NB; i++) s.models[i].check = saved[i];
         for (int f = 0; f < 4; f++) {
             CHECKF(dt[f] && df[f] && nt[f] == nf[f] && !memcmp(dt[f], df[f], nt[f]), "par %d form %d: trusted %zu bytes, full %zu", par, f,
@@ -3641,13 +3619,12 @@ static void test_built_trusted(void) {
             /* and they read back as the models */
             vx_svo_scene r;
             vx_error e;
-            REQUIRE(vx_svo_read(NULL, dt[f], nt[f], &r, &e) == VX_OK);
+            REQUIRE(vx_svo_read(&(vx_svo_read_desc){.testing.parallel_always = par}, dt[f], nt[f], &r, &e) == VX_OK);
             for (uint32_t i = 0; i < NB; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "form %d model %u", f, i);
             vx_svo_scene_free(&r);
             free(dt[f]), free(df[f]);
         }
     }
-    vx__svo_parallel_words = saved_par;
     /* the trust is used: a word of a structural model changed and the digest
      * made to match is written without validation (the walk turns what is
      * not a tree into the raw form), where with the check cleared the
@@ -3769,22 +3746,18 @@ static void test_split_constant_channels(void) {
     vx_error e;
     uint8_t *d, *d2;
     size_t n, n2;
-    vx__svo_split_words = 1;
-    REQUIRE(vx_svo_write(&s, NULL, &d, &n, &e) == VX_OK);
+    REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing.split_words = 1}, &s, &d, &n, &e) == VX_OK);
     CHECK(t_split_models(d, n) == NM);
-    uint64_t saved_par = vx__svo_parallel_words;
     for (unsigned t = 1; t <= 3; t += 2) {
-        vx__svo_parallel_words = t == 3 ? 0 : saved_par; /* the layout's stages on threads */
+        const vx_svo_testing tk = {.split_words = 1, .parallel_always = t == 3}; /* t == 3: the layout's stages on threads */
         vx_svo_scene r;
-        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t}, d, n, &r, &e) == VX_OK);
+        REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t, .testing = tk}, d, n, &r, &e) == VX_OK);
         for (uint32_t i = 0; i < NM; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "model %u, %u threads", i, t);
-        REQUIRE(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK);
+        REQUIRE(vx_svo_write_ex(&(vx_write_desc){.testing = tk}, &r, &d2, &n2, &e) == VX_OK);
         CHECKF(n2 == n && !memcmp(d, d2, n), "%u threads: written again, the bytes differ", t);
         free(d2);
         vx_svo_scene_free(&r);
     }
-    vx__svo_parallel_words = saved_par;
-    vx__svo_split_words = VX__SPLIT_WORDS;
     free(d);
     vx_svo_scene_free(&s);
 }
@@ -3799,8 +3772,7 @@ static void test_encode_trusted(void) {
     make_split_scene(&s, 3000);
     vx_error e, e2;
     for (int f = 0; f < 3; f++) {
-        vx_write_desc wd = {.svo_range_coded = f == 1, .svo_chunk_words = f == 2 ? 64 : 0};
-        vx__svo_split_words = f == 0 ? 1 : VX__SPLIT_WORDS;
+        vx_write_desc wd = {.svo_range_coded = f == 1, .svo_chunk_words = f == 2 ? 64 : 0, .testing.split_words = f == 0 ? 1 : 0};
         for (uint32_t i = 0; i < s.model_count; i++) {
             vx_svo_model* m = &s.models[i];
             CHECK(m->check.digest != 0);
@@ -3850,7 +3822,6 @@ static void test_encode_trusted(void) {
         m->check = keep;
     }
     CHECKF(used, "no damaged model coded on its built check");
-    vx__svo_split_words = VX__SPLIT_WORDS;
     vx_svo_scene_free(&s);
 }
 
@@ -3865,8 +3836,8 @@ static void test_split_coded(void) {
     snprintf(path, sizeof path, "%s/all.svo", dir);
     snprintf(path2, sizeof path2, "%s/coded.svo", dir);
     vx_error e;
-    vx__svo_split_words = 1;
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &e) == VX_OK);
+    const vx_write_desc wd = {.testing.split_words = 1}; /* every structural model split */
+    REQUIRE(vx_svo_write_file(&wd, &s, path, &e) == VX_OK);
     size_t nb = 0;
     uint8_t* base = slurp_file(path, &nb);
     REQUIRE(base && nb > 10 && (base[8] | base[9] << 8) == 6);
@@ -3876,7 +3847,7 @@ static void test_split_coded(void) {
     vx_svo_model* hollow = (vx_svo_model*)calloc(n, sizeof *hollow);
     REQUIRE(info && streams && hollow);
     for (uint32_t i = 0; i < n; i++) {
-        REQUIRE(vx_svo_model_encode(NULL, &s.models[i], &info[i], &streams[i], &e) == VX_OK);
+        REQUIRE(vx_svo_model_encode(&wd, &s.models[i], &info[i], &streams[i], &e) == VX_OK);
         CHECK(info[i].split && !info[i].chunked);
         hollow[i] = s.models[i];
         hollow[i].nodes = NULL, hollow[i].palette = NULL, hollow[i].rgba = NULL, hollow[i].normal = NULL;
@@ -3885,18 +3856,17 @@ static void test_split_coded(void) {
     /* svo_range_coded: the summaries say so */
     vx_svo_model_coded rc;
     uint8_t* one = NULL;
-    REQUIRE(vx_svo_model_encode(&(vx_write_desc){.svo_range_coded = true}, &s.models[0], &rc, &one, &e) == VX_OK);
+    REQUIRE(vx_svo_model_encode(&(vx_write_desc){.svo_range_coded = true, .testing = wd.testing}, &s.models[0], &rc, &one, &e) == VX_OK);
     CHECK(!rc.split);
     free(one);
     vx_svo_scene h = s;
     h.models = hollow;
     stream_set ss = {streams, 0, 0, UINT32_MAX, true};
     vx_svo_stream_source src = {stream_read, &ss};
-    REQUIRE(vx_svo_write_file_coded(NULL, &h, info, &src, path2, &e) == VX_OK);
+    REQUIRE(vx_svo_write_file_coded(&wd, &h, info, &src, path2, &e) == VX_OK);
     size_t nc = 0;
     uint8_t* coded = slurp_file(path2, &nc);
     CHECKF(coded && nc == nb && !memcmp(coded, base, nb), "coded split models: %zu bytes, one process %zu", nc, nb);
-    vx__svo_split_words = VX__SPLIT_WORDS;
     free(coded);
     free(base);
     for (uint32_t i = 0; i < n; i++) free(streams[i]);
@@ -3914,8 +3884,8 @@ static int write_seeds(const char* dir) {
     vx_error e;
     for (int k = 0; k < 5; k++) {
         vx_svo_scene s;
-        if (k == 3) vx__svo_far_limit = 2;
-        make_scene(&s, k == 0 ? 3 : (size_t)(6 * k));
+        const uint32_t far = k == 3 ? 2 : 0; /* seed3: far pointers */
+        make_scene_far(&s, k == 0 ? 3 : (size_t)(6 * k), far);
         if (k == 1) { /* geometry only */
             for (uint32_t i = 0; i < 2; i++) vx_svo_model_free(NULL, &s.models[i]);
             s.model_count = 1;
@@ -3937,10 +3907,9 @@ static int write_seeds(const char* dir) {
         }
         if (k == 4) add_lights(&s); /* version 2: LGHT with every light type */
         snprintf(path, sizeof path, "%s/seed%d.svo", dir, k);
-        /* k == 3: written while the low limit is in force, so its palette
-         * model is stored structurally with the limit in the file */
-        vx_result wr = vx_svo_write_file(NULL, &s, path, &e);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
+        /* k == 3: written with the low limit too, so its palette model is
+         * stored structurally with the limit in the file */
+        vx_result wr = vx_svo_write_file(&(vx_write_desc){.testing.far_limit = far}, &s, path, &e);
         if (wr != VX_OK) {
             fprintf(stderr, "%s: %s\n", path, e.msg);
             return 1;
@@ -3975,11 +3944,7 @@ static int write_seeds(const char* dir) {
     for (int v = 0; v < 2; v++) {
         make_split_scene(&s, v ? 60 : 12);
         snprintf(path, sizeof path, "%s/seed%d.svo", dir, v ? 10 : 9);
-        vx__svo_split_words = 1;
-        vx__svo_split_runs = v == 1;
-        wr = vx_svo_write_file(NULL, &s, path, &e);
-        vx__svo_split_words = VX__SPLIT_WORDS;
-        vx__svo_split_runs = true;
+        wr = vx_svo_write_file(&(vx_write_desc){.testing = {.split_words = 1, .split_no_runs = v == 0}}, &s, path, &e);
         vx_svo_scene_free(&s);
         if (wr != VX_OK) {
             fprintf(stderr, "%s: %s\n", path, e.msg);

@@ -19,8 +19,9 @@ static uint64_t rnd(void) {
 }
 
 /* Random boxes (so that collapse and sharing happen) plus scattered cells;
- * with tiles some boxes are given as aligned 2^L cubes. */
-static bool build(vx_svo_model* m, uint32_t S, uint32_t attrs, bool collapse, bool dag, bool tiles) {
+ * with tiles some boxes are given as aligned 2^L cubes. far: the builder's
+ * far limit (vx_svo_testing.far_limit; 0: the default). */
+static bool build(vx_svo_model* m, uint32_t S, uint32_t attrs, bool collapse, bool dag, bool tiles, uint32_t far) {
     size_t cap = 200000, n = 0;
     uint64_t* k = (uint64_t*)malloc(cap * 8);
     uint8_t* lv = (uint8_t*)calloc(cap, 1);
@@ -70,7 +71,7 @@ static bool build(vx_svo_model* m, uint32_t S, uint32_t attrs, bool collapse, bo
     if (attrs & VX_ATTR_NORMAL) in.normal = nr;
     if (attrs & VX_ATTR_MATERIAL) in.material = mt;
     if (attrs & VX_ATTR_DENSITY) in.density = de;
-    vx_svo_build_desc d = {.no_collapse = !collapse, .no_dag = !dag};
+    vx_svo_build_desc d = {.no_collapse = !collapse, .no_dag = !dag, .testing.far_limit = far};
     vx_error e;
     bool ok = vx_svo_build_model(&d, &in, m, NULL, &e) == VX_OK;
     if (!ok) fprintf(stderr, "build: %s\n", e.msg);
@@ -105,13 +106,15 @@ static void one_model_scene(vx_svo_scene* s) {
 }
 
 /* write -> read -> compare -> write again (byte identity); returns the size,
- * and in *raw the size of the same scene stored in the raw form. */
-static size_t round_trip(vx_svo_scene* s, size_t* raw) {
+ * and in *raw the size of the same scene stored in the raw form. far: the
+ * writers' far limit (the one the model was built with, or 0: the default). */
+static size_t round_trip(vx_svo_scene* s, uint32_t far, size_t* raw) {
     vx_svo_scene_update_bounds(s);
     uint8_t *d = NULL, *d2 = NULL;
     size_t n = 0, n2 = 0;
     vx_error e;
-    if (vx_svo_write(s, NULL, &d, &n, &e) != VX_OK) {
+    const vx_write_desc wd = {.testing.far_limit = far};
+    if (vx_svo_write_ex(&wd, s, &d, &n, &e) != VX_OK) {
         CHECKF(false, "write: %s", e.msg);
         return 0;
     }
@@ -122,13 +125,11 @@ static size_t round_trip(vx_svo_scene* s, size_t* raw) {
         return 0;
     }
     for (uint32_t i = 0; i < s->model_count; i++) CHECKF(same_model(&s->models[i], &r.models[i]), "model %u differs", i);
-    CHECK(vx_svo_write(&r, NULL, &d2, &n2, &e) == VX_OK && n2 == n && memcmp(d, d2, n) == 0);
+    CHECK(vx_svo_write_ex(&wd, &r, &d2, &n2, &e) == VX_OK && n2 == n && memcmp(d, d2, n) == 0);
     vx_svo_scene_free(&r);
     free(d2);
     free(d);
-    vx__svo_write_raw_unchecked = true;
-    CHECK(vx_svo_write(s, NULL, &d, raw, &e) == VX_OK);
-    vx__svo_write_raw_unchecked = false;
+    CHECK(vx_svo_write_ex(&(vx_write_desc){.testing = {.far_limit = far, .unchecked = true}}, s, &d, raw, &e) == VX_OK);
     free(d);
     return n;
 }
@@ -140,8 +141,8 @@ static void test_structural_round_trip(void) {
         for (int opt = 0; opt < 4; opt++) {
             vx_svo_scene s;
             one_model_scene(&s);
-            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], opt & 1, opt & 2, false));
-            size_t raw = 0, n = round_trip(&s, &raw);
+            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], opt & 1, opt & 2, false, 0));
+            size_t raw = 0, n = round_trip(&s, 0, &raw);
             /* the structural form was taken: far smaller than the raw words */
             CHECKF(n && n * 4 < raw * 3, "attrs 0x%x opt %d: %zu bytes, raw %zu", attrs[a], opt, n, raw);
             vx_svo_scene_free(&s);
@@ -151,18 +152,16 @@ static void test_structural_round_trip(void) {
 static void test_far_pointers(void) {
     /* forced low limit: far slots in a small tree, still structural */
     for (int dag = 0; dag < 2; dag++) {
-        vx__svo_far_limit = 3;
         vx_svo_scene s;
         one_model_scene(&s);
-        REQUIRE(build(&s.models[0], 64, VX_ATTR_PALETTE, true, dag, false));
+        REQUIRE(build(&s.models[0], 64, VX_ATTR_PALETTE, true, dag, false, 3));
         uint32_t far = 0;
         for (uint32_t i = 0; i < s.models[0].node_count; i++) far += (s.models[0].nodes[i] & 0xFFFFu) && vx_svo_desc_far(s.models[0].nodes[i]);
         CHECK(far > 0);
-        size_t raw = 0, n = round_trip(&s, &raw);
+        size_t raw = 0, n = round_trip(&s, 3, &raw);
         CHECKF(n && n * 4 < raw * 3, "far dag %d: %zu bytes, raw %zu", dag, n, raw);
-        vx__svo_far_limit = VX__SVO_PTR_MAX;
         /* written with the default limit in force the model still comes back (raw form) */
-        n = round_trip(&s, &raw);
+        n = round_trip(&s, 0, &raw);
         CHECK(n > 0);
         vx_svo_scene_free(&s);
     }
@@ -182,7 +181,7 @@ static void test_far_pointers(void) {
     REQUIRE(vx_svo_build_model(NULL, &in, &s.models[0], &st, &e) == VX_OK);
     free(k), free(p);
     CHECK(st.far_pointers > 0);
-    size_t raw = 0, n = round_trip(&s, &raw);
+    size_t raw = 0, n = round_trip(&s, 0, &raw);
     CHECKF(n && n * 4 < raw * 3, "real far: %zu bytes, raw %zu", n, raw);
     vx_svo_scene_free(&s);
 }
@@ -190,14 +189,14 @@ static void test_far_pointers(void) {
 static void test_tiles_and_float_channels(void) {
     vx_svo_scene s;
     one_model_scene(&s);
-    REQUIRE(build(&s.models[0], 32, VX_ATTR_PALETTE | VX_ATTR_RGBA8, true, true, true));
-    size_t raw = 0, n = round_trip(&s, &raw);
+    REQUIRE(build(&s.models[0], 32, VX_ATTR_PALETTE | VX_ATTR_RGBA8, true, true, true, 0));
+    size_t raw = 0, n = round_trip(&s, 0, &raw);
     CHECK(n && n * 4 < raw * 3);
     vx_svo_scene_free(&s);
     /* normals and densities: the raw form (representatives use floats) */
     one_model_scene(&s);
-    REQUIRE(build(&s.models[0], 24, VX_ATTR_ALL, true, true, false));
-    CHECK(round_trip(&s, &raw) > 0);
+    REQUIRE(build(&s.models[0], 24, VX_ATTR_ALL, true, true, false, 0));
+    CHECK(round_trip(&s, 0, &raw) > 0);
     vx_svo_scene_free(&s);
 }
 
@@ -315,12 +314,14 @@ static void test_rebuilt_levels(void) {
  * its extent (the scene's computed bounds, the model's check) is the
  * validator's, whatever the bytes: the reader no longer walks rebuilt
  * models (vx__svo_check_rebuilt). Bit flips anywhere in NODE and SCNE, the
- * checksums skipped, on one thread and on three (the decoding thread). */
-static int validate_read(const uint8_t* d, size_t n, unsigned threads, int* rebuilt_refusals) {
+ * checksums skipped, on one thread and on three (the decoding thread); par:
+ * the threaded paths for small models too (vx_svo_testing.parallel_always). */
+static int validate_read(const uint8_t* d, size_t n, unsigned threads, bool par, int* rebuilt_refusals) {
     vx_svo_scene r;
     vx_error e;
     memset(&e, 0, sizeof e);
-    if (vx_svo_read(&(vx_svo_read_desc){.threads = threads, .skip_checksums = true}, d, n, &r, &e) != VX_OK) {
+    const vx_svo_read_desc rd = {.threads = threads, .skip_checksums = true, .testing.parallel_always = par};
+    if (vx_svo_read(&rd, d, n, &r, &e) != VX_OK) {
         if (strstr(e.msg, "names a node of")) ++*rebuilt_refusals;
         return 0;
     }
@@ -338,20 +339,18 @@ static int validate_read(const uint8_t* d, size_t n, unsigned threads, int* rebu
 
 static void test_rebuilt_checks(void) {
     const uint32_t attrs[] = {0, VX_ATTR_PALETTE, VX_ATTR_RGBA8 | VX_ATTR_MATERIAL};
-    uint64_t saved = vx__svo_parallel_words;
-    uint32_t saved_far = vx__svo_far_limit;
     int reads = 0, accepted = 0, refusals = 0;
     for (size_t a = 0; a < sizeof attrs / sizeof attrs[0]; a++)
         for (int opt = 0; opt < 3; opt++) {
-            vx__svo_far_limit = opt == 2 ? 5 : saved_far;
+            const uint32_t far = opt == 2 ? 5 : 0;
             vx_svo_scene s;
             one_model_scene(&s);
-            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], true, opt != 1, false));
+            REQUIRE(build(&s.models[0], 40 + (uint32_t)a * 7, attrs[a], true, opt != 1, false, far));
             vx_svo_scene_update_bounds(&s);
             vx_error e;
             uint8_t* one = NULL;
             size_t n1 = 0;
-            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1}, &s, &one, &n1, &e) == VX_OK);
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1, .testing.far_limit = far}, &s, &one, &n1, &e) == VX_OK);
             vx_svo_file_info fi;
             REQUIRE(vx_svo_probe(one, n1, &fi, &e) == VX_OK);
             uint8_t* bad = (uint8_t*)malloc(n1);
@@ -361,29 +360,25 @@ static void test_rebuilt_checks(void) {
                 for (int i = 0; i < 150; i++) {
                     memcpy(bad, one, n1);
                     for (int f = 0; f <= i % 3; f++) bad[at + rnd() % sz] ^= (uint8_t)(1u << (rnd() % 8));
-                    vx__svo_parallel_words = i & 1 ? 0 : saved;
-                    accepted += validate_read(bad, n1, i & 1 ? 3 : 1, &refusals);
+                    accepted += validate_read(bad, n1, i & 1 ? 3 : 1, i & 1, &refusals);
                     reads++;
                 }
             }
-            vx__svo_parallel_words = saved;
             /* a stream cut short (the file too: NODE is last but for the table) */
-            for (size_t cut = 1; cut < 40 && cut < n1; cut += 3) accepted += validate_read(one, n1 - cut, 1, &refusals), reads++;
+            for (size_t cut = 1; cut < 40 && cut < n1; cut += 3) accepted += validate_read(one, n1 - cut, 1, false, &refusals), reads++;
             free(bad);
             free(one);
             vx_svo_scene_free(&s);
         }
     fprintf(stderr, "  %d damaged reads, %d accepted (each validated), %d refused by the level check\n", reads, accepted, refusals);
     CHECK(refusals > 0 && accepted > 0 && accepted < reads);
-    vx__svo_parallel_words = saved;
-    vx__svo_far_limit = saved_far;
 }
 
 /* The coded stream of a real scene, truncated, extended and bit-flipped. */
 static void test_corrupt_stream(void) {
     vx_svo_scene s;
     one_model_scene(&s);
-    REQUIRE(build(&s.models[0], 48, VX_ATTR_PALETTE, true, true, false));
+    REQUIRE(build(&s.models[0], 48, VX_ATTR_PALETTE, true, true, false, 0));
     vx_svo_scene_update_bounds(&s);
     uint8_t* d;
     size_t n;
@@ -414,7 +409,7 @@ static void test_corrupt_stream(void) {
             *m = s.models[0];
             m->nodes = NULL, m->palette = NULL;
             memset(&e, 0, sizeof e);
-            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, NULL, NULL, NULL, &e);
+            vx_result r = vx__svo_pack_read(buf, len, 1000, &t, NULL, NULL, 0, NULL, NULL, NULL, NULL, &e);
             tried++;
             if (r != VX_OK) {
                 rejected++;
@@ -443,19 +438,18 @@ static void test_parallel_models(void) {
     s.model_count = 5;
     s.models = (vx_svo_model*)calloc(5, sizeof *s.models);
     static const uint32_t attrs[5] = {VX_ATTR_PALETTE, VX_ATTR_RGBA8, 0, VX_ATTR_PALETTE | VX_ATTR_MATERIAL, VX_ATTR_NORMAL};
-    for (uint32_t i = 0; i < 5; i++) REQUIRE(build(&s.models[i], 32u << (i % 3), attrs[i], true, true, false));
+    for (uint32_t i = 0; i < 5; i++) REQUIRE(build(&s.models[i], 32u << (i % 3), attrs[i], true, true, false, 0));
     vx_svo_scene_update_bounds(&s);
     uint8_t *serial = NULL, *parallel = NULL;
     size_t ns = 0, np = 0;
     vx_error e;
     REQUIRE(vx_svo_write(&s, NULL, &serial, &ns, &e) == VX_OK);
-    uint64_t saved = vx__svo_parallel_words;
-    vx__svo_parallel_words = 0;
-    CHECK(vx__svo_threads(&s, 0) >= 1);
-    CHECK(vx_svo_write(&s, NULL, &parallel, &np, &e) == VX_OK);
+    const vx_svo_testing par = {.parallel_always = true};
+    CHECK(vx__svo_threads(&s, 2, NULL) == 1 && vx__svo_threads(&s, 2, &par) == 2); /* 5 small models: one thread unless forced */
+    CHECK(vx_svo_write_ex(&(vx_write_desc){.testing = par}, &s, &parallel, &np, &e) == VX_OK);
     CHECK(np == ns && parallel && memcmp(serial, parallel, ns) == 0);
     vx_svo_scene r;
-    vx_result rr = vx_svo_read(NULL, serial, ns, &r, &e);
+    vx_result rr = vx_svo_read(&(vx_svo_read_desc){.testing = par}, serial, ns, &r, &e);
     CHECKF(rr == VX_OK, "parallel read: %s", e.msg);
     if (rr == VX_OK) {
         for (uint32_t i = 0; i < 5; i++) CHECKF(same_model(&s.models[i], &r.models[i]), "model %u differs after a parallel read", i);
@@ -470,11 +464,10 @@ static void test_parallel_models(void) {
         if (!strcmp(fi.sections[i].tag, "NODE")) node_at = fi.sections[i].offset;
     REQUIRE(node_at > 0);
     serial[node_at] ^= 1u; /* the lowest bit of the length, continuation bit kept */
-    rr = vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, serial, ns, &r, &e);
+    rr = vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true, .testing = par}, serial, ns, &r, &e);
     CHECK(rr != VX_OK);
     if (rr == VX_OK) vx_svo_scene_free(&r);
     else fprintf(stderr, "  corrupted stream, parallel read: %s\n", e.msg);
-    vx__svo_parallel_words = saved;
     free(serial);
     free(parallel);
     vx_svo_scene_free(&s);
@@ -488,29 +481,28 @@ static void test_parallel_models(void) {
  * message) on one thread and on several. */
 static void test_layout_threads(void) {
     const uint32_t attrs[] = {0, VX_ATTR_PALETTE, VX_ATTR_RGBA8, VX_ATTR_PALETTE | VX_ATTR_RGBA8 | VX_ATTR_MATERIAL};
-    uint64_t saved = vx__svo_parallel_words;
-    uint32_t saved_far = vx__svo_far_limit;
     int flips_rejected = 0, flips = 0;
+    /* the threaded paths forced on for these small models, in every write and read but the first write */
+    const vx_svo_testing par = {.parallel_always = true};
     for (size_t a = 0; a < sizeof attrs / sizeof attrs[0]; a++)
         for (int opt = 0; opt < 6; opt++) {
-            vx__svo_far_limit = opt >= 4 ? 5 : saved_far;
+            const uint32_t far = opt >= 4 ? 5 : 0;
             vx_svo_scene s;
             one_model_scene(&s);
-            REQUIRE(build(&s.models[0], 60 + (uint32_t)a * 5, attrs[a], true, (opt & 1) != 0, (opt & 2) != 0 && attrs[a] != 0));
+            REQUIRE(build(&s.models[0], 60 + (uint32_t)a * 5, attrs[a], true, (opt & 1) != 0, (opt & 2) != 0 && attrs[a] != 0, far));
             vx_svo_scene_update_bounds(&s);
             vx_error e;
             uint8_t* one = NULL;
             size_t n1 = 0;
-            vx__svo_parallel_words = saved;
-            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1}, &s, &one, &n1, &e) == VX_OK);
-            vx__svo_parallel_words = 0;
+            REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = 1, .testing.far_limit = far}, &s, &one, &n1, &e) == VX_OK);
             for (unsigned t = 2; t <= 4; t++) {
                 uint8_t* d = NULL;
                 size_t n = 0;
-                REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t}, &s, &d, &n, &e) == VX_OK);
+                REQUIRE(vx_svo_write_ex(&(vx_write_desc){.threads = t, .testing = {.far_limit = far, .parallel_always = true}}, &s, &d, &n, &e) ==
+                        VX_OK);
                 CHECKF(n == n1 && !memcmp(d, one, n1), "attrs 0x%x opt %d, %u threads: other bytes", attrs[a], opt, t);
                 vx_svo_scene r;
-                vx_result rr = vx_svo_read(&(vx_svo_read_desc){.threads = t}, one, n1, &r, &e);
+                vx_result rr = vx_svo_read(&(vx_svo_read_desc){.threads = t, .testing = par}, one, n1, &r, &e);
                 CHECKF(rr == VX_OK, "attrs 0x%x opt %d, %u threads: %s", attrs[a], opt, t, e.msg);
                 if (rr == VX_OK) {
                     CHECKF(same_model(&s.models[0], &r.models[0]), "attrs 0x%x opt %d, %u threads: model differs", attrs[a], opt, t);
@@ -533,8 +525,8 @@ static void test_layout_threads(void) {
                 vx_error e1, e3;
                 memset(&e1, 0, sizeof e1);
                 memset(&e3, 0, sizeof e3);
-                vx_result a1 = vx_svo_read(&(vx_svo_read_desc){.threads = 1, .skip_checksums = true}, bad, n1, &r1, &e1);
-                vx_result a3 = vx_svo_read(&(vx_svo_read_desc){.threads = 3, .skip_checksums = true}, bad, n1, &r3, &e3);
+                vx_result a1 = vx_svo_read(&(vx_svo_read_desc){.threads = 1, .skip_checksums = true, .testing = par}, bad, n1, &r1, &e1);
+                vx_result a3 = vx_svo_read(&(vx_svo_read_desc){.threads = 3, .skip_checksums = true, .testing = par}, bad, n1, &r3, &e3);
                 flips++;
                 CHECKF(a1 == a3, "flip %d: %d vs %d", i, (int)a1, (int)a3);
                 if (a1 != VX_OK && a3 != VX_OK) {
@@ -582,7 +574,7 @@ static void test_layout_threads(void) {
                     *mm = s.models[0];
                     mm->nodes = NULL, mm->palette = NULL, mm->rgba = NULL, mm->material = NULL;
                     memset(&e, 0, sizeof e);
-                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, NULL, NULL, NULL, &e);
+                    res[th] = vx__svo_pack_read(buf, total, 1000, &t, NULL, NULL, th ? 3 : 1, &par, NULL, NULL, NULL, &e);
                     snprintf(msg[th], sizeof msg[th], "%s", e.msg);
                 }
                 CHECKF(res[0] != VX_OK && res[0] == res[1] && !strcmp(msg[0], msg[1]), "attrs 0x%x opt %d cut %d: %d '%s' vs %d '%s'",
@@ -594,8 +586,6 @@ static void test_layout_threads(void) {
             vx_svo_scene_free(&s);
         }
     CHECK(flips_rejected > 0 && flips_rejected <= flips);
-    vx__svo_parallel_words = saved;
-    vx__svo_far_limit = saved_far;
 }
 
 int main(void) {
