@@ -214,8 +214,13 @@ void vx_buf_free(vx_buf* b) {
 
 /* ---- CRC-32 -------------------------------------------------------------------- */
 
+/* The slicing-by-8 tables, built once on first use. Written only by
+ * crc_init, which pthread_once runs exactly once; POSIX lists pthread_once
+ * among the calls that synchronize memory (XBD 4.12), so every thread that
+ * returns from it sees the whole table, and nothing writes the table after:
+ * no data race (a plain "ready" flag was one, however benign its writes). */
 static uint32_t crc_table[8][256];
-static bool crc_ready;
+static pthread_once_t crc_once = PTHREAD_ONCE_INIT;
 
 static void crc_init(void) {
     for (uint32_t i = 0; i < 256; i++) {
@@ -225,13 +230,10 @@ static void crc_init(void) {
     }
     for (uint32_t i = 0; i < 256; i++)
         for (int t = 1; t < 8; t++) crc_table[t][i] = (crc_table[t - 1][i] >> 8) ^ crc_table[0][crc_table[t - 1][i] & 0xFF];
-    crc_ready = true;
 }
 
 uint32_t vx_crc32(uint32_t crc, const void* data, size_t n) {
-    /* The table is built on first use; building it twice from two threads
-     * writes identical values, so the race is benign. */
-    if (!crc_ready) crc_init();
+    (void)pthread_once(&crc_once, crc_init); /* fails only for an invalid once object */
     const uint8_t* p = (const uint8_t*)data;
     uint32_t c = ~crc;
     /* slicing-by-8: sections of tens of MB are checksummed on every read */

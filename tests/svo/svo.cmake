@@ -1,6 +1,7 @@
 # svo core: octree building/decoding/validation and the .svo file format.
 vx_add_test(svo_build SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_build.c LIBS vx_svo LABELS svo)
 vx_add_test(core_jobs SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_jobs.c LIBS vx_svo LABELS svo)
+vx_add_test(core_crc SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_crc.c LIBS vx_core LABELS svo)
 vx_add_test(svo_io SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_io.c LIBS vx_svo LABELS svo)
 # Seeds are written by `svo_io --write-seeds tests/fuzz/svo_seeds` (our own files).
 vx_add_fuzz(svo_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_fuzz.c LIBS vx_svo SEEDS ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_seeds)
