@@ -118,7 +118,7 @@ vx_result vx__vdb_scan(const void* data, size_t size, vx_error* err) {
         return vx_fail(err, VX_ERR_LIMIT, at, "vdb: %u grids cannot fit in the %zu bytes left", grids, c.n - c.at);
     for (uint32_t g = 0; g < grids; g++) {
         char what[64];
-        static const char* fields[3] = {"name", "type", "instance parent"};
+        static const char* const fields[3] = {"name", "type", "instance parent"};
         for (int k = 0; k < 3; k++) {
             snprintf(what, sizeof what, "grid %u's %s", g, fields[k]);
             if ((r = skip_sized(&c, what, err))) return r;

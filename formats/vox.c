@@ -181,7 +181,7 @@ static void set_chunk(vox_ctx* c, const uint8_t id[4], uint64_t off) {
 }
 
 static void set_node_chunk(vox_ctx* c, const vox_node* n) {
-    static const char* names[] = {"????", "nTRN", "nGRP", "nSHP"};
+    static const char* const names[] = {"????", "nTRN", "nGRP", "nSHP"};
     memcpy(c->chunk_id, names[n->type <= 3 ? n->type : 0], 5);
     c->chunk_off = n->off;
 }
@@ -591,8 +591,8 @@ static vx_result chunk_matl(vox_ctx* c, vx_rd* r) {
 
 /* The old MATT chunk becomes the MATL dictionary it corresponds to. */
 static vx_result chunk_matt(vox_ctx* c, vx_rd* r) {
-    static const char* types[] = {"_diffuse", "_metal", "_glass", "_emit"};
-    static const char* props[] = {"_plastic", "_rough", "_spec", "_ior", "_att", "_flux", "_glow"};
+    static const char* const types[] = {"_diffuse", "_metal", "_glass", "_emit"};
+    static const char* const props[] = {"_plastic", "_rough", "_spec", "_ior", "_att", "_flux", "_glow"};
     int32_t id;
     uint32_t type, bits, mid;
     float weight;

@@ -290,7 +290,7 @@ struct vx__svo_split {
 };
 
 static const char* stream_name(unsigned s, char buf[48], const uint8_t cs[5]) {
-    static const char* CH[5] = {"palette", "rgba8", "normal", "material", "density"};
+    static const char* const CH[5] = {"palette", "rgba8", "normal", "material", "density"};
     snprintf(buf, 48, "runs"); /* the one stream past the channels' */
     if (s < 4) snprintf(buf, 48, "valid masks, level class %u", s);
     else if (s < 7) snprintf(buf, 48, "leaf masks, level class %u", s - 3);

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,14 +79,19 @@ _Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, .
 
 /* ---- progress bar ---------------------------------------------------------- */
 
-static double bar_last;
-static bool bar_shown;
+/* The bar's state: the library reports progress from one thread at a time
+ * (the caller's, or a worker under the library's lock: probes/bake.c), but
+ * the logger (log_func) may run on another (a device opened on a thread of
+ * its own, gpu_open.c) and ends the bar too: atomics, so that no access is
+ * a data race (at worst the bar is drawn once more). */
+static _Atomic double bar_last;
+static atomic_bool bar_shown;
 
 static bool bar_func(void* user, const char* stage, uint64_t done, uint64_t total) {
     (void)user;
     double now = vx_time_now();
-    if (done < total && now - bar_last < 0.1) return true;
-    bar_last = now;
+    if (done < total && now - atomic_load(&bar_last) < 0.1) return true;
+    atomic_store(&bar_last, now);
     double f = total ? (double)done / (double)total : 1.0;
     if (f > 1) f = 1;
     int w = 30, fill = (int)(f * w);
@@ -94,27 +100,28 @@ static bool bar_func(void* user, const char* stage, uint64_t done, uint64_t tota
     bar[w] = 0;
     fprintf(stderr, "\r%s: [%s] %3d%% %-24.24s", vx_tool_name, bar, (int)(f * 100), stage ? stage : "");
     fflush(stderr);
-    bar_shown = true;
+    atomic_store(&bar_shown, true);
     return true;
 }
 
 vx_progress vx_tool_progress(bool quiet) {
     vx_progress p = {0};
     if (!quiet && isatty(STDERR_FILENO)) p.func = bar_func;
-    bar_last = 0;
+    atomic_store(&bar_last, 0.0);
     return p;
 }
 
 void vx_tool_progress_done(void) {
-    if (bar_shown) fprintf(stderr, "\r%*s\r", 80, "");
-    bar_shown = false;
+    if (atomic_exchange(&bar_shown, false)) fprintf(stderr, "\r%*s\r", 80, "");
 }
 
 /* ---- formatting ------------------------------------------------------------- */
 
+/* the formatters' buffers are per thread: a progress function may format
+ * on a worker thread while the main thread formats too */
 const char* vx_tool_num(uint64_t v) {
-    static char slots[4][32];
-    static int next;
+    static _Thread_local char slots[4][32];
+    static _Thread_local unsigned next;
     char* out = slots[next++ & 3];
     char tmp[32];
     int n = snprintf(tmp, sizeof tmp, "%llu", (unsigned long long)v);
@@ -129,8 +136,8 @@ const char* vx_tool_num(uint64_t v) {
 }
 
 const char* vx_tool_bytes(uint64_t v) {
-    static char slots[4][32];
-    static int next;
+    static _Thread_local char slots[4][32];
+    static _Thread_local unsigned next;
     char* out = slots[next++ & 3];
     if (v < 1024) snprintf(out, 32, "%llu B", (unsigned long long)v);
     else if (v < 1024 * 1024) snprintf(out, 32, "%.1f KiB", v / 1024.0);
@@ -205,7 +212,7 @@ vx_logger vx_tool_logger(bool verbose) {
 }
 
 const char* vx_tool_ext(const char* path) {
-    static char ext[16];
+    static _Thread_local char ext[16];
     const char* slash = strrchr(path, '/');
     const char* dot = strrchr(path, '.');
     if (!dot || (slash && dot < slash)) return "";

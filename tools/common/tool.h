@@ -9,7 +9,8 @@
 
 #include "svo/core.h"
 
-/* Basename of argv[0], set by vx_tool_init. */
+/* Basename of argv[0], set by vx_tool_init (at the start of main, before any
+ * thread: then only read). */
 extern const char* vx_tool_name;
 void vx_tool_init(int argc, char** argv);
 
@@ -36,9 +37,10 @@ _Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, .
 vx_progress vx_tool_progress(bool quiet);
 void vx_tool_progress_done(void);
 
-/* 1234567 -> "1,234,567" in a rotating static buffer (4 slots). */
+/* 1234567 -> "1,234,567" in a rotating buffer (4 slots per thread: valid
+ * until the same thread's fourth next call). */
 const char* vx_tool_num(uint64_t v);
-/* bytes -> "12.3 MiB" */
+/* bytes -> "12.3 MiB" (the same buffers' rules) */
 const char* vx_tool_bytes(uint64_t v);
 
 /* Parses a whole decimal number / a double; false if malformed. */
@@ -59,7 +61,8 @@ bool vx_tool_parse_vec(const char* s, double* v, int n);
 /* Logger printing warnings as "tool: warning: msg" (verbose also INFO). */
 vx_logger vx_tool_logger(bool verbose);
 
-/* Lower-case extension of path without the dot ("" if none). */
+/* Lower-case extension of path without the dot ("" if none), in a buffer of
+ * the calling thread's (valid until its next call). */
 const char* vx_tool_ext(const char* path);
 
 #endif
