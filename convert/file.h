@@ -23,6 +23,10 @@
 extern "C" {
 #endif
 
+/* The largest mesh resolution (vx_conv_file_desc.res, vx_conv_mesh_desc.res):
+ * a grid of 2^16 cells along the longest side. */
+#define VX_CONV_MESH_RES_MAX 65536u
+
 /* Zero-initialised means the defaults (vx_conv_file_defaults). */
 typedef struct vx_conv_file_desc {
     vx_svo_build_desc build;  /* every converter: no_collapse, no_dag, progress */
@@ -35,7 +39,7 @@ typedef struct vx_conv_file_desc {
     bool keep_hidden;         /* keep hidden nodes, groups and layers */
     bool keep_unused;         /* also store models no instance places */
     /* .gltf / .glb (convert/mesh.h) */
-    uint32_t res;             /* voxels along the longest side, 0 == 256 */
+    uint32_t res;             /* voxels along the longest side, 0 == 256, at most VX_CONV_MESH_RES_MAX */
     bool scene_set;           /* glTF scene `scene` instead of the default one */
     uint32_t scene;
     bool normals;             /* store VX_ATTR_NORMAL */

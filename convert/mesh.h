@@ -106,7 +106,7 @@ typedef struct vx_conv_mesh_desc {
     vx_svo_build_desc build;
     const vx_allocator* alloc;
     const vx_logger* logger;
-    uint32_t res;      /* voxels along the longest side; 0 == 256; at most 65536 */
+    uint32_t res;      /* voxels along the longest side; 0 == 256; at most VX_CONV_MESH_RES_MAX */
     bool scene_set;    /* glTF scene `scene` instead of the default scene */
     uint32_t scene;
     bool solid;        /* also fill the inside */

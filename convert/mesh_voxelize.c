@@ -42,7 +42,8 @@ vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t re
                                  vx_error* err) {
     if (!out || (!pos && tri_count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "mesh grid: NULL argument");
     if (res == 0) res = 256;
-    if (res > 65536) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "--res %u is more than 65536", res);
+    if (res > VX_CONV_MESH_RES_MAX)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "mesh grid: res %u is more than %u", res, VX_CONV_MESH_RES_MAX);
     if (tri_count == 0) return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "mesh has no triangles");
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < tri_count * 9; i++) {
@@ -71,7 +72,7 @@ vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t re
         if (c < 1) c = 1;
         while (c > 1 && fma(c - 1, h, -e[a]) >= 0) c--;
         while (fma(c, h, -e[a]) < 0) c++;
-        if (c > 65536) c = 65536;
+        if (c > VX_CONV_MESH_RES_MAX) c = VX_CONV_MESH_RES_MAX;
         out->size[a] = (uint32_t)c;
         out->min[a] = lo[a];
     }
@@ -867,7 +868,7 @@ static vx_result solid_axis(job* j, int ax, vx_error* err) {
                 memcpy(&bitsf, &af, 4);
                 if (!vx_grow(j->alloc, (void**)&list, &cap, cnt + 1, sizeof *list)) {
                     vx_free(j->alloc, list);
-                    return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: ray crossings");
+                    return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid fill: ray crossings");
                 }
                 uint64_t ray = (uint64_t)jj + (uint64_t)n[u] * (uint64_t)kk;
                 list[cnt++] = ray << 32 | bitsf;
@@ -875,7 +876,7 @@ static vx_result solid_axis(job* j, int ax, vx_error* err) {
     }
     if (!radix_sort(j->alloc, list, cnt, 0, 64)) {
         vx_free(j->alloc, list);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: sorting crossings");
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid fill: sorting crossings");
     }
     /* walk each ray: a cell centre is inside when an odd number of crossings lie before it */
     for (size_t i = 0; i < cnt;) {
@@ -928,11 +929,11 @@ static vx_result solid_votes(job* j, vx_error* err) {
     uint64_t cells = (uint64_t)n[0] * n[1] * n[2];
     if (cells > (1ull << 31))
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                       "--solid: grid of %ux%ux%u cells is more than 2^31 (lower --res)", n[0], n[1], n[2]);
+                       "solid fill: a grid of %ux%ux%u cells is more than 2^31 (a lower res)", n[0], n[1], n[2]);
     size_t words = (size_t)((cells + 63) / 64);
     for (int a = 0; a < 3; a++) {
         j->vote[a] = (uint64_t*)vx_calloc(j->alloc, words, 8);
-        if (!j->vote[a]) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "--solid: %zu bytes", words * 8);
+        if (!j->vote[a]) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "solid fill: %zu bytes", words * 8);
     }
     votes_job v = {j, {VX_OK, VX_OK, VX_OK}, {{0}}};
     vx_run_jobs(j->desc->threads == 1 ? 1 : 3, 3, votes_axis, &v);

@@ -465,6 +465,20 @@ static void test_parallel_binning(void) {
     CHECK(compare(&m, (vx_conv_mesh_desc){.res = 100, .threads = 4}, NULL) == 0);
 }
 
+/* The largest res is taken, one more refused (VX_ERR_LIMIT) in the
+ * library's words: the desc field, not a tool's flag (STYLE.md Part 3). */
+static void test_res_limit(void) {
+    float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    vx_gltf_mesh m = soup(pos, 1);
+    vx_conv_mesh_grid g;
+    vx_error err = {0};
+    CHECK(vx_conv_mesh_grid_make(m.pos, m.tri_count, VX_CONV_MESH_RES_MAX, &g, &err) == VX_OK);
+    CHECKF(g.size[0] == VX_CONV_MESH_RES_MAX && g.size[1] == VX_CONV_MESH_RES_MAX && g.size[2] == 1, "%u x %u x %u", g.size[0], g.size[1],
+           g.size[2]);
+    CHECK(vx_conv_mesh_grid_make(m.pos, m.tri_count, VX_CONV_MESH_RES_MAX + 1, &g, &err) == VX_ERR_LIMIT);
+    CHECKF(strstr(err.msg, "res 65537") && !strstr(err.msg, "--"), "%s", err.msg);
+}
+
 static void test_nan(void) {
     float pos[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, NAN, 0, 0, 1, 1};
     vx_gltf_mesh m = soup(pos, 2);
@@ -745,6 +759,7 @@ int main(void) {
     RUN(test_slivers_degenerate);
     RUN(test_large_and_random);
     RUN(test_parallel_binning);
+    RUN(test_res_limit);
     RUN(test_nan);
     RUN(test_solid_hole);
     RUN(test_colors);

@@ -36,8 +36,8 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
     else if (!strcmp(a, "--no-collapse")) c->no_collapse = true;
     else if (!strcmp(a, "--no-dag")) c->no_dag = true;
     else if (!strcmp(a, "--res")) {
-        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->res) || c->res < 1 || c->res > 65536)
-            vx_tool_usage_error(usage, "bad --res value '%s' (1 to 65536)", argv[*i]);
+        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->res) || c->res < 1 || c->res > VX_CONV_MESH_RES_MAX)
+            vx_tool_usage_error(usage, "bad --res value '%s' (1 to %u)", argv[*i], VX_CONV_MESH_RES_MAX);
     } else if (!strcmp(a, "--region")) {
         uint32_t v = 0;
         if (!vx_tool_parse_u32(value(argc, argv, i, usage), &v) || v < 64 || v > 65536 || (v & (v - 1)))
