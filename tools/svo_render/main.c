@@ -197,7 +197,7 @@ _Noreturn static void usage(int status) {
             "  --fov DEG            vertical field of view (default: %g)\n"
             "  --ortho [H]          orthographic, view height H (default: frame the bounds)\n"
             "  --lod [PIXELS]       stop where a voxel is smaller than PIXELS pixels (default: off, %g)\n"
-            "  --light X,Y,Z        direction towards the light (default: 0.35,-0.45,0.82)\n"
+            "  --light X,Y,Z        direction towards the light (default: %g,%g,%g)\n"
             "  --light SPEC         add a light (repeatable; with any light, the file's or these, the frame\n"
             "                       uses radiometric units):\n"
             "%s"
@@ -238,7 +238,7 @@ _Noreturn static void usage(int status) {
             vx_photon_desc_defaults().alpha, d.fd.ao_rays, d.fd.exposure, d.warm_up, cd.res,
             cd.cones, VX_CONE_CONES_MAX, cd.aperture, cd.cones, cd.bounces, cd.sun_angle, VX_RENDER_FRAME_LEVELS, d.r.width,
             d.r.height, d.r.spp,
-            d.r.camera.fov, d.r.lod_pixels, vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
+            d.r.camera.fov, d.r.lod_pixels, d.r.light_dir[0], d.r.light_dir[1], d.r.light_dir[2], vx_tool_light_syntax, d.fd.sky[0], d.fd.sky[1], d.fd.sky[2],
             vx_tool_sky_syntax, vx_light_culling_name(d.fd.light_culling), VX_LIGHT_CULLING_AUTO_MAX, VX_SHADOW_LIGHTS_MAX,
             (int)d.fd.shadow_lights, d.r.ambient, prog, prog, prog, prog, prog);
     exit(status);
