@@ -138,7 +138,7 @@ typedef struct vx_probe_set {
     uint16_t* low;
     uint16_t* irradiance;
     float* moments;
-    const vx_allocator* alloc;
+    const vx_allocator* alloc; /* the arrays': borrowed, it must outlive the set (vx_probe_set_free frees through it) */
 } vx_probe_set;
 
 void vx_probe_set_free(vx_probe_set* ps);

@@ -119,8 +119,8 @@ typedef struct vx_gpu vx_gpu;
 typedef struct vx_gpu_desc {
     const char* device;
     bool validate;
-    const vx_logger* logger;
-    const vx_allocator* alloc;
+    const vx_logger* logger;   /* kept by the device: must outlive it */
+    const vx_allocator* alloc; /* copied into the device; its user_data must outlive the device */
     struct {
         const void* instance;
         const void* physical_device;

@@ -89,6 +89,14 @@ bool vx_progress_report(const vx_progress* p, const char* stage, uint64_t done, 
 
 /* ---- allocation ------------------------------------------------------------ */
 
+/* Ownership: a call that only allocates and frees within itself (a reader,
+ * a writer, a converter) uses its desc's allocator during the call. An
+ * object or result that frees later (a scene's arrays, an editor, a GPU
+ * scene, a probe set, an image) keeps the `const vx_allocator*` it was
+ * given, borrowed, not a copy, unless its header says it copies the struct
+ * (vx_gpu_desc.alloc, vx_svo_model_reader): the allocator, and its
+ * user_data in either case, must outlive the object and everything it
+ * allocated with it. */
 typedef struct vx_allocator {
     void* (*alloc)(void* user, size_t size); /* NULL: malloc */
     void (*free)(void* user, void* ptr);     /* NULL: free */

@@ -75,7 +75,8 @@ typedef struct vx_svo_cell_write {
 } vx_svo_cell_write;
 
 typedef struct vx_svo_editor_desc {
-    const vx_allocator* alloc; /* the model's arrays come from it (they are grown with vx_grow) */
+    const vx_allocator* alloc; /* the model's arrays come from it (they are grown with vx_grow); the
+                                  editor keeps the pointer: it must outlive the editor */
     bool no_dag;               /* never point at an existing equal block (no index is made) */
     /* Words and records of the model's arrays that must not be overwritten
      * although past node_count / attr_count: a caller that undid edits by

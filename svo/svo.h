@@ -357,7 +357,8 @@ typedef struct vx_svo_scene {
     uint32_t frame_count;
     double frame_rate;                /* frames per second, 0 if not known */
     vx_svo_instance* frame_instances; /* (frame_count - 1) * instance_count records */
-    const vx_allocator* alloc; /* what the arrays were allocated with */
+    const vx_allocator* alloc; /* what the arrays were allocated with: borrowed, it must outlive the
+                                  scene (vx_svo_scene_free frees through it) */
 } vx_svo_scene;
 
 /* Frees every array of the scene and zeroes it. */
@@ -630,7 +631,8 @@ typedef struct vx_svo_model_reader vx_svo_model_reader;
  * table, every section but NODE and their CRCs, parses the scene graph
  * and checks the scene's own rules. desc: alloc, skip_checksums,
  * max_file_bytes and threads (the CPUs the models' decoding shares) as
- * vx_svo_read's; chunk_stats is not filled. */
+ * vx_svo_read's; chunk_stats is not filled. The reader copies *desc->alloc
+ * (its user_data must outlive the reader and the models it hands over). */
 vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_svo_model_reader** out, vx_error* err);
 /* The scene graph, owned by the reader: model i's arrays are NULL and its
  * counts the declared ones; its check (the cells' box and digest) is set
