@@ -128,7 +128,7 @@ typedef struct enc_job {
     size_t n[VX__SPLIT_MAX];
     void* z[VX__SPLIT_MAX];
     size_t zn[VX__SPLIT_MAX]; /* 0: stored */
-    int level;
+    int level[VX__SPLIT_MAX];
     const vx_allocator* A;
     bool oom;
 } enc_job;
@@ -148,7 +148,7 @@ static void enc_stream(void* ctx, unsigned thread, uint32_t i) {
     }
     /* the frame declares its size (the reader checks it before allocating);
      * no checksum: the section's CRC covers the stream */
-    size_t got = ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_compressionLevel, j->level)) ||
+    size_t got = ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_compressionLevel, j->level[i])) ||
                          ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_contentSizeFlag, 1))
                      ? (size_t)-1
                      : ZSTD_compress2(cc, z, cap, j->raw[i], j->n[i]);
@@ -165,7 +165,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     enc_job j;
     memset(&j, 0, sizeof j);
     j.A = k->A;
-    j.level = VX__SPLIT_LEVEL;
+    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) j.level[s] = VX__SPLIT_LEVEL;
     bool ok = !k->oom;
     for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) j.raw[s] = k->p[s], j.n[s] = k->n[s];
     if (k->runs) j.raw[k->k - 1] = k->p[VX__SPLIT_FIXED], j.n[k->k - 1] = k->n[VX__SPLIT_FIXED];
@@ -184,6 +184,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
         if (w > 1) planes_delta(planes[c], cnt, w);
         j.raw[s] = planes[c];
         j.n[s] = cnt * w;
+        j.level[s] = VX__SPLIT_VALUE_LEVEL;
     }
     if (ok) {
         vx_run_jobs(threads ? threads : 1, k->k, enc_stream, &j);
