@@ -56,12 +56,7 @@ static uint8_t* put_leb(uint8_t* p, uint64_t v) {
  * a shaded surface differ a little in each byte: as differences the helmet's
  * colours code to 0.77 of their bytes as they are, the terrain's few exact
  * colours to 1.001 (docs/PERFORMANCE.md, ".svo I/O, tenth step"). */
-static void planes_delta(uint8_t* p, size_t count, unsigned width) {
-    for (unsigned b = 0; b < width; b++) {
-        uint8_t* q = p + (size_t)b * count;
-        for (size_t k = count; k-- > 1;) q[k] = (uint8_t)(q[k] - q[k - 1]);
-    }
-}
+/* (the writer's side: planes_put, below) */
 static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
     for (unsigned b = 0; b < width; b++) {
         uint8_t* q = p + (size_t)b * count;
@@ -70,6 +65,30 @@ static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
 }
 
 /* ---- writer ---------------------------------------------------------------------------------- */
+
+/* Values into byte planes (byte b of value i at b * count + i), as
+ * differences where a value has several bytes (each byte less the one before it), one
+ * plane at a time: each pass reads the values in order and writes one
+ * plane, which the compiler vectorises (a byte of (v[i] >> s) - (v[i-1] >> s)
+ * is the difference of the bytes); the loop by value and then by byte, and
+ * a pass of differences after it, were a twentieth of the 4096^3 helmet's write. */
+static inline void planes_w(uint8_t* pl, const uint32_t* v, size_t cnt, const unsigned w) {
+    for (unsigned b = 0; b < w; b++) {
+        uint8_t* q = pl + (size_t)b * cnt;
+        const unsigned sh = 8 * b;
+        if (!cnt) break;
+        q[0] = (uint8_t)(v[0] >> sh);
+        if (w == 1)
+            for (size_t i = 1; i < cnt; i++) q[i] = (uint8_t)v[i];
+        else
+            for (size_t i = 1; i < cnt; i++) q[i] = (uint8_t)((v[i] >> sh) - (v[i - 1] >> sh));
+    }
+}
+static void planes_put(uint8_t* pl, const uint32_t* v, size_t cnt, unsigned w) {
+    if (w == 4) planes_w(pl, v, cnt, 4);
+    else if (w == 2) planes_w(pl, v, cnt, 2);
+    else planes_w(pl, v, cnt, 1);
+}
 
 /* The streams as they are filled: bytes for masks and references, each
  * channel's values as they come (put in byte planes when coded). */
@@ -179,9 +198,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
             ok = false;
             break;
         }
-        for (size_t i = 0; i < cnt; i++)
-            for (unsigned b = 0; b < w; b++) planes[c][b * cnt + i] = (uint8_t)(k->val[c][i] >> (8 * b));
-        if (w > 1) planes_delta(planes[c], cnt, w);
+        planes_put(planes[c], k->val[c], cnt, w);
         j.raw[s] = planes[c];
         j.n[s] = cnt * w;
         j.level[s] = VX__SPLIT_VALUE_LEVEL;
