@@ -624,11 +624,14 @@ typedef struct outw {
     uint64_t* runh;
     size_t runcap, nrun;
     uint64_t far;
-    /* blocks that are a lone attribute index (all children leaves): by the
-     * index, the word position + 1 of its last copy (0: none), so equal ones
-     * are stored once where parents can reach them */
-    uint32_t* lb_at;
-    size_t lbcap;
+    /* blocks that are a lone attribute index (all children leaves): the
+     * word position of the last copy of each index that a parent appended
+     * now could still reach (lone_find), so equal ones are stored once where
+     * parents can reach them. Entries (index + 1) << 32 | position, 0 empty,
+     * lonecap of them, open addressing; those out of reach are dropped when
+     * half the slots are used (lone_add). */
+    uint64_t* lone;
+    size_t nlone, lonecap;
     /* the uniform runs in runh (len copies of one record), by record: which
      * lengths are stored and where, so that a short uniform run finds a
      * longer one with one probe instead of one per length (run_intern) */
@@ -862,6 +865,45 @@ static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h, 
     return at + N_KIDS + nk;
 }
 
+/* The lone-block table (outw.lone): a parent reaches back at most `limit`
+ * words, and each copy of a lone block is a word, so fewer than `limit`
+ * (2^15 - 1) copies are in reach at any time: a table of at most 2^17 slots
+ * (1 MB, in cache) answers exactly what an array over every record index
+ * answered (the last copy, reusable while in reach: a copy out of reach
+ * stays so, as the words only grow), where that array (4 bytes a record:
+ * 295 MB for the 4096^3 helmet, cleared as it grew) was a cache miss a lone
+ * block. It starts at LONE_MIN slots (a small model's read stays small). */
+enum { LONE_MIN = 1 << 10, LONE_MAX = 1 << 17 };
+static size_t lone_slot(const outw* o, uint32_t a) {
+    size_t m = o->lonecap - 1, q = (size_t)mix64(a) & m;
+    uint64_t key = (uint64_t)(a + 1) << 32;
+    while (o->lone[q] && (o->lone[q] & 0xFFFFFFFF00000000ull) != key) q = (q + 1) & m;
+    return q; /* a's entry, or the empty slot that ends its probe */
+}
+/* Puts a's first entry at its empty slot q. At half the slots used, the
+ * entries out of reach are dropped and the others placed again, in a table
+ * of twice the slots while they fill a quarter (up to LONE_MAX: they are
+ * fewer than limit, a quarter of it); false without memory. */
+static bool lone_add(bld* b, outw* o, uint32_t a, uint32_t limit, size_t q) {
+    o->lone[q] = (uint64_t)(a + 1) << 32 | (uint32_t)o->n;
+    if (++o->nlone < o->lonecap / 2) return true;
+    size_t cap = o->lonecap, nk = 0;
+    uint64_t* old = o->lone;
+    for (size_t i = 0; i < cap; i++) { /* the kept entries to the front, in slot order */
+        uint64_t e = old[i];
+        if (e && o->n - (uint32_t)e + 64 < limit) old[nk++] = e;
+    }
+    size_t ncap = nk >= cap / 4 && cap < LONE_MAX ? cap * 2 : cap;
+    uint64_t* t = (uint64_t*)vx_calloc(b->a, ncap, sizeof *t);
+    if (!t) return oom(b, "block table");
+    o->lone = t;
+    o->lonecap = ncap;
+    for (size_t i = 0; i < nk; i++) t[lone_slot(o, (uint32_t)(old[i] >> 32) - 1)] = old[i];
+    o->nlone = nk;
+    vx_free(b->a, old);
+    return true;
+}
+
 /* Writes one node's block: the far slots its descriptors need, a descriptor
  * per non-leaf child (cb: the child's block, NO_BLOCK for none; cd: its
  * masks, valid | leaf << 8), then its run's index `a` (with attributes);
@@ -873,22 +915,18 @@ static bool lay_block(bld* b, outw* o, uint32_t a, const uint32_t* cb, const uin
     if (nn == 0 && b->dag) {
         /* the block is the word `a` alone, position-independent: reuse a
          * recent copy while parents can still reach it without a far slot */
-        /* by the run's index (below o->nid) in an array: one load, where
-         * a hash table of the keys and a second of the positions were
-         * two misses a lone block (a sixth of the 4096^3 helmet's read) */
-        if (a >= o->lbcap) {
-            size_t ncap = o->lbcap ? o->lbcap : 4096;
-            while (ncap <= a) ncap *= 2;
-            size_t was = o->lbcap;
-            if (!vx_grow(b->a, (void**)&o->lb_at, &o->lbcap, ncap, sizeof *o->lb_at)) return oom(b, "block table");
-            memset(o->lb_at + was, 0, (o->lbcap - was) * sizeof *o->lb_at);
+        if (!o->lone) {
+            if (!(o->lone = (uint64_t*)vx_calloc(b->a, LONE_MIN, sizeof *o->lone))) return oom(b, "block table");
+            o->lonecap = LONE_MIN;
         }
-        uint32_t at = o->lb_at[a]; /* position + 1 of the last copy of the block [a], 0: none */
-        if (at && o->n - (at - 1) + 64 < limit) {
-            *blk = at - 1;
+        size_t q = lone_slot(o, a);
+        uint64_t e = o->lone[q];
+        if (e && o->n - (uint32_t)e + 64 < limit) {
+            *blk = (uint32_t)e;
             return true;
         }
-        o->lb_at[a] = (uint32_t)o->n + 1;
+        if (e) o->lone[q] = (uint64_t)(a + 1) << 32 | (uint32_t)o->n;
+        else if (!lone_add(b, o, a, limit, q)) return false;
     }
     /* far slots needed: a fixpoint since each slot shifts the descriptors */
     size_t cur = o->n;
@@ -2149,7 +2187,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_at);
+    vx_free(b.a, o.lone);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
@@ -2646,7 +2684,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_at);
+    vx_free(b.a, o.lone);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
