@@ -24,6 +24,10 @@
  * --compare OTHER.svo only reads FILE and OTHER (vx_svo_read_file each) and
  * compares their models word for word and record for record (exit 0 when
  * every model is equal, 3 when one differs): the same scene in two forms.
+ * With --threads N, --convert's, --write-as' and --compare's reads run on
+ * N threads (else every CPU): N 1 takes the reader's one-thread path (the
+ * layout fused into the reconstruction), so two processes' chunked copies
+ * (cmp) compare the paths' words and records across binaries.
  * --range: the writes (and --write-as) keep large structural models in the
  * range-coded form of versions 1 and 2 (vx_write_desc.svo_range_coded).
  * --no-checks: the writes get the scene without the reader's checks
@@ -72,13 +76,14 @@ static void print_counts(const char* path, size_t size, const vx_svo_scene* sc) 
 }
 
 /* --compare: every model of a equal to b's, words and records */
-static int compare_files(const char* pa, const char* pb) {
+static int compare_files(const char* pa, const char* pb, unsigned threads) {
     vx_svo_scene a, b;
     vx_error e;
+    vx_svo_read_desc rd = {.threads = threads};
     double t0 = vx_time_now();
-    if (vx_svo_read_file(NULL, pa, &a, &e) != VX_OK) die(pa, &e);
+    if (vx_svo_read_file(&rd, pa, &a, &e) != VX_OK) die(pa, &e);
     double t1 = vx_time_now();
-    if (vx_svo_read_file(NULL, pb, &b, &e) != VX_OK) die(pb, &e);
+    if (vx_svo_read_file(&rd, pb, &b, &e) != VX_OK) die(pb, &e);
     double t2 = vx_time_now();
     printf("compare: read %s in %.2f s, %s in %.2f s\n", pa, t1 - t0, pb, t2 - t1);
     int bad = a.model_count != b.model_count;
@@ -115,6 +120,7 @@ int main(int argc, char** argv) {
     const char* pin = NULL; /* --pin: CPUs of the timed steps */
     unsigned threads[8] = {1, 2};
     int nt = 2;
+    bool threads_given = false; /* --threads: also the threads of --convert's and --compare's reads (default: every CPU) */
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--out") && i + 1 < argc) out_dir = argv[++i];
@@ -131,6 +137,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--pin") && i + 1 < argc) pin = argv[++i];
         else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             nt = 0;
+            threads_given = true;
             for (char* s = argv[++i]; *s && nt < 8;) {
                 threads[nt++] = (unsigned)strtoul(s, &s, 10);
                 if (*s == ',') s++;
@@ -146,7 +153,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     vx_error err;
-    if (compare) return compare_files(path, compare);
+    if (compare) return compare_files(path, compare, threads_given ? threads[0] : 0);
     uint8_t* data = NULL;
     size_t size = 0;
     if (vx_file_read(path, NULL, UINT64_MAX, &data, &size, &err) != VX_OK) die(path, &err);
@@ -164,7 +171,8 @@ int main(int argc, char** argv) {
     vx_svo_scene sc;
     memset(&sc, 0, sizeof sc);
     if (!lazy) {
-        if (vx_svo_read(NULL, data, size, &sc, &err) != VX_OK) die(path, &err);
+        vx_svo_read_desc rd = {.threads = threads_given ? threads[0] : 0};
+        if (vx_svo_read(&rd, data, size, &sc, &err) != VX_OK) die(path, &err);
         print_counts(path, size, &sc);
     }
     if (convert) {

@@ -79,6 +79,10 @@ typedef struct bld {
     const uint8_t* runs;
     size_t runs_n;
     unsigned threads; /* threads the record arrays may be filled on (vx__svo_interned.threads; 0, 1: this one) */
+    /* finish_model may hand the record ids over as the rgba array (direct
+     * RGBA8): the reader's, where nothing reads them afterwards (the
+     * builder's runs_check does) */
+    bool give_ids;
     /* result */
     bool root_is_leaf, have_root;
     uint32_t root; /* node id or record id when root_is_leaf */
@@ -617,11 +621,14 @@ typedef struct outw {
     uint64_t* runh;
     size_t runcap, nrun;
     uint64_t far;
-    /* blocks that are a lone attribute index (all children leaves): by the
-     * index, the word position + 1 of its last copy (0: none), so equal ones
-     * are stored once where parents can reach them */
-    uint32_t* lb_at;
-    size_t lbcap;
+    /* blocks that are a lone attribute index (all children leaves): the
+     * word position of the last copy of each index that a parent appended
+     * now could still reach (lone_find), so equal ones are stored once where
+     * parents can reach them. Entries (index + 1) << 32 | position, 0 empty,
+     * lonecap of them, open addressing; those out of reach are dropped when
+     * half the slots are used (lone_add). */
+    uint64_t* lone;
+    size_t nlone, lonecap;
     /* the uniform runs in runh (len copies of one record), by record: which
      * lengths are stored and where, so that a short uniform run finds a
      * longer one with one probe instead of one per length (run_intern) */
@@ -855,8 +862,101 @@ static size_t run_prefetch(const bld* b, const outw* o, size_t at, uint64_t* h, 
     return at + N_KIDS + nk;
 }
 
-static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
+/* The lone-block table (outw.lone): a parent reaches back at most `limit`
+ * words, and each copy of a lone block is a word, so fewer than `limit`
+ * (2^15 - 1) copies are in reach at any time: a table of at most 2^17 slots
+ * (1 MB, in cache) answers exactly what an array over every record index
+ * answered (the last copy, reusable while in reach: a copy out of reach
+ * stays so, as the words only grow), where that array (4 bytes a record:
+ * 295 MB for the 4096^3 helmet, cleared as it grew) was a cache miss a lone
+ * block. It starts at LONE_MIN slots (a small model's read stays small). */
+enum { LONE_MIN = 1 << 10, LONE_MAX = 1 << 17 };
+static size_t lone_slot(const outw* o, uint32_t a) {
+    size_t m = o->lonecap - 1, q = (size_t)mix64(a) & m;
+    uint64_t key = (uint64_t)(a + 1) << 32;
+    while (o->lone[q] && (o->lone[q] & 0xFFFFFFFF00000000ull) != key) q = (q + 1) & m;
+    return q; /* a's entry, or the empty slot that ends its probe */
+}
+/* Puts a's first entry at its empty slot q. At half the slots used, the
+ * entries out of reach are dropped and the others placed again, in a table
+ * of twice the slots while they fill a quarter (up to LONE_MAX: they are
+ * fewer than limit, a quarter of it); false without memory. */
+static bool lone_add(bld* b, outw* o, uint32_t a, uint32_t limit, size_t q) {
+    o->lone[q] = (uint64_t)(a + 1) << 32 | (uint32_t)o->n;
+    if (++o->nlone < o->lonecap / 2) return true;
+    size_t cap = o->lonecap, nk = 0;
+    uint64_t* old = o->lone;
+    for (size_t i = 0; i < cap; i++) { /* the kept entries to the front, in slot order */
+        uint64_t e = old[i];
+        if (e && o->n - (uint32_t)e + 64 < limit) old[nk++] = e;
+    }
+    size_t ncap = nk >= cap / 4 && cap < LONE_MAX ? cap * 2 : cap;
+    uint64_t* t = (uint64_t*)vx_calloc(b->a, ncap, sizeof *t);
+    if (!t) return oom(b, "block table");
+    o->lone = t;
+    o->lonecap = ncap;
+    for (size_t i = 0; i < nk; i++) t[lone_slot(o, (uint32_t)(old[i] >> 32) - 1)] = old[i];
+    o->nlone = nk;
+    vx_free(b->a, old);
+    return true;
+}
+
+/* Writes one node's block: the far slots its descriptors need, a descriptor
+ * per non-leaf child (cb: the child's block, NO_BLOCK for none; cd: its
+ * masks, valid | leaf << 8), then its run's index `a` (with attributes);
+ * *blk is where the block starts, or the earlier copy of a lone block
+ * reused. The one place both layouts (layout_nodes over the pool, unp_lay
+ * in the reader's reconstruction) write blocks, so their words are equal. */
+static bool lay_block(bld* b, outw* o, uint32_t a, const uint32_t* cb, const uint32_t* cd, unsigned nn, uint32_t* blk) {
     uint32_t limit = b->limit;
+    if (nn == 0 && b->dag) {
+        /* the block is the word `a` alone, position-independent: reuse a
+         * recent copy while parents can still reach it without a far slot */
+        if (!o->lone) {
+            if (!(o->lone = (uint64_t*)vx_calloc(b->a, LONE_MIN, sizeof *o->lone))) return oom(b, "block table");
+            o->lonecap = LONE_MIN;
+        }
+        size_t q = lone_slot(o, a);
+        uint64_t e = o->lone[q];
+        if (e && o->n - (uint32_t)e + 64 < limit) {
+            *blk = (uint32_t)e;
+            return true;
+        }
+        if (e) o->lone[q] = (uint64_t)(a + 1) << 32 | (uint32_t)o->n;
+        else if (!lone_add(b, o, a, limit, q)) return false;
+    }
+    /* far slots needed: a fixpoint since each slot shifts the descriptors */
+    size_t cur = o->n;
+    unsigned nfar = 0;
+    bool far[8];
+    for (int it = 0; it < 10; it++) {
+        unsigned cnt = 0;
+        for (unsigned k = 0; k < nn; k++) {
+            far[k] = cb[k] != NO_BLOCK && (cur + nfar + k) - cb[k] > limit;
+            cnt += far[k];
+        }
+        if (cnt == nfar) break;
+        nfar = cnt;
+    }
+    unsigned fi = 0;
+    for (unsigned k = 0; k < nn; k++)
+        if (far[k] && !out_push(b, o, cb[k])) return false;
+    size_t bstart = cur + nfar;
+    for (unsigned k = 0; k < nn; k++) {
+        uint32_t d;
+        size_t pos = bstart + k;
+        if (cb[k] == NO_BLOCK) d = vx_svo_desc_make(0, false, cd[k] & 0xFFu, cd[k] >> 8);
+        else if (far[k]) d = vx_svo_desc_make((uint32_t)(pos - (cur + fi++)), true, cd[k] & 0xFFu, cd[k] >> 8);
+        else d = vx_svo_desc_make((uint32_t)(pos - cb[k]), false, cd[k] & 0xFFu, cd[k] >> 8);
+        if (!out_push(b, o, d)) return false;
+    }
+    o->far += nfar;
+    if (b->attrs && !out_push(b, o, a)) return false;
+    *blk = (uint32_t)bstart;
+    return true;
+}
+
+static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) {
     size_t off = *off_io;
     /* the prefetch cursor runs PF_AHEAD nodes ahead (with attribute runs to intern) */
     enum { PF_AHEAD = 12, PF_QUEUE = 16 };
@@ -907,55 +1007,9 @@ static bool layout_nodes(bld* b, outw* o, size_t* off_io, size_t end, int mode) 
             off = next;
             continue;
         }
-        if (nn == 0 && b->dag) {
-            /* the block is the word `a` alone, position-independent: reuse a
-             * recent copy while parents can still reach it without a far slot */
-            /* by the run's index (below o->nid) in an array: one load, where
-             * a hash table of the keys and a second of the positions were
-             * two misses a lone block (a sixth of the 4096^3 helmet's read) */
-            if (a >= o->lbcap) {
-                size_t ncap = o->lbcap ? o->lbcap : 4096;
-                while (ncap <= a) ncap *= 2;
-                size_t was = o->lbcap;
-                if (!vx_grow(b->a, (void**)&o->lb_at, &o->lbcap, ncap, sizeof *o->lb_at)) return oom(b, "block table");
-                memset(o->lb_at + was, 0, (o->lbcap - was) * sizeof *o->lb_at);
-            }
-            uint32_t at = o->lb_at[a]; /* position + 1 of the last copy of the block [a], 0: none */
-            if (at && o->n - (at - 1) + 64 < limit) {
-                n[N_BLOCK] = at - 1;
-                off = next;
-                continue;
-            }
-            o->lb_at[a] = (uint32_t)o->n + 1;
-        }
-        /* far slots needed: a fixpoint since each slot shifts the descriptors */
-        size_t cur = o->n;
-        unsigned nfar = 0;
-        bool far[8];
-        for (int it = 0; it < 10; it++) {
-            unsigned cnt = 0;
-            for (unsigned k = 0; k < nn; k++) {
-                far[k] = cb[k] != NO_BLOCK && (cur + nfar + k) - cb[k] > limit;
-                cnt += far[k];
-            }
-            if (cnt == nfar) break;
-            nfar = cnt;
-        }
-        unsigned fi = 0;
-        for (unsigned k = 0; k < nn; k++)
-            if (far[k] && !out_push(b, o, cb[k])) return false;
-        size_t bstart = cur + nfar;
-        for (unsigned k = 0; k < nn; k++) {
-            uint32_t d;
-            size_t pos = bstart + k;
-            if (cb[k] == NO_BLOCK) d = vx_svo_desc_make(0, false, cd[k] & 0xFFu, cd[k] >> 8);
-            else if (far[k]) d = vx_svo_desc_make((uint32_t)(pos - (cur + fi++)), true, cd[k] & 0xFFu, cd[k] >> 8);
-            else d = vx_svo_desc_make((uint32_t)(pos - cb[k]), false, cd[k] & 0xFFu, cd[k] >> 8);
-            if (!out_push(b, o, d)) return false;
-        }
-        o->far += nfar;
-        if (b->attrs && !out_push(b, o, a)) return false;
-        n[N_BLOCK] = (uint32_t)bstart;
+        uint32_t blk;
+        if (!lay_block(b, o, a, cb, cd, nn, &blk)) return false;
+        n[N_BLOCK] = blk;
         off = next;
     }
     *off_io = off;
@@ -1139,24 +1193,26 @@ static void par_for(const bld* b, size_t n, void (*body)(void* ctx, size_t lo, s
 /* The record arrays of the model from o's record ids. */
 typedef struct rec_fill {
     const bld* b;
-    const outw* o;
+    const uint32_t* ids; /* the record ids (outw.ids), or with own the rgba array they became */
+    bool own;            /* m->rgba is ids: filled already */
     vx_svo_model* m;
 } rec_fill;
 static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     const rec_fill* f = (const rec_fill*)ctx;
     const bld* b = f->b;
     vx_svo_model* m = f->m;
+    uint32_t* rgba = f->own ? NULL : m->rgba;
     for (size_t i = lo; i < hi; i++) {
         rec dv;
         const rec* r = &dv;
         if (b->direct) {
             dv = b->cst; /* the constant channels (none in the builder) */
-            rec_put_value(b->vattr, f->o->ids[i], &dv);
+            rec_put_value(b->vattr, f->ids[i], &dv);
         } else {
-            r = &b->recs[f->o->ids[i]];
+            r = &b->recs[f->ids[i]];
         }
         if (m->palette) m->palette[i] = r->palette;
-        if (m->rgba) m->rgba[i] = r->rgba;
+        if (rgba) rgba[i] = r->rgba;
         if (m->normal) m->normal[i] = r->normal;
         if (m->material) m->material[i] = r->material;
         if (m->density) m->density[i] = r->density;
@@ -1196,7 +1252,17 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
     size_t na = m->attr_count;
     bool ok = true;
     if (b->attrs & VX_ATTR_PALETTE) ok = ok && (m->palette = (uint8_t*)vx_alloc(b->a, na * 1)) != NULL;
-    if (b->attrs & VX_ATTR_RGBA8) ok = ok && (m->rgba = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    /* where the record ids are the RGBA8 values themselves (direct), they are
+     * the rgba array: handed over, not copied into fresh pages (the 4096^3
+     * helmet's 74 M records: 295 MB written, faulted in and read once less) */
+    bool own = b->give_ids && b->direct && b->vattr == VX_ATTR_RGBA8 && o->ids && na;
+    if (own) {
+        m->rgba = o->ids;
+        o->ids = NULL;
+        o->capid = 0;
+    } else if (b->attrs & VX_ATTR_RGBA8) {
+        ok = ok && (m->rgba = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
+    }
     if (b->attrs & VX_ATTR_NORMAL) ok = ok && (m->normal = (uint32_t*)vx_alloc(b->a, na * 4)) != NULL;
     if (b->attrs & VX_ATTR_MATERIAL) ok = ok && (m->material = (uint16_t*)vx_alloc(b->a, na * 2)) != NULL;
     if (b->attrs & VX_ATTR_DENSITY) ok = ok && (m->density = (float*)vx_alloc(b->a, na * 4)) != NULL;
@@ -1206,8 +1272,9 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
         return false;
     }
-    rec_fill f = {b, o, m};
-    par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
+    rec_fill f = {b, own ? m->rgba : o->ids, own, m};
+    if (!own || b->attrs != VX_ATTR_RGBA8) /* (the rgba array alone: nothing left to fill) */
+        par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
     return true;
 }
 
@@ -2117,7 +2184,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_at);
+    vx_free(b.a, o.lone);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;
@@ -2129,9 +2196,24 @@ done:
  * a back-reference names a node anywhere before, a cache miss, and these
  * were three (the id, the pool's representative, the height). */
 typedef struct unp_node {
-    uint32_t id, rep; /* pool id, representative record */
-    uint64_t xt;      /* height (below) in bits 0-4; with want_xt its extent (xt_pack) */
+    uint32_t id, rep; /* pool id (with unp.fused: the node's block, NO_BLOCK for none), representative record */
+    uint64_t xt;      /* bits 0-47 the height and, with want_xt, the extent (xt_pack); 48-63 valid | leaf << 8 */
 } unp_node;
+
+/* With unp.fused, a completed node waiting for its block: the layout runs
+ * UNP_AHEAD nodes behind the reconstruction, so that the run table's slot
+ * a node will probe is fetched meanwhile (run_prefetch's lead over the
+ * pool), and a node's children are always laid out before it (they are
+ * completed first). */
+enum { UNP_RING = 16, UNP_AHEAD = 12 };
+typedef struct unp_pend {
+    uint32_t hdr, at; /* valid | leaf << 8; the node's index in done[] */
+    unsigned nk, nn;  /* children; non-leaf children */
+    uint32_t ids[8];  /* the run: each child's record (a leaf) or representative */
+    uint32_t kid[8];  /* the non-leaf children's indices in done[] */
+    uint32_t cd[8];   /* and their masks */
+    uint64_t h;       /* the run's hash where it is looked up (run_take's hp) */
+} unp_pend;
 
 typedef struct unp {
     bld* b;
@@ -2145,6 +2227,21 @@ typedef struct unp {
     bool ref_index; /* vx__svo_unpack_desc.ref_index */
     vx__svo_extent* big;
     size_t nbig, capbig;
+    /* The layout fused into the reconstruction (no layout thread): each
+     * completed node's block written from its children's (done[].id) a few
+     * nodes after its completion, in completion order, which is the pool's
+     * order, with layout_nodes' code (lay_block, run_take / run_intern), so
+     * the words are the pool path's; the pool itself (a quarter of a large
+     * model's memory, written once and read twice) is never made. */
+    bool fused;
+    bld lb; /* b's settings for the layout, with its own failure (as a layout thread's) */
+    vx_error lerr;
+    outw* o;
+    unp_pend ring[UNP_RING];
+    size_t rin, rout;  /* nodes pushed, laid out */
+    size_t pfr;        /* the runs stream's byte of the next node pushed */
+    bool pf_on;        /* runs are looked up (the DAG and attributes): hash and prefetch at the push */
+    bool lay_dead;     /* the layout failed: the reconstruction goes on, its own error first (as with a layout thread) */
 } unp;
 
 /* The reader's check of the rebuilt tree (vx__svo_check_rebuilt) without a
@@ -2188,12 +2285,23 @@ typedef struct xt_node {
     uint64_t cells;
     uint32_t mn[3], mx[3];
 } xt_node;
-enum { XT_SMALL = 6 }; /* heights up to 6 packed in one word: box 0..64 in 6 bits, cells <= 8^6 in 19 */
+/* done[].xt, bits 0-47: heights up to XT_SMALL with the extent in the
+ * word (h in bits 0-2, cells - 1 in 3-17: cells <= 8^5; the box's min in
+ * 18-32 and max - 1 in 33-47, 5 bits each: 0..32), greater ones as 7 in
+ * bits 0-2, h in 3-7 and the index of their extent in big (8-47). Bits
+ * 48-63 hold the node's masks, which its parents' descriptors need (the
+ * fused layout): one 16-byte record still. */
+enum { XT_SMALL = 5 };
+#define XT_BITS 0x0000FFFFFFFFFFFFull
+static inline unsigned xt_height(uint64_t code) {
+    unsigned t = (unsigned)(code & 7u);
+    return t == 7u ? (unsigned)(code >> 3 & 31u) : t;
+}
 
 static bool xt_pack(unp* u, const xt_node* x, uint64_t* code) {
     if (x->h <= XT_SMALL) {
-        *code = x->h | x->cells << 5 | (uint64_t)x->mn[0] << 24 | (uint64_t)x->mn[1] << 30 | (uint64_t)x->mn[2] << 36 |
-                (uint64_t)(x->mx[0] - 1) << 42 | (uint64_t)(x->mx[1] - 1) << 48 | (uint64_t)(x->mx[2] - 1) << 54;
+        *code = x->h | (x->cells - 1) << 3 | (uint64_t)x->mn[0] << 18 | (uint64_t)x->mn[1] << 23 | (uint64_t)x->mn[2] << 28 |
+                (uint64_t)(x->mx[0] - 1) << 33 | (uint64_t)(x->mx[1] - 1) << 38 | (uint64_t)(x->mx[2] - 1) << 43;
         return true;
     }
     if (!vx_grow(u->b->a, (void**)&u->big, &u->capbig, u->nbig + 1, sizeof *u->big)) return oom(u->b, "node extents");
@@ -2201,21 +2309,21 @@ static bool xt_pack(unp* u, const xt_node* x, uint64_t* code) {
     e->cells = x->cells;
     memcpy(e->min, x->mn, sizeof e->min);
     memcpy(e->max, x->mx, sizeof e->max);
-    *code = x->h | (uint64_t)u->nbig++ << 5;
+    *code = 7u | (uint64_t)x->h << 3 | (uint64_t)u->nbig++ << 8;
     return true;
 }
 
 static void xt_unpack(const unp* u, uint64_t code, xt_node* x) {
-    x->h = (unsigned)(code & 31u);
+    x->h = xt_height(code);
     if (x->h <= XT_SMALL) {
-        x->cells = code >> 5 & 0x7FFFFu;
+        x->cells = (code >> 3 & 0x7FFFu) + 1;
         for (int i = 0; i < 3; i++) {
-            x->mn[i] = (uint32_t)(code >> (24 + 6 * i)) & 63u;
-            x->mx[i] = ((uint32_t)(code >> (42 + 6 * i)) & 63u) + 1;
+            x->mn[i] = (uint32_t)(code >> (18 + 5 * i)) & 31u;
+            x->mx[i] = ((uint32_t)(code >> (33 + 5 * i)) & 31u) + 1;
         }
         return;
     }
-    const vx__svo_extent* e = &u->big[code >> 5];
+    const vx__svo_extent* e = &u->big[(code & XT_BITS) >> 8];
     x->cells = e->cells;
     memcpy(x->mn, e->min, sizeof x->mn);
     memcpy(x->mx, e->max, sizeof x->mx);
@@ -2262,6 +2370,59 @@ static inline bool cur_value(vx__svo_split_cur* c, unsigned ch, uint32_t* v) {
     return true;
 }
 
+/* The fused layout of the oldest waiting node (unp.fused): its run and its
+ * block as layout_nodes writes them (LAY_ALL), its block position into
+ * done[].id. A failure stops the layout, not the reconstruction. */
+static void unp_lay(unp* u) {
+    const unp_pend* e = &u->ring[u->rout++ % UNP_RING];
+    if (u->lay_dead) return;
+    bld* lb = &u->lb;
+    uint32_t valid = e->hdr & 0xFFu, leaf = e->hdr >> 8;
+    if (!((valid & ~leaf) != 0 || lb->attrs != 0)) { /* node_has_block */
+        u->done[e->at].id = NO_BLOCK;
+        return;
+    }
+    uint32_t cb[8];
+    for (unsigned k = 0; k < e->nn; k++) cb[k] = u->done[e->kid[k]].id;
+    uint32_t a = 0;
+    if (lb->attrs) {
+        const uint64_t* hp = u->pf_on ? &e->h : NULL;
+        a = lb->runs ? run_take(lb, u->o, e->ids, e->nk, hp) : run_intern(lb, u->o, e->ids, e->nk, hp, true);
+        if (a == UINT32_MAX) {
+            u->lay_dead = true;
+            return;
+        }
+    }
+    if (!lay_block(lb, u->o, a, cb, e->cd, e->nn, &u->done[e->at].id)) u->lay_dead = true;
+}
+
+/* Queues the node just completed (done[at]) for the fused layout, hashing
+ * its run and fetching the table slots that run will probe where it is
+ * looked up (run_prefetch's hint), and lays out the oldest when UNP_AHEAD
+ * wait. */
+static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsigned nk, const uint32_t* kid, const uint32_t* cd,
+                     unsigned nn) {
+    unp_pend* e = &u->ring[u->rin++ % UNP_RING];
+    e->hdr = hdr;
+    e->at = (uint32_t)at;
+    e->nk = nk;
+    e->nn = nn;
+    memcpy(e->ids, ids, nk * sizeof *ids);
+    memcpy(e->kid, kid, nn * sizeof *kid);
+    memcpy(e->cd, cd, nn * sizeof *cd);
+    e->h = 0;
+    const bld* lb = &u->lb;
+    if (u->pf_on && (!lb->runs || (u->pfr < lb->runs_n && lb->runs[u->pfr++] != 0))) {
+        bool uni = true;
+        for (unsigned j = 1; j < nk; j++) uni = uni && ids[j] == ids[0];
+        const outw* o = u->o;
+        if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
+        e->h = hash_words(ids, nk, 3);
+        if (o->runcap) __builtin_prefetch(&o->runh[run_slot(e->h, o->runcap)]);
+    }
+    if (u->rin - u->rout > UNP_AHEAD) unp_lay(u);
+}
+
 /* Reads one node (and, recursively, its new children) into the pool. */
 static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     bld* b = u->b;
@@ -2280,6 +2441,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
     uint32_t kids[8], ids[8];
+    uint32_t cdm[8]; /* fused: the non-leaf children's masks (kids: their indices in done[], in order) */
+    unsigned nn = 0;
     xt_node cx[8]; /* the children's heights and extents (done[].xt) */
     unsigned n = 0, h = 1;
     for (unsigned o = 0; o < 8; o++) {
@@ -2324,30 +2487,36 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
                 return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                            "svo: section NODE: back-reference %u but only %zu nodes precede it", ref, u->ndone));
             }
-            const unp_node* cn = &u->done[u->ndone - (ref ? ref : 1)]; /* the new child: the last completed */
+            size_t di = u->ndone - (ref ? ref : 1); /* the new child: the last completed */
+            const unp_node* cn = &u->done[di];
             c = cn->id;
-            unsigned ch = (unsigned)(cn->xt & 31u);
+            unsigned ch = xt_height(cn->xt);
             if (ch > level - 1) /* (the decoding thread, pipe_walk, stops at the same symbol) */
                 return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                            "svo: section NODE: back-reference %u at level %u names a node of %u levels", ref, level - 1,
                                            ch));
             if (ch + 1 > h) h = ch + 1;
             if (u->want_xt) xt_unpack(u, cn->xt, &cx[n]);
-            kids[n] = c;
+            if (u->fused) {
+                kids[nn] = (uint32_t)di;
+                cdm[nn++] = (uint32_t)(cn->xt >> 48);
+            } else {
+                kids[n] = c;
+            }
             ids[n] = cn->rep;
         }
         n++;
     }
     uint32_t rep = b->attrs ? representative(b, ids, n) : 0;
     if (rep == UINT32_MAX && !b->direct) return false;
-    uint32_t id = pool_append(b, valid | leaf << 8, kids, n, rep);
-    if (id == UINT32_MAX) return false;
+    uint32_t id = NO_BLOCK; /* fused: the block, written when the node is laid out */
+    if (!u->fused && (id = pool_append(b, valid | leaf << 8, kids, n, rep)) == UINT32_MAX) return false;
     if (u->ndone >= u->capdone && !vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done))
         return oom(b, "node list");
     unp_node* dn = &u->done[u->ndone];
     dn->id = id;
     dn->rep = rep;
-    dn->xt = h;
+    dn->xt = h <= XT_SMALL ? h : 7u | (uint64_t)h << 3; /* the height (with want_xt, the extent below) */
     if (u->want_xt) {
         /* the node's extent at its height h: child k (octant o) scaled from
          * its height to h - 1 and moved to its octant */
@@ -2370,6 +2539,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
         }
         if (!xt_pack(u, &x, &dn->xt)) return false;
     }
+    dn->xt |= (uint64_t)(valid | leaf << 8) << 48;
+    if (u->fused) unp_push(u, valid | leaf << 8, u->ndone, ids, n, kids, cdm, nn);
     u->ndone++;
     *out = id;
     return true;
@@ -2389,6 +2560,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     b.depth = d->depth;
     b.err = err;
     b.runs = d->attrs ? d->runs : NULL; /* (a model without attributes has no runs) */
+    b.give_ids = true;
     b.runs_n = d->runs_n;
     b.direct = d->attrs && (d->attrs & (d->attrs - 1)) == 0;
     b.vattr = d->attrs;
@@ -2441,12 +2613,41 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
             }
         }
     }
+    if (!lj.started) { /* no layout thread: the layout fused into the reconstruction */
+        u.fused = true;
+        u.o = &o;
+        u.lb = b;
+        u.lb.err = &u.lerr;
+        u.lb.fail = VX_OK;
+        memset(&u.lerr, 0, sizeof u.lerr);
+        u.pf_on = b.dag && b.attrs;
+    }
     bool visited = unp_visit(&u, d->depth, &b.root);
     lay_join(&lj, &b, visited); /* the runs stage first: the blocks stage follows it */
     lay_join(&lj2, &b, visited);
     lay_free(&lj);
     lay_free(&lj2);
     if (!visited || b.fail != VX_OK) goto fail;
+    if (u.fused) {
+        while (u.rout < u.rin) unp_lay(&u);
+        /* the root's descriptor last, as layout() writes it */
+        const unp_node* r = &u.done[u.ndone - 1];
+        uint32_t blk = r->id, hdr = (uint32_t)(r->xt >> 48);
+        if (!u.lay_dead) {
+            bool ok;
+            if (blk == NO_BLOCK) ok = out_push(&u.lb, &o, vx_svo_desc_make(0, false, hdr & 0xFFu, hdr >> 8));
+            else if (o.n - blk > b.limit) ok = out_push(&u.lb, &o, blk) && (o.far++, out_push(&u.lb, &o, vx_svo_desc_make(1, true, hdr & 0xFFu, hdr >> 8)));
+            else ok = out_push(&u.lb, &o, vx_svo_desc_make((uint32_t)(o.n - blk), false, hdr & 0xFFu, hdr >> 8));
+            u.lay_dead = !ok;
+        }
+        if (u.lay_dead) {
+            b.fail = u.lb.fail != VX_OK ? u.lb.fail : VX_ERR_NOMEM;
+            if (err) *err = u.lerr;
+            goto fail;
+        }
+        b.laid_given = true; /* finish_model: the words are laid out, b.root is the root's record */
+        b.root = r->rep;
+    }
     b.have_root = true;
     b.root_is_leaf = false;
     if (d->tree) { /* the root's extent at the depth (its height is at most the depth: unp_visit) */
@@ -2480,7 +2681,7 @@ done:
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);
     vx_free(b.a, o.runh);
-    vx_free(b.a, o.lb_at);
+    vx_free(b.a, o.lone);
     vx_free(b.a, o.uni);
     bld_free(&b);
     return res;

@@ -298,7 +298,11 @@ const char* vx__zstd_frame_problem(const uint8_t* src, size_t zn, size_t want);
 /* streams: 10 fixed (masks, references) and one per channel; zstd level 3:
  * level 6 codes the benchmark terrain into 0.93 of the bytes but writes it
  * 1.25-1.4x slower (docs/PERFORMANCE.md, ".svo I/O, tenth step") */
-enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3 };
+/* zstd levels: the structural streams at 3; the value planes (differences)
+ * at 1, which codes them smaller and faster than 3 (the 4096^3 helmet's file
+ * 0.974x, its write 0.81x the CPU; the terrain's file 1.001x: docs/PERFORMANCE.md,
+ * ".svo I/O, fifteenth step") */
+enum { VX__SPLIT_FIXED = 10, VX__SPLIT_MAX = 15, VX__SPLIT_LEVEL = 3, VX__SPLIT_VALUE_LEVEL = 1 };
 /* The split form's flags byte: bit 2 (format version 6) says the runs stream
  * follows the channels' streams: each node's attribute run as the layout
  * placed it (vx__svo_unpack_desc.runs). Writers add it to every split model

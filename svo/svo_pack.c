@@ -581,6 +581,19 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
     }
     ext_push(x, VX__SYM_VALID, level, valid);
     if (level > 1) ext_push(x, VX__SYM_LEAF, level | valid << 8, leaf);
+    if (x->dag && nn > 1) {
+        /* the non-leaf children's entries (fb, fm: a completed twin) and
+         * blocks fetched together: each is a miss to memory, which the loop
+         * below took one child at a time (a hint: nothing is read here but
+         * the parent's block, which block_at checks) */
+        for (uint32_t j = 0; j < nn; j++) {
+            uint32_t cb;
+            if (!block_at(m, b + j, &cb) || cb == UINT32_MAX) continue;
+            __builtin_prefetch(&x->fb[cb]);
+            __builtin_prefetch(&x->fm[cb]);
+            __builtin_prefetch(&m->nodes[cb]);
+        }
+    }
     for (unsigned o = 0; o < 8 && !x->bad; o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {

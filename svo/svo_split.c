@@ -53,12 +53,7 @@ static uint8_t* put_leb(uint8_t* p, uint64_t v) {
  * a shaded surface differ a little in each byte: as differences the helmet's
  * colours code to 0.77 of their bytes as they are, the terrain's few exact
  * colours to 1.001 (docs/PERFORMANCE.md, ".svo I/O, tenth step"). */
-static void planes_delta(uint8_t* p, size_t count, unsigned width) {
-    for (unsigned b = 0; b < width; b++) {
-        uint8_t* q = p + (size_t)b * count;
-        for (size_t k = count; k-- > 1;) q[k] = (uint8_t)(q[k] - q[k - 1]);
-    }
-}
+/* (the writer's side: planes_put, below) */
 static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
     for (unsigned b = 0; b < width; b++) {
         uint8_t* q = p + (size_t)b * count;
@@ -67,6 +62,30 @@ static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
 }
 
 /* ---- writer ---------------------------------------------------------------------------------- */
+
+/* Values into byte planes (byte b of value i at b * count + i), as
+ * differences where a value has several bytes (each byte less the one before it), one
+ * plane at a time: each pass reads the values in order and writes one
+ * plane, which the compiler vectorises (a byte of (v[i] >> s) - (v[i-1] >> s)
+ * is the difference of the bytes); the loop by value and then by byte, and
+ * a pass of differences after it, were a twentieth of the 4096^3 helmet's write. */
+static inline void planes_w(uint8_t* pl, const uint32_t* v, size_t cnt, const unsigned w) {
+    for (unsigned b = 0; b < w; b++) {
+        uint8_t* q = pl + (size_t)b * cnt;
+        const unsigned sh = 8 * b;
+        if (!cnt) break;
+        q[0] = (uint8_t)(v[0] >> sh);
+        if (w == 1)
+            for (size_t i = 1; i < cnt; i++) q[i] = (uint8_t)v[i];
+        else
+            for (size_t i = 1; i < cnt; i++) q[i] = (uint8_t)((v[i] >> sh) - (v[i - 1] >> sh));
+    }
+}
+static void planes_put(uint8_t* pl, const uint32_t* v, size_t cnt, unsigned w) {
+    if (w == 4) planes_w(pl, v, cnt, 4);
+    else if (w == 2) planes_w(pl, v, cnt, 2);
+    else planes_w(pl, v, cnt, 1);
+}
 
 /* The streams as they are filled: bytes for masks and references, each
  * channel's values as they come (put in byte planes when coded). */
@@ -125,7 +144,7 @@ typedef struct enc_job {
     size_t n[VX__SPLIT_MAX];
     void* z[VX__SPLIT_MAX];
     size_t zn[VX__SPLIT_MAX]; /* 0: stored */
-    int level;
+    int level[VX__SPLIT_MAX];
     const vx_allocator* A;
     bool oom;
 } enc_job;
@@ -145,7 +164,7 @@ static void enc_stream(void* ctx, unsigned thread, uint32_t i) {
     }
     /* the frame declares its size (the reader checks it before allocating);
      * no checksum: the section's CRC covers the stream */
-    size_t got = ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_compressionLevel, j->level)) ||
+    size_t got = ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_compressionLevel, j->level[i])) ||
                          ZSTD_isError(ZSTD_CCtx_setParameter(cc, ZSTD_c_contentSizeFlag, 1))
                      ? (size_t)-1
                      : ZSTD_compress2(cc, z, cap, j->raw[i], j->n[i]);
@@ -162,7 +181,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
     enc_job j;
     memset(&j, 0, sizeof j);
     j.A = k->A;
-    j.level = VX__SPLIT_LEVEL;
+    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) j.level[s] = VX__SPLIT_LEVEL;
     bool ok = !k->oom;
     for (unsigned s = 0; s < VX__SPLIT_FIXED; s++) j.raw[s] = k->p[s], j.n[s] = k->n[s];
     if (k->runs) j.raw[k->k - 1] = k->p[VX__SPLIT_FIXED], j.n[k->k - 1] = k->n[VX__SPLIT_FIXED];
@@ -176,11 +195,10 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
             ok = false;
             break;
         }
-        for (size_t i = 0; i < cnt; i++)
-            for (unsigned b = 0; b < w; b++) planes[c][b * cnt + i] = (uint8_t)(k->val[c][i] >> (8 * b));
-        if (w > 1) planes_delta(planes[c], cnt, w);
+        planes_put(planes[c], k->val[c], cnt, w);
         j.raw[s] = planes[c];
         j.n[s] = cnt * w;
+        j.level[s] = VX__SPLIT_VALUE_LEVEL;
     }
     if (ok) {
         vx_run_jobs(threads ? threads : 1, k->k, enc_stream, &j);
