@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "probes/probes_internal.h"
+#include "render/compact.h"
 #include "render/trace.h"
 
 void vx_probe_set_free(vx_probe_set* ps) {
@@ -141,7 +142,12 @@ static void place_point(const vx_probe_set* ps, const double g[3], const offs* c
     q[2] = g[2] + c->c * ps->spacing[2] / (2 * PLACE_H);
 }
 
-static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const vx_render_caster* c,
+/* Whether a probe at q would start inside a cell (the placement's test): the caster's inside_solid, or
+ * compact_solid's answer from the compact layout. */
+typedef bool (*solid_fn)(const void* user, const double q[3]);
+static bool caster_solid(const void* user, const double q[3]) { return inside_solid(user, q); }
+
+static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, solid_fn solid, const void* user,
                        vx_probe_set* ps, vx_error* err) {
     vx_result r = place_grid(s, d, ps, err);
     if (r) return r;
@@ -153,7 +159,7 @@ static vx_result place(const vx_svo_scene* s, const vx_probe_bake_desc* d, const
         for (int k = 0; k < nc; k++) {
             double q[3];
             place_point(ps, g, &cand[k], q);
-            if (!inside_solid(c, q)) {
+            if (!solid(user, q)) {
                 memcpy(p->pos, q, sizeof q);
                 p->state = k == 0 ? VX_PROBE_OK : VX_PROBE_MOVED;
                 break;
@@ -354,8 +360,107 @@ vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* de
     vx_render_caster* c = NULL;
     if ((r = vx_render_caster_create(scene, d.alloc, &c, err))) return r;
     r = record_light(&ps, c, scene, &d, err);
-    if (!r) r = place(scene, &d, c, &ps, err);
+    if (!r) r = place(scene, &d, caster_solid, c, &ps, err);
     vx_render_caster_destroy(c);
+    if (r) {
+        vx_probe_set_free(&ps);
+        return r;
+    }
+    return place_done(&d, &ps, out, err);
+}
+
+/* ---- placement from the compact layout ------------------------------------------------ */
+
+/* The drawn instances as the CPU caster holds them (render/cpu_trace.c cscene_build): the model-from-world map
+ * by the same arithmetic, and the model. */
+typedef struct cplace {
+    const vx_compact_scene* c;
+    const vx_svo_scene* s;
+    uint32_t n;
+    double* inv;      /* 12 per drawn instance */
+    uint32_t* model;  /* per drawn instance */
+} cplace;
+
+static double inv_safe(double d) { return fabs(d) < 1e-300 ? (signbit(d) ? -1e300 : 1e300) : 1.0 / d; }
+
+/* inside_solid's answer without the caster: its cast (render/cpu_trace.c trace_scene, cm_trace) hits at
+ * t = 0 exactly where, for some drawn instance, the ray's entry into the model's box is t = 0 (q in the box,
+ * te == 0 < the exit) and the cell it starts in (the sign rule on boundaries, clamped to the box) is set: an
+ * empty start cell is left at t > 0, a later entry is at t > 0. The same arithmetic in the same order (no
+ * contraction: ISO C17, no -march), the cell looked up in the layout's geometry (vx_compact_lookup) instead
+ * of the caster's table of every leaf (about 60 bytes a cell: 6.3 GB for the 100 M-cell terrain). */
+static bool compact_solid(const void* user, const double q[3]) {
+    static const double dir[3] = {0.5773502691896258, 0.5773502691896258, 0.5773502691896258};
+    const cplace* P = user;
+    for (uint32_t i = 0; i < P->n; i++) {
+        const vx_svo_model* m = &P->s->models[P->model[i]];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        const double* inv = P->inv + 12 * (size_t)i;
+        double om[3], dm[3];
+        for (int r = 0; r < 3; r++) {
+            const double* row = &inv[4 * r];
+            om[r] = row[0] * q[0] + row[1] * q[1] + row[2] * q[2] + row[3];
+            dm[r] = row[0] * dir[0] + row[1] * dir[1] + row[2] * dir[2];
+        }
+        double te = 0.0, tx = 1e-9;
+        for (int k = 0; k < 3; k++) {
+            double iv = inv_safe(dm[k]);
+            double a = (0 - om[k]) * iv, b = ((double)m->size[k] - om[k]) * iv;
+            te = fmax(te, fmin(a, b));
+            tx = fmin(tx, fmax(a, b));
+        }
+        if (!(te < tx) || te > 0.0) continue;
+        uint32_t cell[3];
+        for (int k = 0; k < 3; k++) {
+            double pk = om[k] + dm[k] * te, f = floor(pk);
+            if (pk == f && signbit(dm[k])) f -= 1;
+            int64_t v = (int64_t)f;
+            if (v < 0) v = 0;
+            if (v >= (int64_t)m->size[k]) v = (int64_t)m->size[k] - 1;
+            cell[k] = (uint32_t)v;
+        }
+        uint32_t index;
+        if (vx_compact_lookup(P->c, P->model[i], cell[0], cell[1], cell[2], &index)) return true;
+    }
+    return false;
+}
+
+vx_result vx_probe_place_compact(const vx_compact_scene* c, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                 vx_probe_set* out, vx_error* err) {
+    if (!c || !scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (c->model_count != scene->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact layout has %u models, the scene %u",
+                       c->model_count, scene->model_count);
+    for (uint32_t i = 0; i < c->model_count; i++)
+        if (c->models[i].depth != scene->models[i].depth)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                           "model %u: depth %u in the compact layout, %u in the scene (not its layout)", i,
+                           c->models[i].depth, scene->models[i].depth);
+    vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
+    vx_probe_set ps = {.alloc = d.alloc};
+    vx_result r = resolve(&d, &ps, err);
+    if (r) return r;
+    cplace P = {.c = c, .s = scene};
+    uint32_t ni = scene->instance_count;
+    P.inv = vx_alloc(d.alloc, (ni ? ni : 1) * 12 * sizeof(double));
+    P.model = vx_alloc(d.alloc, (ni ? ni : 1) * sizeof(uint32_t));
+    if (!P.inv || !P.model) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", ni);
+    for (uint32_t i = 0; !r && i < ni; i++) {
+        if (!vx_svo_instance_drawn(scene, i)) continue;
+        if (scene->instances[i].model >= scene->model_count) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u: model %u of %u", i, scene->instances[i].model,
+                        scene->model_count);
+            break;
+        }
+        double w[12];
+        vx_svo_instance_world(scene, &scene->instances[i], w);
+        vx__affine_inverse(w, P.inv + 12 * (size_t)P.n);
+        P.model[P.n++] = scene->instances[i].model;
+    }
+    if (!r) r = record_light(&ps, NULL, scene, &d, err);
+    if (!r) r = place(scene, &d, compact_solid, &P, &ps, err);
+    vx_free(d.alloc, P.inv);
+    vx_free(d.alloc, P.model);
     if (r) {
         vx_probe_set_free(&ps);
         return r;

@@ -289,6 +289,20 @@ vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* de
  * an instance's box. */
 vx_result vx_probe_place_reader(vx_svo_model_reader* rd, const vx_svo_scene* view, const vx_probe_bake_desc* desc,
                                 vx_probe_set* out, vx_error* err);
+/* vx_probe_place of scene from its compact layout c (render/compact.h,
+ * vx_compact_build or vx_compact_build_reader of that scene: the same models
+ * in the same order), without the models' trees: the same probes, bit for
+ * bit. scene may be a reader's graph (its declared fields, instances and
+ * bounds; a frame's view of it); the test whether a probe place starts in a
+ * cell is the CPU caster's (a cast that hits at t = 0) by its own arithmetic,
+ * the cell looked up in c's geometry (vx_compact_lookup) instead of the
+ * caster's table of every leaf (about 60 bytes a cell). So a caller that
+ * built the layout from a model reader places the probes with no second pass
+ * over the file and no caster (svo_bake --load models); the host holds c and
+ * a model-from-world map per drawn instance. */
+struct vx_compact_scene;
+vx_result vx_probe_place_compact(const struct vx_compact_scene* c, const vx_svo_scene* scene,
+                                 const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
 /* Places and bakes; *out owns everything (free with vx_probe_set_free). */
 vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err);
 /* Bakes probes [ps->first + ps->count, end) into a set from vx_probe_place or

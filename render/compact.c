@@ -880,6 +880,17 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
 
 /* ---- the geometry of the models -------------------------------------------------- */
 
+/* The palette indices model m's attribute records use into c->palette_used
+ * (the records vx__scene_attr_palette lists: a model with the palette kind
+ * and its array); several build threads at once, hence the atomic or. */
+static void note_palette(vx_compact_scene* c, const vx_svo_model* m) {
+    if (!m->attrs || !(m->attrs & VX_ATTR_PALETTE) || !m->palette) return;
+    uint32_t used[8] = {0};
+    for (uint32_t a = 0; a < m->attr_count; a++) used[m->palette[a] >> 5] |= 1u << (m->palette[a] & 31);
+    for (int k = 0; k < 8; k++)
+        if (used[k]) __atomic_fetch_or(&c->palette_used[k], used[k], __ATOMIC_RELAXED);
+}
+
 /* Model i's geometry into builder b: its nodes' blocks interned, cm->root its
  * root's block (or dictionary brick), *cells its cells. */
 static vx_result build_model_geom(builder* b, const vx_svo_model* m, uint32_t i, vx_compact_model* cm,
@@ -1108,6 +1119,7 @@ static void geom_build_one(geom_jobs* j, uint32_t i, const vx_svo_model* m) {
     l->b = (builder){.a = j->g->a, .err = &l->err, .st = &l->st, .max_bricks = j->g->max_bricks,
                      .use_dict = j->g->use_dict};
     l->r = build_model_geom(&l->b, m, i, &l->cm, &l->cells, &l->err);
+    note_palette(j->c, m);
     if (j->q && !l->r) stream_attrs(j->q, m, i, &l->cm, l->cells);
     /* the hash tables are not needed by the merge */
     vx_free(l->b.a, l->b.tab);
@@ -1321,6 +1333,7 @@ static void pm_build_job(void* ctx, unsigned thread, uint32_t i) {
     geom_local* l = &p->loc[i];
     l->b = (builder){.a = p->g->a, .err = &l->err, .st = &l->st, .max_bricks = p->g->max_bricks};
     l->r = build_model_geom(&l->b, p->q ? &m : &p->s->models[i], i, &l->cm, &l->cells, &l->err);
+    note_palette(p->c, p->q ? &m : &p->s->models[i]);
     if (p->q && !l->r) stream_attrs(p->q, &m, i, &l->cm, l->cells);
     if (p->q) vx_svo_model_free(p->q->ma, &m);
     vx_free(l->b.a, l->b.tab); /* the local hash table: not needed by the merge */
@@ -1468,6 +1481,7 @@ static vx_result build_core(const vx_compact_desc* desc_in, const vx_svo_scene* 
     if (d.alloc) c.alloc = *d.alloc;
     d.alloc = &c.alloc;
     memcpy(c.palette, s->palette, sizeof c.palette);
+    c.palette_used[0] = 1; /* index 0: what a record without a palette index reads */
     builder b = {.a = d.alloc, .err = err, .st = &c.stats, .max_bricks = d.max_bricks,
                  .use_dict = d.bricks == VX_COMPACT_BRICKS_DICT};
     c.brick_dict = b.use_dict;
@@ -1504,6 +1518,7 @@ static vx_result build_core(const vx_compact_desc* desc_in, const vx_svo_scene* 
         vx_compact_model* cm = &c.models[i];
         uint64_t cells = 0;
         r = build_model_geom(&b, rd ? &m : &s->models[i], i, cm, &cells, err);
+        note_palette(&c, rd ? &m : &s->models[i]);
         if (!r) r = model_cells(cm, cells, i, err);
         if (!r && rd) stream_attrs(&q, &m, i, cm, cells);
         if (rd) vx_svo_model_free(model_alloc, &m);

@@ -204,6 +204,12 @@ typedef struct vx_compact_scene {
     uint32_t** attr_region;  /* vx_compact_desc.attr_regions: model i's words (models[i].attr_words of
                                 them, at attr_base in attr's numbering), or NULL */
     uint32_t palette[256]; /* the scene palette (palette models' colours) */
+    /* the palette indices the models' attribute records use (bit i of word
+     * i / 32; index 0 always): what a pass needs of the records beside the
+     * layout (which materials emit or are metal, probes/probe_gpu.c), found
+     * while each model is in hand, so that a layout built from a model reader
+     * answers it without the models (svo_bake --load models) */
+    uint32_t palette_used[8];
     vx_compact_stats stats;
     vx_allocator alloc;
 } vx_compact_scene;

@@ -358,7 +358,9 @@ vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* allo
  * scene's kernels give the palette index there (0 for RGBA records, as
  * vx__scene_attr_palette's entries of them), so its tables are per palette
  * index: *out 256 entries, entry i = i where some record has palette index
- * i, else 0; *n 256. Else vx__scene_attr_palette(s). */
+ * i, else 0; *n 256 (the indices from the layout's build,
+ * vx_compact_scene.palette_used: s may be a reader's graph without the
+ * models' arrays). Else vx__scene_attr_palette(s). */
 vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                         uint8_t** out, size_t* n, vx_error* err);
 /* pipeline.c: the buffer holding the last frame's image (RGBA32F,

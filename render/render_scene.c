@@ -71,6 +71,7 @@ typedef struct dform {
 } dform;
 
 struct vx_render_scene {
+    uint32_t palette_used[8]; /* compact: the palette indices the records use (vx_compact_scene.palette_used) */
     vx_gpu* gpu;
     vx_allocator alloc;
     uint64_t buffer_range; /* bytes a storage buffer binding may hold (vx__render_scene_buffer_range) */
@@ -934,6 +935,7 @@ static vx_result upload_compact(vx_render_scene* rs, const vx_svo_scene* s, vx_c
     if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
     bool whole = true;
     vx_result r = VX_OK;
+    memcpy(rs->palette_used, c->palette_used, sizeof rs->palette_used); /* the passes' tables (attr_palette) */
     if (rs->layout.compact_bytes > budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
         r = create_paged(rs, s, c, lp, budget, &whole, err);
     if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
@@ -2102,17 +2104,14 @@ uint32_t vx__render_scene_compact_form(const vx_render_scene* rs) {
 
 vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                         uint8_t** out, size_t* n, vx_error* err) {
-    vx_result r = vx__scene_attr_palette(s, alloc, out, n, err);
-    if (r || !vx__render_scene_compact(rs)) return r;
+    if (!vx__render_scene_compact(rs)) return vx__scene_attr_palette(s, alloc, out, n, err);
     /* per palette index; the indices no record uses are 0 (none), so that a table's "some record is ..." (metal,
-     * emissive) is the plain layout's */
+     * emissive) is the plain layout's. The indices in use come from the layout's build (palette_used), not from
+     * s's models: a scene built from a model reader is its graph here, without the models' arrays (svo_bake
+     * --load models) */
     uint8_t* p = vx_calloc(alloc, 256, 1);
-    if (!p) {
-        vx_free(alloc, *out);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    }
-    for (size_t i = 0; i < *n; i++) p[(*out)[i]] = (*out)[i];
-    vx_free(alloc, *out);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (uint32_t i = 0; i < 256; i++) p[i] = rs->palette_used[i >> 5] & (1u << (i & 31)) ? (uint8_t)i : 0;
     *out = p;
     *n = 256;
     return VX_OK;

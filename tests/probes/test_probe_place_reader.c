@@ -6,7 +6,10 @@
  * instances, a hidden layer, an empty model, probes on cell faces), on a
  * fresh reader and a rewound one, the structural and the chunked form, a
  * frame's view of an animation; the reader is finished by it; a model that
- * fails names the file. CPU only. */
+ * fails names the file. The placement from the compact layout
+ * (vx_probe_place_compact: built from the scene in blocks and with the brick
+ * dictionary, and from a reader with its graph as the scene; a frame's view)
+ * gives the same set too. CPU only. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -16,6 +19,7 @@
 #include <unistd.h>
 
 #include "probes/probes.h"
+#include "render/compact.h"
 #include "svo/svo.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
@@ -111,6 +115,32 @@ static void test_same_placement(void) {
             CHECKF(r == VX_OK, "rewound, form %d desc %d: %s", form, k, err.msg);
             if (!r) CHECK(same_set(&a, &c, "rewound reader"));
             vx_svo_reader_close(rd);
+            /* from the compact layout (vx_probe_place_compact): built from the scene read whole, in blocks and
+             * with the brick dictionary, and from a reader with its graph as the scene (svo_bake --load models) */
+            for (int bricks = 0; bricks < 2; bricks++) {
+                vx_compact_scene cs;
+                vx_compact_desc cd = {.bricks = bricks ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+                REQUIRE(vx_compact_build(&cd, &whole, &cs, &err) == VX_OK);
+                vx_probe_set e = {0};
+                r = vx_probe_place_compact(&cs, &whole, &descs[k], &e, &err);
+                CHECKF(r == VX_OK, "compact, form %d desc %d: %s", form, k, err.msg);
+                if (!r) CHECK(same_set(&a, &e, bricks ? "compact layout (dictionary)" : "compact layout"));
+                vx_probe_set_free(&e);
+                vx_compact_free(&cs);
+            }
+            REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+            vx_compact_scene cr;
+            REQUIRE(vx_compact_build_reader(&(vx_compact_desc){.attr_regions = true}, rd, &cr, &err) == VX_OK);
+            vx_svo_scene graph;
+            REQUIRE(vx_svo_reader_copy_graph(rd, NULL, &graph, &err) == VX_OK);
+            vx_svo_reader_close(rd);
+            vx_probe_set e = {0};
+            r = vx_probe_place_compact(&cr, &graph, &descs[k], &e, &err);
+            CHECKF(r == VX_OK, "compact from a reader, form %d desc %d: %s", form, k, err.msg);
+            if (!r) CHECK(same_set(&a, &e, "compact layout from a reader, the graph"));
+            vx_probe_set_free(&e);
+            vx_compact_free(&cr);
+            vx_svo_scene_free(&graph);
             vx_probe_set_free(&a), vx_probe_set_free(&b), vx_probe_set_free(&c);
         }
         vx_svo_scene_free(&whole);
@@ -146,6 +176,24 @@ static void test_frame_view(void) {
     vx_result r = vx_probe_place_reader(rd, &gv, &d, &b, &err);
     CHECKF(r == VX_OK, "%s", err.msg);
     if (!r) CHECK(same_set(&a, &b, "frame 1"));
+    /* the compact layout's placement of frame 1's view */
+    vx_compact_scene cs;
+    REQUIRE(vx_compact_build(NULL, &whole, &cs, &err) == VX_OK);
+    vx_probe_set e = {0};
+    r = vx_probe_place_compact(&cs, &gv, &d, &e, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (!r) CHECK(same_set(&a, &e, "frame 1, compact layout"));
+    vx_probe_set_free(&e);
+    /* a layout of other models is refused */
+    vx_svo_scene one = whole;
+    one.model_count = 1, one.instance_count = 0, one.frame_count = 1, one.frame_instances = NULL;
+    vx_compact_scene c1;
+    REQUIRE(vx_compact_build(NULL, &one, &c1, &err) == VX_OK);
+    r = vx_probe_place_compact(&c1, &gv, &d, &e, &err);
+    CHECKF(r == VX_ERR_INVALID_ARG && strstr(err.msg, "models") && !e.probes, "%d: %s", (int)r, err.msg);
+    CHECK(vx_probe_place_compact(NULL, &gv, &d, &e, &err) == VX_ERR_INVALID_ARG);
+    vx_compact_free(&c1);
+    vx_compact_free(&cs);
     vx_svo_reader_close(rd);
     vx_svo_scene_free(&graph);
     vx_probe_set_free(&a), vx_probe_set_free(&b);

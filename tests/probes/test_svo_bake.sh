@@ -1,5 +1,6 @@
 #!/bin/sh
 # svo_bake end to end: usage exit codes, shards + merge == one bake (bytes),
+# --load models gives --load whole's bytes (GPU),
 # an interrupted job's checkpoint is resumed, svo_render --mode gi runs; the
 # same on the GPU when a Vulkan device exists (otherwise: exit 1 naming --cpu).
 set -u
@@ -13,6 +14,10 @@ fail() { echo "FAIL: $*"; exit 1; }
 "$BIN/svo_bake" >/dev/null 2>&1; [ $? -eq 2 ] || fail "no arguments must exit 2"
 "$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --res 17 >/dev/null 2>&1; [ $? -eq 2 ] || fail "bad res must exit 2"
 "$BIN/svo_bake" "$T/missing.svo" "$T/x.probes" >/dev/null 2>&1; [ $? -eq 1 ] || fail "missing input must exit 1"
+"$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --load models --cpu >/dev/null 2>&1; [ $? -eq 2 ] || fail "--load models --cpu must exit 2"
+"$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --load models --frame 1 >/dev/null 2>&1; [ $? -eq 2 ] || fail "--load models --frame 1 must exit 2"
+"$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --load parts >/dev/null 2>&1; [ $? -eq 2 ] || fail "bad --load must exit 2"
+"$BIN/svo_bake" "$T/missing.svo" "$T/x.probes" --load models >/dev/null 2>&1; [ $? -eq 1 ] || fail "missing input, --load models, must exit 1"
 O="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q --cpu"
 "$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >/dev/null || fail "bake"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p0.probes" $O --shard 0/3 >/dev/null || fail "shard 0"
@@ -51,6 +56,19 @@ if [ $rc -eq 0 ]; then
   "$BIN/svo_bake" "$T/demo.svo" "$T/q1.probes" $G --shard 1/2 >/dev/null || fail "GPU shard 1"
   "$BIN/svo_bake" --merge "$T/gm.probes" "$T/q1.probes" "$T/q0.probes" >/dev/null || fail "GPU merge"
   cmp -s "$T/g.probes" "$T/gm.probes" || fail "GPU shards + merge differ from one GPU bake"
+  # --load models (the model reader, the compact layout, the placement from it): the whole read's bytes on the
+  # demo (emissive lamps, the sun, 7 models, 23 instances, a hidden layer; probes moved out of voxels), in one
+  # process, in shards, and resumed from a checkpoint
+  L="--grid 5,5,4 --res 16 --spp 1 --seed 3 -q"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/lw.probes" $L >/dev/null || fail "GPU bake, --load whole"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/lm.probes" $L --load models -v >"$T/lm.out" || fail "GPU bake, --load models"
+  grep -q "^load: models" "$T/lm.out" || fail "--load models -v: no load line"
+  grep -q "moved out of voxels" "$T/lm.out" && ! grep -q " 0 moved out of voxels" "$T/lm.out" || fail "--load models: no probe moved (the placement untested)"
+  cmp -s "$T/lw.probes" "$T/lm.probes" || fail "--load models differs from --load whole"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/lm0.probes" $L --load models --shard 0/2 >/dev/null || fail "--load models shard 0"
+  cp "$T/lm0.probes" "$T/lr.probes.partial"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/lr.probes" $L --load models | grep -q "resuming" || fail "--load models: no resume"
+  cmp -s "$T/lw.probes" "$T/lr.probes" || fail "--load models resumed differs from --load whole"
   "$BIN/svo_render" "$T/demo.svo" "$T/ggi.exr" --probes "$T/g.probes" --mode gi --size 32x24 >/dev/null || fail "GPU render gi"
   "$BIN/svo_render" "$T/demo.svo" "$T/gpt.exr" --mode pathtrace --spp 2 --size 32x24 >/dev/null || fail "GPU pathtrace"
 else

@@ -87,6 +87,20 @@ static void check_same(const vx_compact_scene* c, const vx_compact_scene* one, c
                !memcmp(c->stats.level_slots, one->stats.level_slots, sizeof one->stats.level_slots),
            "%s, %s: counts differ", name, how);
     CHECK(!memcmp(c->palette, one->palette, sizeof c->palette));
+    CHECKF(!memcmp(c->palette_used, one->palette_used, sizeof c->palette_used), "%s, %s: palette indices in use differ",
+           name, how);
+}
+
+/* The palette indices the scene's records use (as render/gpu.h's vx__scene_attr_palette lists them), and 0:
+ * what the layout's build found (palette_used, which the passes' tables take for a compact scene). */
+static void check_used(const vx_compact_scene* c, const vx_svo_scene* s, const char* name, const char* how) {
+    uint32_t used[8] = {1};
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->attrs && (m->attrs & VX_ATTR_PALETTE) && m->palette)
+            for (uint32_t a = 0; a < m->attr_count; a++) used[m->palette[a] / 32] |= 1u << (m->palette[a] % 32);
+    }
+    CHECKF(!memcmp(c->palette_used, used, sizeof used), "%s, %s: palette indices in use are not the records'", name, how);
 }
 
 /* A second and third pass over the file (vx_svo_reader_rewind), as AUTO's
@@ -158,6 +172,7 @@ static void check_file(const char* path, const char* name) {
         vx_compact_scene one, c;
         vx_compact_desc d1 = {.threads = 1, .bricks = v[k].bricks};
         REQUIRE(vx_compact_build(&d1, &whole, &one, &err) == VX_OK);
+        check_used(&one, &whole, name, how);
         vx_svo_model_reader* rd = NULL;
         REQUIRE(vx_svo_reader_open(&(vx_svo_read_desc){.threads = 2}, path, &rd, &err) == VX_OK);
         vx_result r = vx_compact_build_reader(&d, rd, &c, &err);

@@ -16,6 +16,7 @@
 #include "formats/image.h"
 #endif
 #include "probes/probes.h"
+#include "render/compact.h"
 #include "tools/common/tool.h"
 #ifdef VX_HAVE_MPI
 #include "tools/common/mpi.h"
@@ -69,6 +70,14 @@ _Noreturn static void usage(int status) {
             "                     the CPU count; under MPI the CPU count over the ranks on the host)\n"
             "  --exr DIR          also write the atlases as EXR images into DIR\n"
             "  --max-memory SIZE  refuse a scene that needs more memory than SIZE to read (e.g. 512M)\n"
+            "  --load whole|models  how the scene is read (default: whole). models: through the model reader,\n"
+            "                     never whole: one pass builds the GPU's compact layout from the models in turn,\n"
+            "                     the probes are placed from the layout, then the device is made; the same .probes\n"
+            "                     bytes, the host holding the layout and a model per thread, not the scene and the\n"
+            "                     placement's CPU caster (about 60 bytes a cell). The GPU bake of\n"
+            "                     frame 0 in one process only: --cpu casts on the scene's trees, --frame N > 0 and\n"
+            "                     mpirun (whose ranks place and open the device on threads beside MPI's start) read\n"
+            "                     it whole. An interrupted run resumes from OUT.probes.partial either way\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
@@ -229,25 +238,32 @@ static void stats_line(void* user, vx_log_level level, const char* id, const cha
     if (!strcmp(id, "gpu.start") || !strcmp(id, "gpu.pipeline")) printf("gpu: at %.3f s: %s\n", vx_time_now() - t_main, msg);
 }
 
-int bake_job_open(bake_job* j, const char* device, const char* who) {
-    vx_error err = {0};
-    /* a checkpoint of another frame must not be resumed */
+/* The checkpoint's names (a checkpoint of another frame must not be resumed) and the --max-memory budget. */
+static const vx_allocator* job_start(bake_job* j) {
     if (j->o.frame) snprintf(j->ckpath, sizeof j->ckpath, "%s.f%u.partial", j->out, j->o.frame);
     else snprintf(j->ckpath, sizeof j->ckpath, "%s.partial", j->out);
     if (j->o.frame) snprintf(j->ckdir, sizeof j->ckdir, "%s.f%u.ckpt", j->out, j->o.frame);
     else snprintf(j->ckdir, sizeof j->ckdir, "%s.ckpt", j->out);
     vx_budget_init(&j->budget, j->o.max_memory, NULL);
-    const vx_allocator* A = j->o.max_memory ? &j->budget.allocator : NULL;
-    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->file, &err)) {
-        if (j->budget.refused)
-            fprintf(stderr, "%s: %s%s: needs more than --max-memory %s: %s\n", vx_tool_name, who, j->in,
-                    vx_tool_bytes(j->budget.limit), err.msg);
-        else if (vx_tool_names_file(j->in, err.msg))
-            fprintf(stderr, "%s: %s%s\n", vx_tool_name, who, err.msg); /* the library named the file (I/O errors) */
-        else
-            fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err.msg);
-        return 1;
-    }
+    return j->o.max_memory ? &j->budget.allocator : NULL;
+}
+
+/* A failed read of the scene (whole or by the reader): one line naming the file once. */
+static int read_error(const bake_job* j, const char* who, const vx_error* err) {
+    if (j->budget.refused)
+        fprintf(stderr, "%s: %s%s: needs more than --max-memory %s: %s\n", vx_tool_name, who, j->in,
+                vx_tool_bytes(j->budget.limit), err->msg);
+    else if (vx_tool_names_file(j->in, err->msg))
+        fprintf(stderr, "%s: %s%s\n", vx_tool_name, who, err->msg); /* the library named the file (I/O errors) */
+    else
+        fprintf(stderr, "%s: %s%s: %s\n", vx_tool_name, who, j->in, err->msg);
+    return 1;
+}
+
+int bake_job_open(bake_job* j, const char* device, const char* who) {
+    vx_error err = {0};
+    const vx_allocator* A = job_start(j);
+    if (vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, j->in, &j->file, &err)) return read_error(j, who, &err);
     if (!vx_svo_scene_frame(&j->file, j->o.frame, &j->scene)) {
         fprintf(stderr, "%s: %s%s: no frame %u (the scene has %u)\n", vx_tool_name, who, j->in, j->o.frame,
                 vx_svo_scene_frames(&j->file));
@@ -260,6 +276,59 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     vx_tool_gpu_open_start_narrowed(&j->go, &(vx_gpu_desc){.device = device, .logger = j->o.verbose ? &stats_log : NULL},
                                     &j->scene, j->fallback, j->widen);
     j->opening = true;
+    return 0;
+}
+
+int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
+    vx_error err = {0};
+    const vx_allocator* A = job_start(j);
+    if (vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, j->in, &j->rd, &err)) return read_error(j, who, &err);
+    /* pass 1: the compact layout, the models taken in turn (the reader finished: the NODE checksum, the bounds) */
+    double t = vx_time_now();
+    vx_compact_scene c;
+    vx_compact_desc cd = {.alloc = A, .attr_regions = true, .bricks = VX_COMPACT_BRICKS_INLINE};
+    if (vx_compact_build_reader(&cd, j->rd, &c, &err)) return read_error(j, who, &err);
+    double t_build = vx_time_now() - t;
+    j->t_pass[0] = t_build;
+    /* the graph with the first pass's bounds: what the placement's grid and the bake read of the scene */
+    vx_result r = vx_svo_reader_copy_graph(j->rd, A, &j->file, &err);
+    if (!r && !vx_svo_scene_frame(&j->file, 0, &j->scene))
+        r = vx_fail(&err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "no frame 0");
+    /* the placement from the layout: its geometry answers the caster's test, so no second pass over the file and
+     * no caster (VX_BAKE_PLACE=reader: a second pass with vx_probe_place_reader, each model's caster in turn; the
+     * same probes, kept to measure against) */
+    t = vx_time_now();
+    const char* penv = getenv("VX_BAKE_PLACE");
+    j->place_passes = penv && !strcmp(penv, "reader");
+    if (!r && j->place_passes) r = vx_svo_reader_rewind(j->rd, &err);
+    if (!r && j->place_passes) r = vx_probe_place_reader(j->rd, &j->scene, &j->o.b, ps, &err);
+    else if (!r) r = vx_probe_place_compact(&c, &j->scene, &j->o.b, ps, &err);
+    j->t_pass[1] = vx_time_now() - t;
+    if (r) {
+        vx_compact_free(&c);
+        return read_error(j, who, &err);
+    }
+    /* the device after the pass and the placement, the GPU scene from the built layout (c taken) */
+    t = vx_time_now();
+    static const vx_logger stats_log = {stats_line, NULL};
+    r = vx_gpu_create(&(vx_gpu_desc){.device = j->o.device, .logger = j->o.verbose ? &stats_log : NULL}, &j->gpu, &err);
+    j->t_vk = vx_time_now() - t;
+    if (r) {
+        vx_compact_free(&c);
+        vx_probe_set_free(ps);
+        fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
+        return 1;
+    }
+    r = vx_render_scene_create_compact(j->gpu, j->rd, &c, t_build, NULL, &j->rs, &err);
+    j->t_device = vx_time_now() - t;
+    j->t_scene = j->t_device - j->t_vk;
+    vx_svo_reader_close(j->rd); /* its buffers and the file: the layout is on the GPU */
+    j->rd = NULL;
+    if (r) {
+        vx_probe_set_free(ps);
+        fprintf(stderr, "%s: %s%s: %s (--load whole or --cpu)\n", vx_tool_name, who, j->in, err.msg);
+        return 1;
+    }
     return 0;
 }
 
@@ -294,6 +363,8 @@ void bake_job_close(bake_job* j) {
     vx_gpu_destroy(j->gpu);
     double t3 = vx_time_now();
     vx_svo_scene_free(&j->file);
+    vx_svo_reader_close(j->rd);
+    j->rd = NULL;
     j->t_close[0] = t1 - t0, j->t_close[1] = t2 - t1, j->t_close[2] = t3 - t2;
     memset(&j->scene, 0, sizeof j->scene);
     j->rs = NULL, j->gpu = NULL, j->baker = NULL;
@@ -557,16 +628,21 @@ static int bake_single(bake_job* j) {
     options* o = &j->o;
     vx_error err = {0};
     double t_in = vx_time_now();
+    vx_probe_set ps;
+    o->b.first = o->b.count = 0;
+    if (!o->b.alloc) o->b.alloc = &huge_allocator;
+    /* --load models: the layout from the file, the placement from the layout, then the device */
+    if (o->load_models && bake_job_models(j, &ps, "")) {
+        bake_job_close(j);
+        return 1;
+    }
     /* the device opens on its own thread while the probes are placed */
-    if (bake_job_open(j, o->device, "")) {
+    if (!o->load_models && bake_job_open(j, o->device, "")) {
         bake_job_close(j);
         return 1;
     }
     double t0 = vx_time_now();
-    vx_probe_set ps;
-    o->b.first = o->b.count = 0;
-    if (!o->b.alloc) o->b.alloc = &huge_allocator;
-    if (vx_probe_place(&j->scene, &o->b, &ps, &err)) {
+    if (!o->load_models && vx_probe_place(&j->scene, &o->b, &ps, &err)) {
         bake_job_close(j);
         return vx_tool_error(j->in, &err);
     }
@@ -597,6 +673,18 @@ static int bake_single(bake_job* j) {
     if (j->rs) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
     else vx_render_sun_nodes_free(sun_nodes);
     if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
+    /* the host's peak so far: the scene (or the layout from the reader's passes), the placement, the GPU scene (on a
+     * CPU device its buffers are host memory too); the bake's own comes after */
+    if (o->verbose) printf("host: peak %s before the bake (%s)\n", vx_tool_bytes(vx_peak_rss()), o->load_models ? "--load models" : "--load whole");
+    if (o->load_models && o->verbose) {
+        vx_render_layout_info li;
+        vx_render_scene_layout(j->rs, &li);
+        printf("load: models (the model reader): the compact layout %.3f s (%.3f MB, %s; %u pass%s over the file), "
+               "the placement %.3f s (%s), then the device %.3f s and the GPU scene %.3f s\n",
+               j->t_pass[0], li.compact_bytes / 1e6, li.brick_dict ? "brick dictionary" : "bricks in blocks",
+               li.file_passes, li.file_passes == 1 ? "" : "es", j->t_pass[1],
+               j->place_passes ? "a second pass, each model's caster" : "from the layout", j->t_vk, j->t_scene);
+    }
     else printf("device: CPU (%u threads, double precision)\n", o->threads);
     int rc = 0;
     uint32_t moved = 0, disabled = 0;
@@ -846,6 +934,11 @@ int main(int argc, char** argv) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
                 usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
+        } else if (!strcmp(a, "--load")) {
+            NEED();
+            const char* v = argv[++i];
+            if (strcmp(v, "whole") && strcmp(v, "models")) usage_error("bad --load '%s' (whole or models)", v);
+            o.load_models = !strcmp(v, "models");
         } else if (!strcmp(a, "--exr")) {
             NEED();
             o.exr_dir = argv[++i];
@@ -872,6 +965,8 @@ int main(int argc, char** argv) {
     if (npos != 2) usage_error("%s", npos == 0 ? "no scene and output given" : "no output file given");
     if ((o.b.grid[0] || o.b.grid[1] || o.b.grid[2]) && o.b.spacing) usage_error("%s", "give --grid or --spacing, not both");
     if (o.cpu && o.device) usage_error("%s", "--cpu conflicts with --device");
+    if (o.load_models && o.cpu) usage_error("%s", "--load models is for the GPU bake (--cpu casts on the scene's trees: --load whole)");
+    if (o.load_models && o.frame) usage_error("%s", "--load models bakes frame 0 (--frame N > 0: --load whole)");
     o.b.threads = o.threads;
     if (o.verbose)
         printf("%s %s %s --res %u --spp %u --bounces %d --seed %llu --shard %u/%u --threads %u\n", vx_tool_name, pos[0],
@@ -880,6 +975,9 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     if (vx_tool_mpi_launched() && o.shards > 1)
         usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
+    if (vx_tool_mpi_launched() && o.load_models)
+        usage_error("%s", "--load models is for one process; under mpirun each rank reads the scene whole (its "
+                          "placement and device start on threads beside MPI's start)");
     vx_tool_mpi_unmute(saved);
     if (vx_tool_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
 #endif

@@ -22,6 +22,7 @@ typedef struct options {
     uint64_t max_memory; /* --max-memory for reading the scene, 0: no limit */
     uint32_t threads;
     uint32_t frame; /* --frame: an animation's frame to bake (default 0) */
+    bool load_models; /* --load models: the scene through the model reader (bake_job_models) */
 } options;
 
 typedef struct bake_job {
@@ -44,6 +45,11 @@ typedef struct bake_job {
     double t_vk;          /* of it the device's (vx_gpu_create) */
     double t_wait;        /* seconds bake_job_device waited for it */
     double t_close[3];    /* seconds bake_job_close took for the baker, the scene and the device */
+    /* --load models: the reader (closed once the GPU scene is made), the two passes' and the device's times */
+    vx_svo_model_reader* rd;
+    double t_pass[2]; /* the compact layout (pass 1), the placement */
+    bool place_passes; /* the placement by a second pass (VX_BAKE_PLACE=reader), not from the layout */
+    double t_scene;   /* the GPU scene from the layout (upload) */
 } bake_job;
 
 /* Reads the scene and starts opening the device (o.device; NULL: the default
@@ -52,6 +58,19 @@ typedef struct bake_job {
  * one line (prefixed with `who`, e.g. "rank 1: ", may be "") and returns 1;
  * bake_job_close is safe either way. */
 int bake_job_open(bake_job* j, const char* device, const char* who);
+/* --load models, instead of bake_job_open and vx_probe_place: the scene
+ * through the model reader (svo/svo.h), never whole. One pass builds the
+ * compact layout (vx_compact_build_reader), the probes are placed into *ps
+ * from it (vx_probe_place_compact, j->o.b's grid; VX_BAKE_PLACE=reader: a
+ * second pass, vx_probe_place_reader), then
+ * the device is made and the GPU scene is the built layout
+ * (vx_render_scene_create_compact); j->scene is the graph (no model arrays),
+ * which the GPU bake needs beside the layout (materials, instances, bounds).
+ * The host holds the layout, a model per build thread and the graph; the
+ * device is made after the placement (an idle device lowers its clock, branch
+ * load2). Frame 0 and the GPU only (the CPU bake casts on the scene's
+ * trees). On failure prints one line as bake_job_open and returns 1. */
+int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who);
 /* Waits for the device (nothing to wait for with --cpu); on failure prints
  * one line as bake_job_open and returns 1. */
 int bake_job_device(bake_job* j, const char* who);
