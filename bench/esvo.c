@@ -206,7 +206,14 @@ vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render
                                        .binding_count = 3, .label = "esvo"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    /* a variant kernel has a key of its own (the pipeline cache is the device's) */
-    return bench_kernel_frame(e->gpu, &e->k, &pd, e->spv ? UINT64_C(0xE5F0E5F1) : UINT64_C(0xE5F0E5F0), &e->buf, s, desc, e->lo,
+    /* a variant kernel has a key of its own, from its words (the pipeline
+     * cache is the device's; render_bench --esvo-kernels runs several) */
+    uint64_t key = UINT64_C(0xE5F0E5F0);
+    if (e->spv) {
+        key = UINT64_C(1469598103934665603); /* FNV-1a */
+        for (size_t i = 0; i < e->spv_bytes / 4; i++) key = (key ^ e->spv[i]) * UINT64_C(1099511628211);
+        key |= UINT64_C(1) << 63;
+    }
+    return bench_kernel_frame(e->gpu, &e->k, &pd, key, &e->buf, s, desc, e->lo,
                               (double)((int64_t)1 << e->depth), 0, 0, repeat, seconds, depth, steps, err);
 }

@@ -65,7 +65,16 @@
  * billions, for slow devices (lavapipe).
  * --esvo-kernel FILE.spv: the ESVO baseline's rows with this kernel instead of
  * bench/shaders/esvo.comp (a variant with the same bindings, e.g. from
- * glslangValidator -V; the depth agreement with voxkit checks it). */
+ * glslangValidator -V; the depth agreement with voxkit checks it).
+ * --esvo-kernels FILE.spv,...: up to 8 variants of the ESVO kernel timed after
+ * the baseline in the same process and view, a line "esvo-variant" each: steps,
+ * rays/s, its rate over the baseline's and its depth agreement with voxkit
+ * (the per-step probes of both kernels side by side).
+ * Every row ends "[warps: lane use VX / ES]": the loop's steps summed over the
+ * lanes of each 32-lane warp (an 8x4 pixel tile of the kernels' 8x8 groups,
+ * voxkit's grid from its traced rectangle's corner) over 32 times the warp's
+ * largest, over all warps: the share of a warp's loop iterations its lanes
+ * use (1 - the divergence's idle share). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
 #include <errno.h>
 #include <math.h>
@@ -91,6 +100,7 @@ typedef struct view_result {
     long beam_diff;
     long color_diff; /* likewise, pixels of the colour frame (primary + shadow) whose values differ */
     double sh_share, sh_steps; /* pixels that cast a shadow ray, and its loop iterations (vx_render_hit.shadow) */
+    double warp_vx, warp_es;   /* the warps' lane use (warp_use; -1: none) */
 } view_result;
 
 /* A view's first row: its hits and its colour frame, which every later
@@ -106,12 +116,33 @@ static double cpu_now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* Lane use of the 32-lane warps of a dispatch of 8x8 groups over the pixels
+ * [r[0], r[2]) x [r[1], r[3]) of a W-wide image (NVIDIA's warps are 32
+ * consecutive invocations: rows 0-3 and 4-7 of a group): the steps of every
+ * lane summed, over 32 times each warp's largest (lanes past the rectangle
+ * count as idle). -1 where no warp steps. */
+static double warp_use(const uint32_t* steps, uint32_t W, const uint32_t r[4]) {
+    double sum = 0, cap = 0;
+    for (uint32_t y0 = r[1]; y0 < r[3]; y0 += 4)
+        for (uint32_t x0 = r[0]; x0 < r[2]; x0 += 8) {
+            uint32_t mx = 0;
+            for (uint32_t y = y0; y < y0 + 4 && y < r[3]; y++)
+                for (uint32_t x = x0; x < x0 + 8 && x < r[2]; x++) {
+                    uint32_t st = steps[(size_t)y * W + x] & 0x7FFFFFFFu;
+                    sum += st;
+                    if (st > mx) mx = st;
+                }
+            cap += 32.0 * mx;
+        }
+    return cap > 0 ? sum / cap : -1;
+}
+
 static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
             "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
-            "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] FILE...\n"
+            "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
             prog, vx_render_desc_defaults().beam);
@@ -297,6 +328,28 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
         bool he = isfinite(edepth[i]);
         if (hv == he && (!hv || fabs((double)h->t - edepth[i]) <= 1e-4 * fmax(fabs((double)h->t), 1.0))) agree++;
     }
+    /* divergence: the warps' lane use of both kernels on these rays (voxkit's
+     * grid starts at the screen cull's rectangle, ESVO's at pixel 0, 0) */
+    out->warp_vx = out->warp_es = -1;
+    uint32_t* vsteps = malloc(npx * sizeof *vsteps);
+    if (vsteps) {
+        for (size_t i = 0; i < npx; i++) vsteps[i] = img.hits[i].iterations;
+        uint32_t rect[4] = {0, 0, d.width, d.height};
+        uint64_t tp;
+        double blo[3], bhi[3];
+        vx__frame f0;
+        vx_error e0 = {0};
+        vx_svo_scene_world_bounds(s, blo, bhi);
+        if (vx__render_scene_traced(rs, &tp) && !vx__frame_setup(blo, bhi, &d, &f0, &e0)) {
+            vx__frame_rect(&f0, blo, bhi, rect);
+            if ((uint64_t)(rect[2] - rect[0]) * (rect[3] - rect[1]) != tp) /* not the library's rectangle */
+                rect[0] = rect[1] = 0, rect[2] = d.width, rect[3] = d.height, out->warp_vx = -2;
+        }
+        if (out->warp_vx != -2) out->warp_vx = warp_use(vsteps, d.width, rect);
+        uint32_t full[4] = {0, 0, d.width, d.height};
+        if (es) out->warp_es = warp_use(esteps, d.width, full);
+        free(vsteps);
+    }
     out->beam_diff = -1;
     if (ref->hits) {
         out->beam_diff = 0;
@@ -383,6 +436,38 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     return 0;
 }
 
+/* An ESVO kernel variant (--esvo-kernels) on view d after the baseline:
+ * out[0] steps per ray, [1] seconds per frame (median of runs), [2] the
+ * share of pixels whose depth agrees with voxkit's hits (as run_view's
+ * test), [3] its warps' lane use. The baseline's kernel is restored. */
+static int esvo_variant(bench_esvo* es, const uint32_t* spv, size_t bytes, const vx_svo_scene* s, vx_render_desc d,
+                        uint32_t runs, double warmup, const vx_render_hit* vx_hits, double out[4], vx_error* err) {
+    size_t npx = (size_t)d.width * d.height;
+    float* depth = malloc(npx * sizeof *depth);
+    uint32_t* steps = malloc(npx * sizeof *steps);
+    const uint32_t* spv0 = es->spv;
+    size_t bytes0 = es->spv_bytes;
+    es->spv = spv, es->spv_bytes = bytes;
+    double sec;
+    int fail = !depth || !steps || bench_esvo_frame(es, s, &d, 1, &sec, depth, steps, err) ||
+               warm(NULL, es, NULL, 0, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out[1], NULL, NULL, err);
+    es->spv = spv0, es->spv_bytes = bytes0;
+    if (!fail) {
+        double st = 0;
+        size_t agree = 0;
+        for (size_t i = 0; i < npx; i++) {
+            st += steps[i] & 0x7FFFFFFFu;
+            bool hv = vx_hits && vx_hits[i].instance != VX_RENDER_NO_HIT, he = isfinite(depth[i]);
+            if (vx_hits && hv == he && (!hv || fabs((double)vx_hits[i].t - depth[i]) <= 1e-4 * fmax(fabs((double)vx_hits[i].t), 1.0)))
+                agree++;
+        }
+        uint32_t full[4] = {0, 0, d.width, d.height};
+        out[0] = st / npx, out[2] = vx_hits ? (double)agree / npx : -1, out[3] = warp_use(steps, d.width, full);
+    }
+    free(depth), free(steps);
+    return fail;
+}
+
 int main(int argc, char** argv) {
     const char* device = NULL;
     const char* sizes = "1920x1080";
@@ -405,6 +490,10 @@ int main(int argc, char** argv) {
     double warmup = 0.5;
     uint32_t* esvo_spv = NULL; /* --esvo-kernel */
     size_t esvo_bytes = 0;
+    uint32_t* ev_spv[8] = {NULL}; /* --esvo-kernels */
+    size_t ev_bytes[8] = {0};
+    const char* ev_name[8] = {NULL};
+    int nev = 0;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
@@ -527,6 +616,16 @@ int main(int argc, char** argv) {
             if (!esvo_spv) {
                 fprintf(stderr, "render_bench: --esvo-kernel: cannot read SPIR-V from '%s'\n", argv[i]);
                 return 2;
+            }
+        }
+        else if (!strcmp(argv[i], "--esvo-kernels") && i + 1 < argc) {
+            for (char* t = strtok(argv[++i], ","); t; t = strtok(NULL, ",")) {
+                if (nev == 8 || !(ev_spv[nev] = read_spirv(t, &ev_bytes[nev]))) {
+                    fprintf(stderr, "render_bench: --esvo-kernels: %s: %s\n", t,
+                            nev == 8 ? "more than 8 kernels" : "cannot read a SPIR-V file");
+                    return 2;
+                }
+                ev_name[nev++] = t;
             }
         }
         else if (!strcmp(argv[i], "--mrays")) mrays = true;
@@ -716,6 +815,13 @@ int main(int argc, char** argv) {
                             snprintf(kl + at, sizeof kl - at, "  [traced %.1f%% of the pixels]", 100.0 * (double)tp / px);
                         }
                     }
+                    {
+                        size_t at = strlen(kl);
+                        char wv[16], we[16];
+                        snprintf(wv, sizeof wv, r.warp_vx >= 0 ? "%.1f%%" : "?", 100 * r.warp_vx);
+                        snprintf(we, sizeof we, r.warp_es >= 0 ? "%.1f%%" : "-", 100 * r.warp_es);
+                        snprintf(kl + at, sizeof kl - at, "  [warps: lane use VX %s / ES %s]", wv, we);
+                    }
                     if (nsmap > 1 || smap_list[0]) {
                         size_t at = strlen(kl);
                         snprintf(kl + at, sizeof kl - at, "  [shadow map %s]",
@@ -737,6 +843,19 @@ int main(int argc, char** argv) {
                            px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64, cp,
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
+                    for (int ei = 0; esp && ki == 0 && bi == 0 && si == 0 && ei < nev; ei++) {
+                        double ev[4];
+                        if (esvo_variant(esp, ev_spv[ei], ev_bytes[ei], &s, d, runs, warmup, ref.hits, ev, &err)) {
+                            fprintf(stderr, "render_bench: %s %s: ESVO variant %s: %s\n", name, vnames[v], ev_name[ei], err.msg);
+                            failed = 1;
+                            break;
+                        }
+                        printf("esvo-variant %-20.20s %-8s %-9s %6.1f %7.2f %7.0f ES/base %.3f depth= %.3f%%  [warps: lane use %.1f%%]  "
+                               "[%s]\n",
+                               name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
+                               100 * ev[2], 100 * ev[3], ev_name[ei]);
+                        fflush(stdout);
+                    }
                 }
                 free(ref.hits), free(ref.color);
                 if (smap_side && vx__render_scene_smap_side(rs, &s, 0, &err)) failed = 1;
@@ -765,6 +884,7 @@ int main(int argc, char** argv) {
     }
     vx_gpu_destroy(gpu);
     for (int ki = 1; ki < nkern; ki++) free(kspv[ki]), free(bspv[ki]);
+    for (int ei = 0; ei < nev; ei++) free(ev_spv[ei]);
     free(esvo_spv);
     return failed;
 }
