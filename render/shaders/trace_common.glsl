@@ -706,8 +706,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 // The DEEP kernels skip the test against the child's exit
                 // (tmin lies in the child by construction, as in the ESVO
                 // loop; tmin <= tmax is tested): 2-5% faster there on the
-                // H200, 1-2% slower in the plain kernel, which keeps it.
-                if (DEEP >= 1 || tmin <= tv_max) {
+                // H200, 1-2% slower in the plain kernel, which keeps it. The
+                // compact walk skips it in DEEP 0 too, as trace_compact.comp's
+                // (docs/PERFORMANCE.md issue 18, sixteenth and seventeenth steps).
+                if (DEEP >= 1 || COMPACT || tmin <= tv_max) {
 #ifdef PRECISE
                     bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
