@@ -232,7 +232,9 @@ uint g_path = 0xFFFFu;
 // twentieth sitting): no iteration guard (GUARD below), scale_exp2 taken from
 // scale at the loop's top rather than carried around it, no test of the
 // ray's end at a push (the model's box holds every cell, so a push past the
-// box's exit finds none; t1 is h.t's initial 3e38 with one instance),
+// box's exit finds none; t1 is h.t's initial 3e38 with one instance; only a
+// ray leaving the box within rounding of a cell edge on its face, a tie,
+// might be decided otherwise than main's walk decides it),
 // every push storing its parent (no hh), and the pixel's index formed
 // before the walk (trace.comp). Each alone kept 36-39 registers and cost
 // 1-6%; the cells and depths are main's (render_bench: 0 px differ).
