@@ -36,6 +36,7 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #endif
 #define TRACE_SENTINEL
 #define TRACE_NOGUARD
+#define TRACE_LEAN
 #define TRACE_INST_UBO
 #define TRACE_FLAT_ITEMS
 #define TRACE_CULL
@@ -65,6 +66,8 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
+    // the lean depth kernel (LEAN) holds one register across the walk for it, not px's two
+    uint pix_i = LEAN ? px.y * W + px.x : 0u;
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -199,7 +202,7 @@ void shade(uvec2 px) {
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, 0u, shadow_rec);
         }
     }
-    pixels[px.y * W + px.x] = acc / float(spp);
+    pixels[LEAN ? pix_i : px.y * W + px.x] = acc / float(spp);
 }
 
 #include "screen_cull.glsl"

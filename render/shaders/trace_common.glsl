@@ -226,8 +226,25 @@ uint g_path = 0xFFFFu;
 // pixels/s on the H200 (issue 21); its advance then compares the crossing
 // times as !(tc > tc_max), so that a NaN time steps every axis and the ray
 // still leaves the root. Other kernels that include this file keep both.
+// The lean walk (trace.comp's primary depth kernel of one instance, GPU
+// form; TRACE_LEAN): its loop fits 32 registers on the H200 (64 warps per
+// SM) where main's took 39 (50 warps), 2-3% more primary rays/s (issue 21,
+// twentieth sitting): no iteration guard (GUARD below), scale_exp2 taken from
+// scale at the loop's top rather than carried around it, no test of the
+// ray's end at a push (the model's box holds every cell, so a push past the
+// box's exit finds none; t1 is h.t's initial 3e38 with one instance; only a
+// ray leaving the box within rounding of a cell edge on its face, a tie,
+// might be decided otherwise than main's walk decides it),
+// every push storing its parent (no hh), and the pixel's index formed
+// before the walk (trace.comp). Each alone kept 36-39 registers and cost
+// 1-6%; the cells and depths are main's (render_bench: 0 px differ).
+#if defined(TRACE_LEAN) && !defined(PRECISE)
+const bool LEAN = MODE == MODE_DEPTH && !WRITE_HITS && !USE_BVH && !LOD && DEEP == 0 && !COMPACT && !NODES_FILE;
+#else
+const bool LEAN = false;
+#endif
 #ifdef TRACE_NOGUARD
-const bool GUARD = MODE != MODE_COLOR || WRITE_HITS;
+const bool GUARD = (MODE != MODE_COLOR || WRITE_HITS) && !LEAN;
 #else
 const bool GUARD = true;
 #endif
@@ -665,6 +682,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
+#ifndef PRECISE
+            if (LEAN) scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23); // not carried
+#endif
             if (SENT ? desc == 0u : !loaded) {
 #ifndef PRECISE
                 if (COMPACT) {
@@ -685,6 +705,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             WPREC RVEC3 tc = pos * coef - bias;
             WPREC REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
+            bool lean = LEAN && !any_hit; // no test of the ray's end (a primary ray in the model's box)
 #ifdef PRECISE
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
@@ -698,9 +719,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // tested in place instead (cbit)
             uint cbit = 1u << cs;
             uint cm = desc << uint(idx ^ oct);
-            if ((MASKS ? desc & (cbit << 8) : cm & 0x8000u) != 0u && tmin <= tmax) {
+            bool push = (MASKS ? desc & (cbit << 8) : cm & 0x8000u) != 0u && tmin <= tmax;
+            if (lean) push = (MASKS ? desc & (cbit << 8) : cm & 0x8000u) != 0u;
+            if (push) {
 #endif
-                WPREC REAL tv_max = min(tmax, tc_max);
+                WPREC REAL tv_max = lean ? tc_max : min(tmax, tc_max);
                 WPREC REAL half_ = scale_exp2 * 0.5;
                 WPREC RVEC3 tcen = half_ * coef + tc;
                 // The DEEP kernels skip the test against the child's exit
@@ -749,7 +772,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-                    if (tc_max < hh) {
+                    bool store = LEAN ? true : tc_max < hh;
+                    if (store) {
 #ifdef TRACE_STACK_SELECTS
                         if (STK_REG) STK_PUT(scale - koff, int(parent))
                         else

@@ -112,6 +112,27 @@ static void check_beam(const char* name, vx_render_scene* rs, vx_render_desc d, 
     }
 }
 
+/* The depth frame without hits (trace.comp's lean walk where it applies:
+ * one instance, GPU form, issue 21's twentieth sitting) must hold the hits
+ * frame's pixels, bit for bit: the same cells and depths from a loop
+ * without the iteration guard, the ray-end test at a push and hh. */
+static void check_lean(const char* name, vx_render_scene* rs, vx_render_desc d, const vx_render_image* gi) {
+    d.want_hits = false;
+    vx_render_image li = {0};
+    vx_error err = {0};
+    vx_result r = vx_render_frame(rs, &d, &li, &err);
+    CHECKF(r == VX_OK, "%s without hits: %s", name, err.msg);
+    size_t n = (size_t)gi->width * gi->height, diff = 0;
+    for (size_t i = 0; !r && i < n; i++) {
+        if (!memcmp(&gi->pixels[4 * i], &li.pixels[4 * i], 16)) continue;
+        if (diff++ < 4)
+            fprintf(stderr, "  %s pixel %zu,%zu: t %.9g (%g) without hits, %.9g (%g) with\n", name, i % gi->width,
+                    i / gi->width, li.pixels[4 * i], li.pixels[4 * i + 3], gi->pixels[4 * i], gi->pixels[4 * i + 3]);
+    }
+    CHECKF(diff == 0, "%s: %zu depth pixels differ without hits", name, diff);
+    vx_render_image_free(&li);
+}
+
 /* Renders s on both paths and checks the 99.99% rule. min_hits guards
  * against a camera that sees nothing. With g_force == 0 (the float variant
  * forced, for comparison) it only reports. */
@@ -141,6 +162,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     CHECKF(rc == VX_OK, "%s: %s", name, err.msg);
     if (!r && !rc) c = compare(name, &gi, &ci);
     if (!r) check_beam(name, rs, d, &gi);
+    if (!r && d.mode == VX_RENDER_DEPTH) check_lean(name, rs, d, &gi);
     if (!r && !rc && g_force != 0) {
         CHECKF(c.hits >= min_hits, "%s: %zu hits, expected at least %zu", name, c.hits, min_hits);
         CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",
