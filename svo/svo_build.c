@@ -2359,14 +2359,16 @@ static inline bool cur_ref(vx__svo_split_cur* c, unsigned level, uint32_t* v) {
     return true;
 }
 static inline bool cur_value(vx__svo_split_cur* c, unsigned ch, uint32_t* v) {
-    static const unsigned W[5] = {1, 4, 4, 2, 4};
     unsigned s = c->cs[ch];
-    if (!s || c->pos[s] >= c->vcount[s]) return false;
-    size_t at = c->pos[s]++, cnt = c->vcount[s];
-    const uint8_t* p = c->data[s] + at;
-    uint32_t x = 0;
-    for (unsigned i = 0; i < W[ch]; i++) x |= (uint32_t)p[i * cnt] << (8 * i);
-    *v = x;
+    if (!s || c->pos[s] >= c->vcount[s] || ch == 2 || ch == 4) return false; /* (normal and density have no stream) */
+    size_t at = c->pos[s]++;
+    const uint8_t* p = c->data[s];
+    if (ch == 1) /* RGBA8: 4 bytes a value, least significant first */
+        *v = (uint32_t)p[4 * at] | (uint32_t)p[4 * at + 1] << 8 | (uint32_t)p[4 * at + 2] << 16 | (uint32_t)p[4 * at + 3] << 24;
+    else if (ch == 3) /* material */
+        *v = (uint32_t)p[2 * at] | (uint32_t)p[2 * at + 1] << 8;
+    else /* palette */
+        *v = p[at];
     return true;
 }
 

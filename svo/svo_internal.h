@@ -171,7 +171,8 @@ enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE, VX__SYM_RUN };
  * false (with err set) when the source cannot deliver. */
 /* The split form's decoded streams (svo_split.c) as the reconstruction reads
  * them without a call per symbol: stream s holds n[s] bytes at data[s], read
- * up to pos[s]; a channel's stream vcount[s] values as byte planes; cs[c]
+ * up to pos[s]; a channel's stream vcount[s] values, each its bytes in order,
+ * least significant first (the decoder interleaves the file's planes); cs[c]
  * the stream of channel c. The decoder's own state: where the direct read
  * cannot take a symbol as it is (a stream's end, a leaf mask outside its
  * valid mask, a reference of more than one byte) it calls next, which reads

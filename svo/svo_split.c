@@ -54,10 +54,29 @@ static uint8_t* put_leb(uint8_t* p, uint64_t v) {
  * colours code to 0.77 of their bytes as they are, the terrain's few exact
  * colours to 1.001 (docs/PERFORMANCE.md, ".svo I/O, tenth step"). */
 /* (the writer's side: planes_put, below) */
-static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
-    for (unsigned b = 0; b < width; b++) {
-        uint8_t* q = p + (size_t)b * count;
-        for (size_t k = 1; k < count; k++) q[k] = (uint8_t)(q[k] + q[k - 1]);
+/* The reader's side: the planes p (differences) summed and interleaved into
+ * out, value k's `width` bytes at width * k, least significant first, the
+ * form the reconstruction reads (vx__svo_split_cur.data). One pass that
+ * reads the planes in order and writes the values in order: the
+ * reconstruction then reads one array in order where it read `width`
+ * planes, a load from each a value (a sixth of the 4096^3 helmet's
+ * unp_visit), and the pass replaces the planes' own summing pass. */
+static void planes_values(uint8_t* restrict out, const uint8_t* restrict p, size_t count, unsigned width) {
+    if (width == 4) {
+        const uint8_t *p0 = p, *p1 = p + count, *p2 = p + 2 * count, *p3 = p + 3 * count;
+        uint8_t a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        for (size_t k = 0; k < count; k++) {
+            a0 = (uint8_t)(a0 + p0[k]), a1 = (uint8_t)(a1 + p1[k]), a2 = (uint8_t)(a2 + p2[k]), a3 = (uint8_t)(a3 + p3[k]);
+            uint32_t v = (uint32_t)a0 | (uint32_t)a1 << 8 | (uint32_t)a2 << 16 | (uint32_t)a3 << 24;
+            memcpy(out + 4 * k, &v, 4);
+        }
+    } else { /* 2 (material) */
+        const uint8_t *p0 = p, *p1 = p + count;
+        uint8_t a0 = 0, a1 = 0;
+        for (size_t k = 0; k < count; k++) {
+            a0 = (uint8_t)(a0 + p0[k]), a1 = (uint8_t)(a1 + p1[k]);
+            out[2 * k] = a0, out[2 * k + 1] = a1;
+        }
     }
 }
 
@@ -323,13 +342,12 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     (void)thread;
     vx__svo_split* d = (vx__svo_split*)ctx;
     d->res[s] = VX_OK;
-    if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into a copy */
+    if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into values */
         if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->c.n[s] ? d->c.n[s] : 1))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
-        memcpy(d->own[s], d->zsrc[s], d->c.n[s]);
-        planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        planes_values(d->own[s], d->zsrc[s], d->c.vcount[s], d->delta[s]);
         d->c.data[s] = d->own[s];
         return;
     }
@@ -359,7 +377,16 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
                             "svo: section NODE at byte %llu: model %u: stream %u (%s, %zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
                             (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), zn, want, why);
     else {
-        if (d->delta[s]) planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        if (d->delta[s]) { /* the planes into values: a buffer of their size, the planes freed */
+            uint8_t* v = (uint8_t*)vx_alloc(d->A, want ? want : 1);
+            if (!v) {
+                d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+                return;
+            }
+            planes_values(v, d->own[s], d->c.vcount[s], d->delta[s]);
+            vx_free(d->A, d->own[s]);
+            d->own[s] = v;
+        }
         d->c.data[s] = d->own[s];
     }
 }
@@ -477,15 +504,13 @@ uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo
     for (unsigned c = 0; c < 5; c++) {
         unsigned s = d->c.cs[c];
         if (!(attrs >> c & 1u) || !s || !d->c.vcount[s] || !d->c.data[s]) continue;
-        size_t n = d->c.vcount[s];
-        bool one = true;
-        for (unsigned i = 0; i < CH_W[c] && one; i++) { /* each byte plane one byte throughout */
-            const uint8_t* q = d->c.data[s] + (size_t)i * n;
-            one = q[0] == q[n - 1] && (n < 2 || memcmp(q, q + 1, n - 1) == 0);
-        }
+        /* (values, not planes: the decoding interleaved them) every value the first */
+        size_t w = CH_W[c], bytes = d->c.vcount[s] * w;
+        const uint8_t* q = d->c.data[s];
+        bool one = bytes <= w || (memcmp(q, q + bytes - w, w) == 0 && memcmp(q, q + w, bytes - w) == 0);
         if (!one) continue;
         uint32_t x = 0;
-        for (unsigned i = 0; i < CH_W[c]; i++) x |= (uint32_t)d->c.data[s][(size_t)i * n] << (8 * i);
+        for (unsigned i = 0; i < w; i++) x |= (uint32_t)q[i] << (8 * i);
         if (c == 0) cst->palette = (uint8_t)x;
         else if (c == 1) cst->rgba = x;
         else if (c == 2) cst->normal = x;
@@ -525,9 +550,8 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
     }
     if (kind == VX__SYM_VALUE) {
         if (at >= d->c.vcount[s]) return ends(d, s, err);
-        size_t c = d->c.vcount[s];
         uint32_t x = 0;
-        for (unsigned i = 0; i < CH_W[ctx]; i++) x |= (uint32_t)b[i * c + at] << (8 * i);
+        for (unsigned i = 0; i < CH_W[ctx]; i++) x |= (uint32_t)b[CH_W[ctx] * at + i] << (8 * i);
         d->c.pos[s] = at + 1;
         *v = x;
         return true;
