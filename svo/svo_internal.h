@@ -321,10 +321,52 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
                           unsigned depth, bool dag, uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
 /* The same from a walk that puts the symbols one by one (the trusted write:
  * no symbol arrays): REF as 0 or 1 + the node's completion index. */
-typedef struct vx__svo_split_sink vx__svo_split_sink;
+/* The streams as they are filled: bytes for masks and references, each
+ * channel's values as they come (put in byte planes when coded). Here, not
+ * in svo_split.c, so that the walk's put is inline: a call per symbol was a
+ * twentieth of the 4096^3 helmet's write. */
+typedef struct vx__svo_split_sink {
+    const vx_allocator* A;
+    uint8_t cs[5];
+    unsigned k;
+    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
+    uint8_t* p[VX__SPLIT_FIXED + 1];
+    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
+    uint32_t* val[5];
+    size_t nval[5], capval[5];
+} vx__svo_split_sink;
 /* runs: the sink has the runs stream (put as VX__SYM_RUN, ctx 0). */
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A);
-void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+/* The put where its stream has no room (grows it; k->oom without memory). */
+void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+static inline void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
+    if (kind == VX__SYM_VALUE) {
+        if (k->nval[ctx] < k->capval[ctx]) {
+            k->val[ctx][k->nval[ctx]++] = v;
+            return;
+        }
+    } else {
+        /* the stream (svo_split.c stream_of): VALID 0..3, LEAF 4..6, REF 7..9 by level class, RUN the last */
+        unsigned lv = kind == VX__SYM_LEAF ? (ctx & 0xFFu) : ctx;
+        unsigned c = lv >= 4 ? 3u : lv - 1u;
+        unsigned s = kind == VX__SYM_RUN ? (unsigned)VX__SPLIT_FIXED : kind == VX__SYM_VALID ? c : kind == VX__SYM_LEAF ? 3 + c : 6 + c;
+        if (k->n[s] + 5 <= k->cap[s]) {
+            uint8_t* q = k->p[s] + k->n[s];
+            if (kind == VX__SYM_REF) { /* LEB128 */
+                do {
+                    uint8_t b = (uint8_t)(v & 0x7Fu);
+                    v >>= 7;
+                    *q++ = (uint8_t)(b | (v ? 0x80u : 0u));
+                } while (v);
+            } else {
+                *q++ = (uint8_t)v;
+            }
+            k->n[s] = (size_t)(q - k->p[s]);
+            return;
+        }
+    }
+    vx__svo_split_put_slow(k, kind, ctx, v);
+}
 /* The runs stream's bytes put so far (the writer rewrites them in place
  * before coding), NULL without one. */
 uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n);

@@ -106,18 +106,7 @@ static void planes_put(uint8_t* pl, const uint32_t* v, size_t cnt, unsigned w) {
     else planes_w(pl, v, cnt, 1);
 }
 
-/* The streams as they are filled: bytes for masks and references, each
- * channel's values as they come (put in byte planes when coded). */
-struct vx__svo_split_sink {
-    const vx_allocator* A;
-    uint8_t cs[5];
-    unsigned k;
-    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
-    uint8_t* p[VX__SPLIT_FIXED + 1];
-    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
-    uint32_t* val[5];
-    size_t nval[5], capval[5];
-};
+/* (the sink: svo_internal.h, where its put is inline) */
 
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A) {
     vx__svo_split_sink* k = (vx__svo_split_sink*)vx_calloc(A, 1, sizeof *k);
@@ -142,7 +131,7 @@ static bool sink_room(vx__svo_split_sink* k, unsigned s) {
     return true;
 }
 
-void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
+void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
     if (kind == VX__SYM_VALUE) {
         if (k->nval[ctx] >= k->capval[ctx] &&
             !vx_grow(k->A, (void**)&k->val[ctx], &k->capval[ctx], k->nval[ctx] + 1, sizeof *k->val[ctx])) {
