@@ -2710,6 +2710,15 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         memset(&u.lerr, 0, sizeof u.lerr);
         u.pf_on = b.dag && b.attrs;
     }
+    if (d->scratch && src->cur) {
+        /* every node read takes one valid mask: the list at its final size
+         * (no growth, each a copy into fresh pages) in pages an earlier
+         * model of this thread faulted in already */
+        size_t nodes = 1, bytes = 0;
+        for (unsigned i = 0; i < 4; i++) nodes += src->cur->n[i];
+        if (nodes <= SIZE_MAX / sizeof *u.done) u.done = (unp_node*)vx__svo_scratch_get(d->scratch, b.a, nodes * sizeof *u.done, &bytes);
+        u.capdone = u.done ? bytes / sizeof *u.done : 0;
+    }
     if (u.ref_index && src->cur) { /* each reference stream's lookahead UNP_REF_AHEAD references ahead */
         u.ref_pf = true;
         for (unsigned i = 0; i < 3; i++) {
@@ -2772,7 +2781,8 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
 fail:
     res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
 done:
-    vx_free(b.a, u.done);
+    if (d->scratch) vx__svo_scratch_put(d->scratch, b.a, u.done, u.capdone * sizeof *u.done);
+    else vx_free(b.a, u.done);
     vx_free(b.a, u.big);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);

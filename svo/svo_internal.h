@@ -221,6 +221,10 @@ typedef struct vx__svo_unpack_desc {
      * that are found again (run_take, svo_build.c). */
     const uint8_t* runs;
     size_t runs_n;
+    /* The decoding thread's kept buffers (vx__svo_scratch), or NULL: with the
+     * split streams the completed-node list is taken from it at its size
+     * (one node a valid mask: the valid streams' bytes) and given back. */
+    struct vx__svo_scratch* scratch;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -373,14 +377,37 @@ uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n);
 /* Codes the streams put so far (false: out of memory); the sink stays the caller's to free. */
 bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out);
 void vx__svo_split_sink_free(vx__svo_split_sink* k);
+/* Large buffers kept between the models one thread of a read decodes in
+ * turn (vx_run_jobs' per-thread state): a model's decoded streams (the
+ * 4096^3 helmet's: tens of MB each) are freed when it is read, and the
+ * next model's, asked for moments later, came back from the kernel as
+ * fresh pages to fault in and clear (a third of the read's page faults).
+ * A buffer is handed out again only to the thread that freed it; every
+ * byte of it is written before it is read (zstd's output, the values,
+ * the copies), so nothing depends on its old bytes. Zero-initialised:
+ * empty; vx__svo_scratch_free gives everything back. */
+enum { VX__SCRATCH_SLOTS = 16, VX__SCRATCH_MIN = 1 << 20 };
+typedef struct vx__svo_scratch {
+    void* p[VX__SCRATCH_SLOTS];
+    size_t cap[VX__SCRATCH_SLOTS];
+} vx__svo_scratch;
+/* A buffer of at least n bytes (the smallest kept one that fits, else
+ * vx_alloc; *cap its size), NULL without memory. sc may be NULL. */
+void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, size_t* cap);
+/* Keeps p (cap bytes; from vx__svo_scratch_get or vx_alloc) for a later get,
+ * or frees it (sc NULL, small, or no slot free: the smallest kept one
+ * smaller than p makes room). */
+void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap);
+void vx__svo_scratch_free(vx__svo_scratch* sc, const vx_allocator* A);
 typedef struct vx__svo_split vx__svo_split;
 /* Parses the streams after the form byte (p[0..n), base: its file offset),
  * checks every length against m's declared node_count and decodes them on
  * up to `threads` threads. */
 /* runs_ok: the file's version has the runs stream (6 and later; the flags'
  * bit is refused in older files). */
+/* sc: buffers kept between models (used where threads is 1), or NULL. */
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
-                             const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
+                             const vx_allocator* A, vx__svo_scratch* sc, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
 /* The decoded runs stream (NULL, 0: the model has none). */
 const uint8_t* vx__svo_split_runs_stream(const vx__svo_split* d, size_t* n);

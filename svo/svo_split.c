@@ -296,8 +296,55 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
 
 /* ---- reader ---------------------------------------------------------------------------------- */
 
+void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, size_t* cap) {
+    if (sc && n >= VX__SCRATCH_MIN) {
+        int best = -1;
+        for (int i = 0; i < VX__SCRATCH_SLOTS; i++)
+            if (sc->p[i] && sc->cap[i] >= n && (best < 0 || sc->cap[i] < sc->cap[best])) best = i;
+        if (best >= 0) {
+            void* p = sc->p[best];
+            *cap = sc->cap[best];
+            sc->p[best] = NULL;
+            sc->cap[best] = 0;
+            return p;
+        }
+    }
+    *cap = n ? n : 1;
+    return vx_alloc(A, *cap);
+}
+
+void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap) {
+    if (!p) return;
+    if (sc && cap >= VX__SCRATCH_MIN) {
+        int slot = -1;
+        for (int i = 0; i < VX__SCRATCH_SLOTS && slot < 0; i++)
+            if (!sc->p[i]) slot = i;
+        if (slot < 0) /* the smallest kept one, where it is smaller */
+            for (int i = 0; i < VX__SCRATCH_SLOTS; i++)
+                if (sc->cap[i] < cap && (slot < 0 || sc->cap[i] < sc->cap[slot])) slot = i;
+        if (slot >= 0) {
+            vx_free(A, sc->p[slot]);
+            sc->p[slot] = p;
+            sc->cap[slot] = cap;
+            return;
+        }
+    }
+    vx_free(A, p);
+}
+
+void vx__svo_scratch_free(vx__svo_scratch* sc, const vx_allocator* A) {
+    if (!sc) return;
+    for (int i = 0; i < VX__SCRATCH_SLOTS; i++) {
+        vx_free(A, sc->p[i]);
+        sc->p[i] = NULL;
+        sc->cap[i] = 0;
+    }
+}
+
 struct vx__svo_split {
     const vx_allocator* A;
+    vx__svo_scratch* sc; /* buffers kept between models (one decoding thread only), or NULL */
+    size_t owncap[VX__SPLIT_MAX];
     unsigned k;
     /* the decoded streams (data: own[s], or into the file where stored),
      * lengths, read positions, values per channel stream, the channels'
@@ -332,7 +379,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     vx__svo_split* d = (vx__svo_split*)ctx;
     d->res[s] = VX_OK;
     if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into values */
-        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->c.n[s] ? d->c.n[s] : 1))) {
+        if (!(d->own[s] = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, d->c.n[s], &d->owncap[s]))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
@@ -347,7 +394,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     const char* why = vx__zstd_frame_problem(src, zn, want);
     size_t got = 0;
     if (!why) {
-        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, want ? want : 1))) {
+        if (!(d->own[s] = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, want, &d->owncap[s]))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
@@ -367,14 +414,16 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
                             (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), zn, want, why);
     else {
         if (d->delta[s]) { /* the planes into values: a buffer of their size, the planes freed */
-            uint8_t* v = (uint8_t*)vx_alloc(d->A, want ? want : 1);
+            size_t vcap;
+            uint8_t* v = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, want, &vcap);
             if (!v) {
                 d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
                 return;
             }
             planes_values(v, d->own[s], d->c.vcount[s], d->delta[s]);
-            vx_free(d->A, d->own[s]);
+            vx__svo_scratch_put(d->sc, d->A, d->own[s], d->owncap[s]);
             d->own[s] = v;
+            d->owncap[s] = vcap;
         }
         d->c.data[s] = d->own[s];
     }
@@ -382,7 +431,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
 
 void vx__svo_split_free(vx__svo_split* d) {
     if (!d) return;
-    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) vx_free(d->A, d->own[s]);
+    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) vx__svo_scratch_put(d->sc, d->A, d->own[s], d->owncap[s]);
     vx_free(d->A, d);
 }
 
@@ -402,7 +451,7 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
 }
 
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
-                             const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
+                             const vx_allocator* A, vx__svo_scratch* sc, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
     *out = NULL;
     /* the caller read the form byte (1) */
     size_t pos = 0;
@@ -423,6 +472,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     vx__svo_split* d = (vx__svo_split*)vx_calloc(A, 1, sizeof *d);
     if (!d) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     d->A = A;
+    d->sc = threads <= 1 ? sc : NULL; /* (the streams decode on one thread: the scratch has no lock) */
     d->base = base;
     d->mi = mi;
     d->runs = (p[0] & VX__SPLIT_RUNS) != 0;
