@@ -390,6 +390,7 @@ enum { VX__SCRATCH_SLOTS = 16, VX__SCRATCH_MIN = 1 << 20 };
 typedef struct vx__svo_scratch {
     void* p[VX__SCRATCH_SLOTS];
     size_t cap[VX__SCRATCH_SLOTS];
+    size_t min; /* the smallest buffer kept (0: VX__SCRATCH_MIN; vx_svo_testing.scratch_any: 1) */
 } vx__svo_scratch;
 /* A buffer of at least n bytes (the smallest kept one that fits, else
  * vx_alloc; *cap its size), NULL without memory. sc may be NULL. */

@@ -2426,6 +2426,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             uint32_t* order = largest_first(s, A); /* NULL (out of memory): file order, the same result */
             /* each thread's kept buffers (NULL without memory: none kept, the same result) */
             vx__svo_scratch* sc = (vx__svo_scratch*)vx_calloc(A, threads, sizeof *sc);
+            for (unsigned i = 0; sc && t && t->scratch_any && i < threads; i++) sc[i].min = 1;
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
                 unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order, t, sc};

@@ -297,7 +297,7 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
 /* ---- reader ---------------------------------------------------------------------------------- */
 
 void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, size_t* cap) {
-    if (sc && n >= VX__SCRATCH_MIN) {
+    if (sc && n >= (sc->min ? sc->min : VX__SCRATCH_MIN)) {
         int best = -1;
         for (int i = 0; i < VX__SCRATCH_SLOTS; i++)
             if (sc->p[i] && sc->cap[i] >= n && (best < 0 || sc->cap[i] < sc->cap[best])) best = i;
@@ -315,7 +315,7 @@ void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, 
 
 void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap) {
     if (!p) return;
-    if (sc && cap >= VX__SCRATCH_MIN) {
+    if (sc && cap >= (sc->min ? sc->min : VX__SCRATCH_MIN)) {
         int slot = -1;
         for (int i = 0; i < VX__SCRATCH_SLOTS && slot < 0; i++)
             if (!sc->p[i]) slot = i;
