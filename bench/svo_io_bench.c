@@ -58,6 +58,26 @@ static double cpu_now(void) {
     return (double)ru.ru_utime.tv_sec + (double)ru.ru_stime.tv_sec + 1e-6 * (double)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
+/* the rusage of a timed step, so that two machines' runs can be told apart by
+ * where the time went (user or kernel, page faults, switches) */
+typedef struct {
+    double user, sys;
+    long minflt, majflt, nvcsw, nivcsw;
+} ru_snap;
+
+static ru_snap ru_now(void) {
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (ru_snap){(double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec, (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec,
+                     ru.ru_minflt, ru.ru_majflt, ru.ru_nvcsw, ru.ru_nivcsw};
+}
+
+static void ru_print(const char* step, int run, ru_snap a) {
+    ru_snap b = ru_now();
+    printf("  run %d, %s rusage: user %.3f s, sys %.3f s, minor faults %ld, major %ld, switches %ld voluntary %ld involuntary\n", run, step,
+           b.user - a.user, b.sys - a.sys, b.minflt - a.minflt, b.majflt - a.majflt, b.nvcsw - a.nvcsw, b.nivcsw - a.nivcsw);
+}
+
 static void die(const char* what, const vx_error* e) {
     fprintf(stderr, "svo_io_bench: %s: %s\n", what, e->msg);
     exit(1);
@@ -245,9 +265,11 @@ int main(int argc, char** argv) {
                     w[0][k] = vx_time_now() - t0, c[0][k] = cpu_now() - c0;
                     vx_svo_scene_free(&b);
                 }
+                ru_snap r0 = ru_now();
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_read_file(&rd, path, &b, &err) != VX_OK) die("read file", &err);
                 w[1][k] = vx_time_now() - t0, c[1][k] = cpu_now() - c0;
+                ru_print("read file", k, r0);
                 if (lazy && ti == 0 && k == 0) print_counts(path, size, &b);
                 vx_svo_scene_free(&b);
                 /* each run as it ends too (a run cut short by a timeout still reports) */
@@ -274,9 +296,11 @@ int main(int argc, char** argv) {
                         vx_free(NULL, o);
                     }
                 }
+                ru_snap r0 = ru_now();
                 t0 = vx_time_now(), c0 = cpu_now();
                 if (vx_svo_write_file(&wd, &sc, out_path, &err) != VX_OK) die(out_path, &err);
                 w[3][k] = vx_time_now() - t0, c[3][k] = cpu_now() - c0;
+                ru_print("write file", k, r0);
                 printf("  run %d, %u threads: write (memory) %.3f s wall %.3f s CPU, write file %.3f s wall %.3f s CPU\n", k,
                        threads[ti], w[2][k], c[2][k], w[3][k], c[3][k]);
                 fflush(stdout);

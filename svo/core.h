@@ -290,6 +290,7 @@ typedef struct vx_svo_testing {
     uint32_t split_words; /* .svo write: models of at least this many words take the split form (0: 2^20) */
     bool split_no_runs;   /* .svo write: the split form without its runs stream (format version 5's, for the old-file tests) */
     bool unchecked;       /* .svo write: no validation; words and records stored raw (tests write corrupt trees) */
+    bool scratch_any;     /* .svo read: a thread keeps its models' decoded buffers of any size for its next model (default: 1 MB and more) */
 } vx_svo_testing;
 
 /* Options of the writers to a file (vx_svo_write_file, vx_vox_write_file,

@@ -592,7 +592,7 @@ typedef struct vx_svo_read_desc {
      * not a SIGBUS. */
     void (*on_open)(void* user, const char* path);
     void* on_open_user;
-    vx_svo_testing testing; /* test hooks: parallel_always only (svo/core.h); leave zeroed */
+    vx_svo_testing testing; /* test hooks: parallel_always and scratch_any only (svo/core.h); leave zeroed */
 } vx_svo_read_desc;
 
 /* Parses and fully validates a .svo file held in memory. On success *out

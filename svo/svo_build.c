@@ -308,11 +308,16 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
      * values themselves, without a record per child (a twelfth of the
      * 4096^3 helmet's read went to the records and the call) */
     if (b->direct && b->vattr == VX_ATTR_RGBA8) {
-        uint32_t o = 0;
+        /* x / n for x <= 8 * 255 + 4 as (x * ceil(2^16 / n)) >> 16: the
+         * error is below x / 2^16 < 1/32 and x / n's fraction at most 7/8,
+         * so the quotient is exact; the four divisions were a fifth of this
+         * function's samples on the 4096^3 helmet */
+        static const uint32_t RCP[9] = {0, 65536, 32768, 21846, 16384, 13108, 10923, 9363, 8192};
+        uint32_t o = 0, r = RCP[n]; /* (n is 2..8 here: a node has 1..8 children, one is `same`) */
         for (unsigned ch = 0; ch < 4; ch++) {
             unsigned sum = 0;
             for (unsigned i = 0; i < n; i++) sum += (ids[i] >> (8 * ch)) & 0xFFu;
-            o |= ((sum + n / 2) / n) << (8 * ch); /* rounded, ties up (as vx__svo_rec_mean) */
+            o |= (((sum + n / 2) * r) >> 16) << (8 * ch); /* rounded, ties up (as vx__svo_rec_mean) */
         }
         return o;
     }
@@ -2200,12 +2205,20 @@ typedef struct unp_node {
     uint64_t xt;      /* bits 0-47 the height and, with want_xt, the extent (xt_pack); 48-63 valid | leaf << 8 */
 } unp_node;
 
-/* With unp.fused, a completed node waiting for its block: the layout runs
- * UNP_AHEAD nodes behind the reconstruction, so that the run table's slot
- * a node will probe is fetched meanwhile (run_prefetch's lead over the
- * pool), and a node's children are always laid out before it (they are
- * completed first). */
-enum { UNP_RING = 16, UNP_AHEAD = 12 };
+/* With unp.fused, a completed node waiting for its block. The layout
+ * follows the reconstruction in three stages, each in completion order, so
+ * that what each stage loads from the large tables was fetched by an
+ * earlier one: at the push the run's hash and the run table's slot (the
+ * lead run_prefetch had over the pool); UNP_MID nodes later, where the run
+ * is to be found, the records of the stored run that slot names (the
+ * comparison's load); UNP_RUN nodes later the run itself (its records'
+ * index `a`: run_take / run_intern) and, for a lone block, the lone-block
+ * table's slot of `a`; UNP_AHEAD nodes later the block (lay_block). On the
+ * 4096^3 helmet the lone table's slot was half of lay_block's samples and
+ * the records' comparison most of run_intern_exact's. A node's children
+ * are always laid out before it (they are completed first), and the runs
+ * and the blocks each keep the pool's order: the words are the one pass's. */
+enum { UNP_RING = 16, UNP_MID = 4, UNP_RUN = 8, UNP_AHEAD = 11 };
 typedef struct unp_pend {
     uint32_t hdr, at; /* valid | leaf << 8; the node's index in done[] */
     unsigned nk, nn;  /* children; non-leaf children */
@@ -2213,6 +2226,8 @@ typedef struct unp_pend {
     uint32_t kid[8];  /* the non-leaf children's indices in done[] */
     uint32_t cd[8];   /* and their masks */
     uint64_t h;       /* the run's hash where it is looked up (run_take's hp) */
+    uint32_t a;       /* the run's first record (the run stage's result) */
+    bool find;        /* the run is looked up where it may be found (runs byte 2, or no runs stream) */
 } unp_pend;
 
 typedef struct unp {
@@ -2225,6 +2240,8 @@ typedef struct unp {
     /* with vx__svo_unpack_desc.tree: extents in done[].xt; those of height 7 and above here */
     bool want_xt;
     bool ref_index; /* vx__svo_unpack_desc.ref_index */
+    bool ref_pf;    /* ref_index with the split streams: the references ahead fetched (ref_ahead) */
+    size_t la[3];   /* each reference stream's lookahead position (stream 7 + i) */
     vx__svo_extent* big;
     size_t nbig, capbig;
     /* The layout fused into the reconstruction (no layout thread): each
@@ -2238,7 +2255,7 @@ typedef struct unp {
     vx_error lerr;
     outw* o;
     unp_pend ring[UNP_RING];
-    size_t rin, rout;  /* nodes pushed, laid out */
+    size_t rin, rmid, rrun, rout; /* nodes pushed, their records fetched, their runs taken, laid out */
     size_t pfr;        /* the runs stream's byte of the next node pushed */
     bool pf_on;        /* runs are looked up (the DAG and attributes): hash and prefetch at the push */
     bool lay_dead;     /* the layout failed: the reconstruction goes on, its own error first (as with a layout thread) */
@@ -2352,27 +2369,98 @@ static inline bool cur_leaf(vx__svo_split_cur* c, unsigned level, uint32_t valid
     *v = c->data[s][c->pos[s]++];
     return true;
 }
+/* A reference of up to 5 bytes in the shortest form within 32 bits (the
+ * 4096^3 helmet's are mostly 3-4 bytes: node indices); anything else to
+ * next(), which gives the same value or the error. */
 static inline bool cur_ref(vx__svo_split_cur* c, unsigned level, uint32_t* v) {
     unsigned s = 6 + unp_class(level);
-    if (c->pos[s] >= c->n[s] || c->data[s][c->pos[s]] >= 0x80u) return false;
-    *v = c->data[s][c->pos[s]++];
-    return true;
+    size_t q = c->pos[s], n = c->n[s];
+    const uint8_t* d = c->data[s];
+    uint64_t x = 0;
+    for (unsigned sh = 0; sh < 35; sh += 7) {
+        if (q >= n) return false;
+        uint8_t b = d[q++];
+        x |= (uint64_t)(b & 0x7Fu) << sh;
+        if (!(b & 0x80u)) {
+            if ((b == 0 && sh) || x > UINT32_MAX) return false;
+            c->pos[s] = q;
+            *v = (uint32_t)x;
+            return true;
+        }
+    }
+    return false;
+}
+
+/* The back-references a few ahead in each reference stream, fetched before
+ * they are needed (with ref_index a reference names a completion index, so
+ * where it points does not depend on the nodes completed meanwhile): each
+ * is a load from anywhere in done[] (16 bytes a node, hundreds of MB), a
+ * fifth of unp_visit's samples on the 4096^3 helmet. Hints only: a
+ * damaged stream fetches some other entry or none. */
+enum { UNP_REF_AHEAD = 8 };
+static inline void ref_ahead(const unp_node* done, size_t cap, const vx__svo_split_cur* c, unsigned s, size_t* la) {
+    size_t q = *la, n = c->n[s];
+    const uint8_t* d = c->data[s];
+    uint32_t x = 0;
+    for (unsigned sh = 0; q < n && sh < 35; sh += 7) {
+        uint8_t b = d[q++];
+        x |= (uint32_t)(b & 0x7Fu) << sh;
+        if (!(b & 0x80u)) break;
+    }
+    *la = q;
+    if (x && x - 1 < cap) __builtin_prefetch(&done[x - 1]);
 }
 static inline bool cur_value(vx__svo_split_cur* c, unsigned ch, uint32_t* v) {
-    static const unsigned W[5] = {1, 4, 4, 2, 4};
     unsigned s = c->cs[ch];
-    if (!s || c->pos[s] >= c->vcount[s]) return false;
-    size_t at = c->pos[s]++, cnt = c->vcount[s];
-    const uint8_t* p = c->data[s] + at;
-    uint32_t x = 0;
-    for (unsigned i = 0; i < W[ch]; i++) x |= (uint32_t)p[i * cnt] << (8 * i);
-    *v = x;
+    if (!s || c->pos[s] >= c->vcount[s] || ch == 2 || ch == 4) return false; /* (normal and density have no stream) */
+    size_t at = c->pos[s]++;
+    const uint8_t* p = c->data[s];
+    if (ch == 1) /* RGBA8: 4 bytes a value, least significant first */
+        *v = (uint32_t)p[4 * at] | (uint32_t)p[4 * at + 1] << 8 | (uint32_t)p[4 * at + 2] << 16 | (uint32_t)p[4 * at + 3] << 24;
+    else if (ch == 3) /* material */
+        *v = (uint32_t)p[2 * at] | (uint32_t)p[2 * at + 1] << 8;
+    else /* palette */
+        *v = p[at];
     return true;
 }
 
-/* The fused layout of the oldest waiting node (unp.fused): its run and its
- * block as layout_nodes writes them (LAY_ALL), its block position into
- * done[].id. A failure stops the layout, not the reconstruction. */
+/* The fused layout's stages (unp.fused; unp_pend says which does what). A
+ * failure stops the layout, not the reconstruction. */
+/* The stored run that the node's run-table slot names first with the
+ * run's tag: its records fetched for run_intern_exact's comparison. */
+static void unp_mid(unp* u) {
+    const unp_pend* e = &u->ring[u->rmid++ % UNP_RING];
+    const outw* o = u->o;
+    if (!e->find || !o->runcap) return;
+    uint64_t want = (e->h & 0xFFFFFFFF00000000ull) | (uint64_t)e->nk << 28;
+    for (size_t j = run_slot(e->h, o->runcap), k = 0; k < 4 && o->runh[j]; j = (j + 1) & (o->runcap - 1), k++)
+        if ((o->runh[j] & 0xFFFFFFFFF0000000ull) == want) {
+            uint32_t st = ((uint32_t)o->runh[j] & 0x0FFFFFFFu) - 1;
+            if (st < o->nid) __builtin_prefetch(o->ids + st);
+            return;
+        }
+}
+
+/* The node's run: its first record's index into e->a, and the lone-block
+ * table's slot of a lone block fetched. */
+static void unp_run(unp* u) {
+    unp_pend* e = &u->ring[u->rrun++ % UNP_RING];
+    bld* lb = &u->lb;
+    e->a = 0;
+    if (u->lay_dead || !lb->attrs) return; /* (every node has a block where there are attributes) */
+    const uint64_t* hp = u->pf_on ? &e->h : NULL;
+    uint32_t a = lb->runs ? run_take(lb, u->o, e->ids, e->nk, hp) : run_intern(lb, u->o, e->ids, e->nk, hp, true);
+    if (a == UINT32_MAX) {
+        u->lay_dead = true;
+        return;
+    }
+    e->a = a;
+    const outw* o = u->o;
+    if (e->nn == 0 && lb->dag && o->lone) __builtin_prefetch(&o->lone[(size_t)mix64(a) & (o->lonecap - 1)]);
+}
+
+/* The block of the oldest node whose run is taken, as layout_nodes writes
+ * it (LAY_ALL), its position into done[].id. */
 static void unp_lay(unp* u) {
     const unp_pend* e = &u->ring[u->rout++ % UNP_RING];
     if (u->lay_dead) return;
@@ -2384,22 +2472,13 @@ static void unp_lay(unp* u) {
     }
     uint32_t cb[8];
     for (unsigned k = 0; k < e->nn; k++) cb[k] = u->done[e->kid[k]].id;
-    uint32_t a = 0;
-    if (lb->attrs) {
-        const uint64_t* hp = u->pf_on ? &e->h : NULL;
-        a = lb->runs ? run_take(lb, u->o, e->ids, e->nk, hp) : run_intern(lb, u->o, e->ids, e->nk, hp, true);
-        if (a == UINT32_MAX) {
-            u->lay_dead = true;
-            return;
-        }
-    }
-    if (!lay_block(lb, u->o, a, cb, e->cd, e->nn, &u->done[e->at].id)) u->lay_dead = true;
+    if (!lay_block(lb, u->o, e->a, cb, e->cd, e->nn, &u->done[e->at].id)) u->lay_dead = true;
 }
 
 /* Queues the node just completed (done[at]) for the fused layout, hashing
  * its run and fetching the table slots that run will probe where it is
- * looked up (run_prefetch's hint), and lays out the oldest when UNP_AHEAD
- * wait. */
+ * looked up (run_prefetch's hint), and moves the waiting nodes on by a
+ * stage each. */
 static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsigned nk, const uint32_t* kid, const uint32_t* cd,
                      unsigned nn) {
     unp_pend* e = &u->ring[u->rin++ % UNP_RING];
@@ -2411,15 +2490,20 @@ static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsig
     memcpy(e->kid, kid, nn * sizeof *kid);
     memcpy(e->cd, cd, nn * sizeof *cd);
     e->h = 0;
+    e->find = false;
     const bld* lb = &u->lb;
-    if (u->pf_on && (!lb->runs || (u->pfr < lb->runs_n && lb->runs[u->pfr++] != 0))) {
+    uint8_t rf = 0;
+    if (u->pf_on && (!lb->runs || (u->pfr < lb->runs_n && (rf = lb->runs[u->pfr++]) != 0))) {
         bool uni = true;
         for (unsigned j = 1; j < nk; j++) uni = uni && ids[j] == ids[0];
         const outw* o = u->o;
         if (uni && nk < 8 && o->unicap) __builtin_prefetch(&o->uni[(size_t)mix64(ids[0]) & (o->unicap - 1)]);
         e->h = hash_words(ids, nk, 3);
+        e->find = !lb->runs || rf == 2;
         if (o->runcap) __builtin_prefetch(&o->runh[run_slot(e->h, o->runcap)]);
     }
+    if (u->rin - u->rmid > UNP_MID) unp_mid(u);
+    if (u->rin - u->rrun > UNP_RUN) unp_run(u);
     if (u->rin - u->rout > UNP_AHEAD) unp_lay(u);
 }
 
@@ -2475,6 +2559,10 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
             uint32_t ref, c;
             if (!(cur && cur_ref(cur, level, &ref)) && !u->src->next(u->src->user, VX__SYM_REF, level, &ref, err))
                 return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
+            if (u->ref_pf) {
+                unsigned rs = unp_class(level) - 1; /* (level >= 2 here) */
+                ref_ahead(u->done, u->capdone, cur, 7 + rs, &u->la[rs]);
+            }
             if (u->ref_index && ref) { /* 1 + the node's completion index: as a distance back */
                 if (ref - 1 >= u->ndone)
                     return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
@@ -2622,6 +2710,22 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         memset(&u.lerr, 0, sizeof u.lerr);
         u.pf_on = b.dag && b.attrs;
     }
+    if (d->scratch && src->cur) {
+        /* every node read takes one valid mask: the list at its final size
+         * (no growth, each a copy into fresh pages) in pages an earlier
+         * model of this thread faulted in already */
+        size_t nodes = 1, bytes = 0;
+        for (unsigned i = 0; i < 4; i++) nodes += src->cur->n[i];
+        if (nodes <= SIZE_MAX / sizeof *u.done) u.done = (unp_node*)vx__svo_scratch_get(d->scratch, b.a, nodes * sizeof *u.done, &bytes);
+        u.capdone = u.done ? bytes / sizeof *u.done : 0;
+    }
+    if (u.ref_index && src->cur) { /* each reference stream's lookahead UNP_REF_AHEAD references ahead */
+        u.ref_pf = true;
+        for (unsigned i = 0; i < 3; i++) {
+            u.la[i] = src->cur->pos[7 + i];
+            for (unsigned k = 0; k < UNP_REF_AHEAD; k++) ref_ahead(NULL, 0, src->cur, 7 + i, &u.la[i]);
+        }
+    }
     bool visited = unp_visit(&u, d->depth, &b.root);
     lay_join(&lj, &b, visited); /* the runs stage first: the blocks stage follows it */
     lay_join(&lj2, &b, visited);
@@ -2629,6 +2733,7 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     lay_free(&lj2);
     if (!visited || b.fail != VX_OK) goto fail;
     if (u.fused) {
+        while (u.rrun < u.rin) unp_run(&u); /* (the runs in order, then the blocks: each stage keeps the order) */
         while (u.rout < u.rin) unp_lay(&u);
         /* the root's descriptor last, as layout() writes it */
         const unp_node* r = &u.done[u.ndone - 1];
@@ -2676,7 +2781,8 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
 fail:
     res = b.fail != VX_OK ? b.fail : VX_ERR_BAD_FORMAT;
 done:
-    vx_free(b.a, u.done);
+    if (d->scratch) vx__svo_scratch_put(d->scratch, b.a, u.done, u.capdone * sizeof *u.done);
+    else vx_free(b.a, u.done);
     vx_free(b.a, u.big);
     vx_free(b.a, o.w);
     vx_free(b.a, o.ids);

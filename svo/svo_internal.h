@@ -171,7 +171,8 @@ enum { VX__SYM_VALID, VX__SYM_LEAF, VX__SYM_REF, VX__SYM_VALUE, VX__SYM_RUN };
  * false (with err set) when the source cannot deliver. */
 /* The split form's decoded streams (svo_split.c) as the reconstruction reads
  * them without a call per symbol: stream s holds n[s] bytes at data[s], read
- * up to pos[s]; a channel's stream vcount[s] values as byte planes; cs[c]
+ * up to pos[s]; a channel's stream vcount[s] values, each its bytes in order,
+ * least significant first (the decoder interleaves the file's planes); cs[c]
  * the stream of channel c. The decoder's own state: where the direct read
  * cannot take a symbol as it is (a stream's end, a leaf mask outside its
  * valid mask, a reference of more than one byte) it calls next, which reads
@@ -220,6 +221,10 @@ typedef struct vx__svo_unpack_desc {
      * that are found again (run_take, svo_build.c). */
     const uint8_t* runs;
     size_t runs_n;
+    /* The decoding thread's kept buffers (vx__svo_scratch), or NULL: with the
+     * split streams the completed-node list is taken from it at its size
+     * (one node a valid mask: the valid streams' bytes) and given back. */
+    struct vx__svo_scratch* scratch;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -320,24 +325,90 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
                           unsigned depth, bool dag, uint32_t limit, unsigned threads, const vx_allocator* A, vx_buf* out);
 /* The same from a walk that puts the symbols one by one (the trusted write:
  * no symbol arrays): REF as 0 or 1 + the node's completion index. */
-typedef struct vx__svo_split_sink vx__svo_split_sink;
+/* The streams as they are filled: bytes for masks and references, each
+ * channel's values as they come (put in byte planes when coded). Here, not
+ * in svo_split.c, so that the walk's put is inline: a call per symbol was a
+ * twentieth of the 4096^3 helmet's write. */
+typedef struct vx__svo_split_sink {
+    const vx_allocator* A;
+    uint8_t cs[5];
+    unsigned k;
+    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
+    uint8_t* p[VX__SPLIT_FIXED + 1];
+    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
+    uint32_t* val[5];
+    size_t nval[5], capval[5];
+} vx__svo_split_sink;
 /* runs: the sink has the runs stream (put as VX__SYM_RUN, ctx 0). */
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A);
-void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+/* The put where its stream has no room (grows it; k->oom without memory). */
+void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
+static inline void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
+    if (kind == VX__SYM_VALUE) {
+        if (k->nval[ctx] < k->capval[ctx]) {
+            k->val[ctx][k->nval[ctx]++] = v;
+            return;
+        }
+    } else {
+        /* the stream (svo_split.c stream_of): VALID 0..3, LEAF 4..6, REF 7..9 by level class, RUN the last */
+        unsigned lv = kind == VX__SYM_LEAF ? (ctx & 0xFFu) : ctx;
+        unsigned c = lv >= 4 ? 3u : lv - 1u;
+        unsigned s = kind == VX__SYM_RUN ? (unsigned)VX__SPLIT_FIXED : kind == VX__SYM_VALID ? c : kind == VX__SYM_LEAF ? 3 + c : 6 + c;
+        if (k->n[s] + 5 <= k->cap[s]) {
+            uint8_t* q = k->p[s] + k->n[s];
+            if (kind == VX__SYM_REF) { /* LEB128 */
+                do {
+                    uint8_t b = (uint8_t)(v & 0x7Fu);
+                    v >>= 7;
+                    *q++ = (uint8_t)(b | (v ? 0x80u : 0u));
+                } while (v);
+            } else {
+                *q++ = (uint8_t)v;
+            }
+            k->n[s] = (size_t)(q - k->p[s]);
+            return;
+        }
+    }
+    vx__svo_split_put_slow(k, kind, ctx, v);
+}
 /* The runs stream's bytes put so far (the writer rewrites them in place
  * before coding), NULL without one. */
 uint8_t* vx__svo_split_sink_runs(vx__svo_split_sink* k, size_t* n);
 /* Codes the streams put so far (false: out of memory); the sink stays the caller's to free. */
 bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, unsigned threads, vx_buf* out);
 void vx__svo_split_sink_free(vx__svo_split_sink* k);
+/* Large buffers kept between the models one thread of a read decodes in
+ * turn (vx_run_jobs' per-thread state): a model's decoded streams (the
+ * 4096^3 helmet's: tens of MB each) are freed when it is read, and the
+ * next model's, asked for moments later, came back from the kernel as
+ * fresh pages to fault in and clear (a third of the read's page faults).
+ * A buffer is handed out again only to the thread that freed it; every
+ * byte of it is written before it is read (zstd's output, the values,
+ * the copies), so nothing depends on its old bytes. Zero-initialised:
+ * empty; vx__svo_scratch_free gives everything back. */
+enum { VX__SCRATCH_SLOTS = 16, VX__SCRATCH_MIN = 1 << 20 };
+typedef struct vx__svo_scratch {
+    void* p[VX__SCRATCH_SLOTS];
+    size_t cap[VX__SCRATCH_SLOTS];
+    size_t min; /* the smallest buffer kept (0: VX__SCRATCH_MIN; vx_svo_testing.scratch_any: 1) */
+} vx__svo_scratch;
+/* A buffer of at least n bytes (the smallest kept one that fits, else
+ * vx_alloc; *cap its size), NULL without memory. sc may be NULL. */
+void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, size_t* cap);
+/* Keeps p (cap bytes; from vx__svo_scratch_get or vx_alloc) for a later get,
+ * or frees it (sc NULL, small, or no slot free: the smallest kept one
+ * smaller than p makes room). */
+void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap);
+void vx__svo_scratch_free(vx__svo_scratch* sc, const vx_allocator* A);
 typedef struct vx__svo_split vx__svo_split;
 /* Parses the streams after the form byte (p[0..n), base: its file offset),
  * checks every length against m's declared node_count and decodes them on
  * up to `threads` threads. */
 /* runs_ok: the file's version has the runs stream (6 and later; the flags'
  * bit is refused in older files). */
+/* sc: buffers kept between models (used where threads is 1), or NULL. */
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
-                             const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
+                             const vx_allocator* A, vx__svo_scratch* sc, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err);
 vx__svo_src vx__svo_split_src(vx__svo_split* d);
 /* The decoded runs stream (NULL, 0: the model has none). */
 const uint8_t* vx__svo_split_runs_stream(const vx__svo_split* d, size_t* n);

@@ -1954,8 +1954,9 @@ static vx_result unpack_coded(const uint8_t* p, size_t n, uint64_t base, const u
  * the split streams (decoded on up to `cpus` threads) feeding the
  * reconstruction, or the stream of 3.4. */
 /* runs_ok: the file's version has the runs stream (6 and later) */
+/* sc: the decoding thread's kept buffers (vx__svo_scratch), or NULL */
 static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_model* m, uint32_t mi, const vx_allocator* A, unsigned cpus,
-                              unsigned lay, bool runs_ok, vx__svo_extent* tree, uint8_t* rebuilt, vx_error* err) {
+                              unsigned lay, bool runs_ok, vx__svo_extent* tree, uint8_t* rebuilt, vx__svo_scratch* sc, vx_error* err) {
     if (n < 1 || p[0] > 1)
         return vx_fail(err, VX_ERR_BAD_FORMAT, base, "svo: section NODE at byte %llu: model %u: split form byte %s", (unsigned long long)base, mi,
                        n < 1 ? "missing" : "not 0 or 1");
@@ -1971,7 +1972,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     vx__svo_split* d;
     bool dag;
     uint32_t limit;
-    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, runs_ok, A, &d, &dag, &limit, err);
+    vx_result r = vx__svo_split_open(p + 1, n - 1, base + 1, m, mi, cpus, runs_ok, A, sc, &d, &dag, &limit, err);
     if (r != VX_OK) return r;
     vx_svo_model want = *m;
     vx__svo_src src = vx__svo_split_src(d);
@@ -1979,6 +1980,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
                               .layout_threads = lay, .tree = rebuilt ? tree : NULL, .ref_index = true};
     ud.const_attrs = vx__svo_split_constants(d, m->attrs, &ud.const_rec);
     ud.runs = vx__svo_split_runs_stream(d, &ud.runs_n);
+    ud.scratch = cpus <= 1 ? sc : NULL; /* (one thread: the scratch has no lock) */
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;
@@ -2291,6 +2293,7 @@ typedef struct unpack_jobs {
     uint8_t* rebuilt;
     const uint32_t* order; /* job k decodes model order[k] (largest first), or NULL: model k */
     const vx_svo_testing* t;
+    vx__svo_scratch* sc; /* one per thread (NULL: none) */
 } unpack_jobs;
 
 /* Threads the layout of each structural model may follow its decoding on,
@@ -2311,14 +2314,13 @@ static unsigned lay_for(const vx_svo_model* m, unsigned lay, const vx_svo_testin
 }
 
 static void unpack_job(void* ctx, unsigned thread, uint32_t k) {
-    (void)thread;
     unpack_jobs* j = (unpack_jobs*)ctx;
     uint32_t i = j->order ? j->order[k] : k;
     if (j->chunked && (j->chunked[i] == 1 || j->chunked[i] == 2)) return; /* decoded afterwards, on every thread */
     if (j->chunked && j->chunked[i] >= 3)
         j->res[i] = unpack_split(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A, 1,
                                  lay_for(&j->s->models[i], j->lay, j->t), j->chunked[i] == 4,
-                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, &j->errs[i]);
+                                 j->rebuilt ? &j->ext[i] : NULL, j->rebuilt ? &j->rebuilt[i] : NULL, j->sc ? &j->sc[thread] : NULL, &j->errs[i]);
     else
         j->res[i] = unpack_model(j->p + j->off[i], j->len[i], j->base + j->off[i], &j->s->models[i], i, j->A,
                                  lay_for(&j->s->models[i], j->lay, j->t),
@@ -2414,7 +2416,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
                 r = chunked && chunked[mi] >= 3
                         ? unpack_split(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, lay_for(&s->models[mi], lay, t), chunked[mi] == 4,
                                        rebuilt ? &ext[mi] : NULL,
-                                       rebuilt ? &rebuilt[mi] : NULL, err)
+                                       rebuilt ? &rebuilt[mi] : NULL, NULL, err)
                     : chunked && chunked[mi] ? unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, err)
                                            : unpack_model(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, lay_for(&s->models[mi], lay, t),
                                                           rebuilt ? &ext[mi] : NULL, rebuilt ? &rebuilt[mi] : NULL, err);
@@ -2422,10 +2424,14 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             vx_result* res = (vx_result*)vx_calloc(A, s->model_count, sizeof *res);
             vx_error* errs = (vx_error*)vx_calloc(A, s->model_count, sizeof *errs);
             uint32_t* order = largest_first(s, A); /* NULL (out of memory): file order, the same result */
+            /* each thread's kept buffers (NULL without memory: none kept, the same result) */
+            vx__svo_scratch* sc = (vx__svo_scratch*)vx_calloc(A, threads, sizeof *sc);
+            for (unsigned i = 0; sc && t && t->scratch_any && i < threads; i++) sc[i].min = 1;
             if (!res || !errs) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             else {
-                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order, t};
+                unpack_jobs j = {s, p, base, off, len, A, res, errs, chunked, lay, ext, rebuilt, order, t, sc};
                 run_jobs(threads, s->model_count, unpack_job, &j);
+                for (unsigned i = 0; sc && i < threads; i++) vx__svo_scratch_free(&sc[i], A);
                 for (uint32_t mi = 0; chunked && mi < s->model_count; mi++)
                     if (chunked[mi] == 1 || chunked[mi] == 2) res[mi] = unpack_chunked(p + off[mi], len[mi], base + off[mi], &s->models[mi], mi, A, cpus, chunked[mi] == 2, stats, &errs[mi]);
                 for (uint32_t mi = 0; r == VX_OK && mi < s->model_count; mi++)
@@ -2437,6 +2443,7 @@ vx_result vx__svo_pack_read(const uint8_t* p, size_t n, uint64_t base, vx_svo_sc
             vx_free(A, res);
             vx_free(A, errs);
             vx_free(A, order);
+            vx_free(A, sc);
         }
     }
     vx_free(A, off);
@@ -2448,7 +2455,7 @@ vx_result vx__svo_unpack_one(const uint8_t* p, size_t n, uint64_t base, vx_svo_m
                              const vx_allocator* A, unsigned threads, const vx_svo_testing* t, vx__svo_extent* ext, uint8_t* rebuilt,
                              vx_error* err) {
     if (chunked >= 3) /* the split form: its streams on the threads, the layout's two stages where there are cores */
-        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, lay_for(m, threads > 2 ? 2 : 0, t), chunked == 4, ext, rebuilt, err);
+        return unpack_split(p, n, base, m, mi, A, threads ? threads : 1, lay_for(m, threads > 2 ? 2 : 0, t), chunked == 4, ext, rebuilt, NULL, err);
     if (chunked) return unpack_chunked(p, n, base, m, mi, A, threads ? threads : 1, chunked == 2, NULL, err);
     /* the layout's two stages beside the decoding where this call has the cores (layout_threads) */
     return unpack_model(p, n, base, m, mi, A, lay_for(m, threads > 2 ? 2 : 0, t), ext, rebuilt, err);

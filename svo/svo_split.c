@@ -54,10 +54,29 @@ static uint8_t* put_leb(uint8_t* p, uint64_t v) {
  * colours code to 0.77 of their bytes as they are, the terrain's few exact
  * colours to 1.001 (docs/PERFORMANCE.md, ".svo I/O, tenth step"). */
 /* (the writer's side: planes_put, below) */
-static void planes_undelta(uint8_t* p, size_t count, unsigned width) {
-    for (unsigned b = 0; b < width; b++) {
-        uint8_t* q = p + (size_t)b * count;
-        for (size_t k = 1; k < count; k++) q[k] = (uint8_t)(q[k] + q[k - 1]);
+/* The reader's side: the planes p (differences) summed and interleaved into
+ * out, value k's `width` bytes at width * k, least significant first, the
+ * form the reconstruction reads (vx__svo_split_cur.data). One pass that
+ * reads the planes in order and writes the values in order: the
+ * reconstruction then reads one array in order where it read `width`
+ * planes, a load from each a value (a sixth of the 4096^3 helmet's
+ * unp_visit), and the pass replaces the planes' own summing pass. */
+static void planes_values(uint8_t* restrict out, const uint8_t* restrict p, size_t count, unsigned width) {
+    if (width == 4) {
+        const uint8_t *p0 = p, *p1 = p + count, *p2 = p + 2 * count, *p3 = p + 3 * count;
+        uint8_t a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+        for (size_t k = 0; k < count; k++) {
+            a0 = (uint8_t)(a0 + p0[k]), a1 = (uint8_t)(a1 + p1[k]), a2 = (uint8_t)(a2 + p2[k]), a3 = (uint8_t)(a3 + p3[k]);
+            uint32_t v = (uint32_t)a0 | (uint32_t)a1 << 8 | (uint32_t)a2 << 16 | (uint32_t)a3 << 24;
+            memcpy(out + 4 * k, &v, 4);
+        }
+    } else { /* 2 (material) */
+        const uint8_t *p0 = p, *p1 = p + count;
+        uint8_t a0 = 0, a1 = 0;
+        for (size_t k = 0; k < count; k++) {
+            a0 = (uint8_t)(a0 + p0[k]), a1 = (uint8_t)(a1 + p1[k]);
+            out[2 * k] = a0, out[2 * k + 1] = a1;
+        }
     }
 }
 
@@ -87,18 +106,7 @@ static void planes_put(uint8_t* pl, const uint32_t* v, size_t cnt, unsigned w) {
     else planes_w(pl, v, cnt, 1);
 }
 
-/* The streams as they are filled: bytes for masks and references, each
- * channel's values as they come (put in byte planes when coded). */
-struct vx__svo_split_sink {
-    const vx_allocator* A;
-    uint8_t cs[5];
-    unsigned k;
-    bool oom, runs; /* runs: p[VX__SPLIT_FIXED] is the runs stream (stream k - 1) */
-    uint8_t* p[VX__SPLIT_FIXED + 1];
-    size_t n[VX__SPLIT_FIXED + 1], cap[VX__SPLIT_FIXED + 1];
-    uint32_t* val[5];
-    size_t nval[5], capval[5];
-};
+/* (the sink: svo_internal.h, where its put is inline) */
 
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A) {
     vx__svo_split_sink* k = (vx__svo_split_sink*)vx_calloc(A, 1, sizeof *k);
@@ -123,7 +131,7 @@ static bool sink_room(vx__svo_split_sink* k, unsigned s) {
     return true;
 }
 
-void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
+void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {
     if (kind == VX__SYM_VALUE) {
         if (k->nval[ctx] >= k->capval[ctx] &&
             !vx_grow(k->A, (void**)&k->val[ctx], &k->capval[ctx], k->nval[ctx] + 1, sizeof *k->val[ctx])) {
@@ -288,8 +296,55 @@ bool vx__svo_split_encode(const uint32_t* v, const uint8_t* kind, const uint32_t
 
 /* ---- reader ---------------------------------------------------------------------------------- */
 
+void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, size_t* cap) {
+    if (sc && n >= (sc->min ? sc->min : VX__SCRATCH_MIN)) {
+        int best = -1;
+        for (int i = 0; i < VX__SCRATCH_SLOTS; i++)
+            if (sc->p[i] && sc->cap[i] >= n && (best < 0 || sc->cap[i] < sc->cap[best])) best = i;
+        if (best >= 0) {
+            void* p = sc->p[best];
+            *cap = sc->cap[best];
+            sc->p[best] = NULL;
+            sc->cap[best] = 0;
+            return p;
+        }
+    }
+    *cap = n ? n : 1;
+    return vx_alloc(A, *cap);
+}
+
+void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap) {
+    if (!p) return;
+    if (sc && cap >= (sc->min ? sc->min : VX__SCRATCH_MIN)) {
+        int slot = -1;
+        for (int i = 0; i < VX__SCRATCH_SLOTS && slot < 0; i++)
+            if (!sc->p[i]) slot = i;
+        if (slot < 0) /* the smallest kept one, where it is smaller */
+            for (int i = 0; i < VX__SCRATCH_SLOTS; i++)
+                if (sc->cap[i] < cap && (slot < 0 || sc->cap[i] < sc->cap[slot])) slot = i;
+        if (slot >= 0) {
+            vx_free(A, sc->p[slot]);
+            sc->p[slot] = p;
+            sc->cap[slot] = cap;
+            return;
+        }
+    }
+    vx_free(A, p);
+}
+
+void vx__svo_scratch_free(vx__svo_scratch* sc, const vx_allocator* A) {
+    if (!sc) return;
+    for (int i = 0; i < VX__SCRATCH_SLOTS; i++) {
+        vx_free(A, sc->p[i]);
+        sc->p[i] = NULL;
+        sc->cap[i] = 0;
+    }
+}
+
 struct vx__svo_split {
     const vx_allocator* A;
+    vx__svo_scratch* sc; /* buffers kept between models (one decoding thread only), or NULL */
+    size_t owncap[VX__SPLIT_MAX];
     unsigned k;
     /* the decoded streams (data: own[s], or into the file where stored),
      * lengths, read positions, values per channel stream, the channels'
@@ -323,13 +378,12 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     (void)thread;
     vx__svo_split* d = (vx__svo_split*)ctx;
     d->res[s] = VX_OK;
-    if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into a copy */
-        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, d->c.n[s] ? d->c.n[s] : 1))) {
+    if (!d->zn[s] && d->delta[s]) { /* stored differences: summed into values */
+        if (!(d->own[s] = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, d->c.n[s], &d->owncap[s]))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
-        memcpy(d->own[s], d->zsrc[s], d->c.n[s]);
-        planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        planes_values(d->own[s], d->zsrc[s], d->c.vcount[s], d->delta[s]);
         d->c.data[s] = d->own[s];
         return;
     }
@@ -340,7 +394,7 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
     const char* why = vx__zstd_frame_problem(src, zn, want);
     size_t got = 0;
     if (!why) {
-        if (!(d->own[s] = (uint8_t*)vx_alloc(d->A, want ? want : 1))) {
+        if (!(d->own[s] = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, want, &d->owncap[s]))) {
             d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
             return;
         }
@@ -359,14 +413,25 @@ static void dec_stream(void* ctx, unsigned thread, uint32_t s) {
                             "svo: section NODE at byte %llu: model %u: stream %u (%s, %zu bytes, zstd) does not decode to exactly %zu bytes (%s)",
                             (unsigned long long)d->zoff[s], d->mi, s, stream_name(s, nm, d->c.cs), zn, want, why);
     else {
-        if (d->delta[s]) planes_undelta(d->own[s], d->c.vcount[s], d->delta[s]);
+        if (d->delta[s]) { /* the planes into values: a buffer of their size, the planes freed */
+            size_t vcap;
+            uint8_t* v = (uint8_t*)vx__svo_scratch_get(d->sc, d->A, want, &vcap);
+            if (!v) {
+                d->res[s] = vx_fail(&d->errs[s], VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
+                return;
+            }
+            planes_values(v, d->own[s], d->c.vcount[s], d->delta[s]);
+            vx__svo_scratch_put(d->sc, d->A, d->own[s], d->owncap[s]);
+            d->own[s] = v;
+            d->owncap[s] = vcap;
+        }
         d->c.data[s] = d->own[s];
     }
 }
 
 void vx__svo_split_free(vx__svo_split* d) {
     if (!d) return;
-    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) vx_free(d->A, d->own[s]);
+    for (unsigned s = 0; s < VX__SPLIT_MAX; s++) vx__svo_scratch_put(d->sc, d->A, d->own[s], d->owncap[s]);
     vx_free(d->A, d);
 }
 
@@ -386,7 +451,7 @@ static bool rd_leb(const uint8_t* p, size_t n, size_t* pos, uint64_t max, uint64
 }
 
 vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx_svo_model* m, uint32_t mi, unsigned threads, bool runs_ok,
-                             const vx_allocator* A, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
+                             const vx_allocator* A, vx__svo_scratch* sc, vx__svo_split** out, bool* dag, uint32_t* limit, vx_error* err) {
     *out = NULL;
     /* the caller read the form byte (1) */
     size_t pos = 0;
@@ -407,6 +472,7 @@ vx_result vx__svo_split_open(const uint8_t* p, size_t n, uint64_t base, const vx
     vx__svo_split* d = (vx__svo_split*)vx_calloc(A, 1, sizeof *d);
     if (!d) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
     d->A = A;
+    d->sc = threads <= 1 ? sc : NULL; /* (the streams decode on one thread: the scratch has no lock) */
     d->base = base;
     d->mi = mi;
     d->runs = (p[0] & VX__SPLIT_RUNS) != 0;
@@ -477,15 +543,13 @@ uint32_t vx__svo_split_constants(const vx__svo_split* d, uint32_t attrs, vx__svo
     for (unsigned c = 0; c < 5; c++) {
         unsigned s = d->c.cs[c];
         if (!(attrs >> c & 1u) || !s || !d->c.vcount[s] || !d->c.data[s]) continue;
-        size_t n = d->c.vcount[s];
-        bool one = true;
-        for (unsigned i = 0; i < CH_W[c] && one; i++) { /* each byte plane one byte throughout */
-            const uint8_t* q = d->c.data[s] + (size_t)i * n;
-            one = q[0] == q[n - 1] && (n < 2 || memcmp(q, q + 1, n - 1) == 0);
-        }
+        /* (values, not planes: the decoding interleaved them) every value the first */
+        size_t w = CH_W[c], bytes = d->c.vcount[s] * w;
+        const uint8_t* q = d->c.data[s];
+        bool one = bytes <= w || (memcmp(q, q + bytes - w, w) == 0 && memcmp(q, q + w, bytes - w) == 0);
         if (!one) continue;
         uint32_t x = 0;
-        for (unsigned i = 0; i < CH_W[c]; i++) x |= (uint32_t)d->c.data[s][(size_t)i * n] << (8 * i);
+        for (unsigned i = 0; i < w; i++) x |= (uint32_t)q[i] << (8 * i);
         if (c == 0) cst->palette = (uint8_t)x;
         else if (c == 1) cst->rgba = x;
         else if (c == 2) cst->normal = x;
@@ -525,9 +589,8 @@ static bool split_next(void* user, unsigned kind, unsigned ctx, uint32_t* v, vx_
     }
     if (kind == VX__SYM_VALUE) {
         if (at >= d->c.vcount[s]) return ends(d, s, err);
-        size_t c = d->c.vcount[s];
         uint32_t x = 0;
-        for (unsigned i = 0; i < CH_W[ctx]; i++) x |= (uint32_t)b[i * c + at] << (8 * i);
+        for (unsigned i = 0; i < CH_W[ctx]; i++) x |= (uint32_t)b[CH_W[ctx] * at + i] << (8 * i);
         d->c.pos[s] = at + 1;
         *v = x;
         return true;

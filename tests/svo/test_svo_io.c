@@ -3097,11 +3097,13 @@ static void test_split_form(void) {
         /* models with attributes: the runs stream, version 6 */
         CHECKF((d1[8] | d1[9] << 8) == 6 && n1 != n0, "case %d: version %u, %zu bytes against %zu", k, d1[8] | d1[9] << 8, n1, n0);
         CHECK(t_split_models(d1, n1) == 3);
-        /* read(write(x)) == x on one thread and three (the parallel paths
-         * forced on: models in jobs, streams on threads, the layout's); the
-         * bytes come back */
-        for (unsigned t = 1; t <= 3; t += 2) {
-            const vx_svo_testing tk = {.split_words = 1, .parallel_always = t == 3};
+        /* read(write(x)) == x on one thread, two and three (the parallel
+         * paths forced on: models in jobs, streams on threads, the layout's;
+         * on two, one thread reads two of the three models, the second in
+         * the first one's kept buffers, kept at any size); the bytes come
+         * back */
+        for (unsigned t = 1; t <= 3; t++) {
+            const vx_svo_testing tk = {.split_words = 1, .parallel_always = t >= 2, .scratch_any = t == 2};
             vx_svo_scene r;
             REQUIRE(vx_svo_read(&(vx_svo_read_desc){.threads = t, .testing = tk}, d1, n1, &r, &e) == VX_OK);
             for (uint32_t i = 0; i < s.model_count; i++) CHECKF(model_equal(&r.models[i], &s.models[i]), "case %d model %u threads %u", k, i, t);
@@ -3130,7 +3132,10 @@ static void test_split_form(void) {
                 c[at] ^= (uint8_t)(1u << b);
                 vx_svo_scene r;
                 memset(&e, 0, sizeof e);
-                vx_result res = vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true}, c, n1, &r, &e);
+                /* every other byte on two threads with the buffers kept (as above):
+                 * a damaged model's buffers are handed to the next one */
+                const vx_svo_testing tk = {.parallel_always = at & 1u, .scratch_any = at & 1u};
+                vx_result res = vx_svo_read(&(vx_svo_read_desc){.skip_checksums = true, .threads = at & 1u ? 2 : 0, .testing = tk}, c, n1, &r, &e);
                 flips++;
                 if (res == VX_OK) {
                     accepted++;
