@@ -350,6 +350,7 @@ typedef struct vx_compact_page_desc {
     const vx_allocator* alloc;
     uint32_t page_level; /* 3..31; 0: VX_RENDER_FRAME_LEVELS */
     uint32_t block;      /* vx_compact_desc.block (0: per model) */
+    uint32_t threads;    /* models cut at once (each on one thread; their decodes share the CPUs): 0 one per CPU */
 } vx_compact_page_desc;
 vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_model_reader* rd, vx_compact_paged* out,
                                        vx_error* err);

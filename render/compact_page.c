@@ -3,6 +3,7 @@
  * level and position-independent page images below it, each with its own
  * geometry blocks, ranks and attribute region, which render/compact_gpu.c
  * loads into a pool on demand. */
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,13 +39,17 @@ typedef struct pbuild {
     blk* list;
     size_t list_cap, img_cap, vals_cap, data_cap;
     bool keep_images; /* the images into p->data (else only their sizes and colours are kept) */
+    uint8_t* lvl;     /* with track_levels: each top slot's level (a model's part relocated when merged) */
+    size_t lvl_cap;
+    bool track_levels;
 } pbuild;
 
 static vx_result top_alloc(pbuild* b, uint32_t k, uint32_t* at) {
     if ((uint64_t)b->n + k > VX_COMPACT_MAX_SLOTS)
         return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: more than %u top slots", VX_COMPACT_MAX_SLOTS);
     if (!vx_grow(b->a, (void**)&b->slot, &b->slot_cap, 2 * ((size_t)b->n + k), 4) ||
-        !vx_grow(b->a, (void**)&b->rank, &b->rank_cap, (size_t)b->n + k, 4))
+        !vx_grow(b->a, (void**)&b->rank, &b->rank_cap, (size_t)b->n + k, 4) ||
+        (b->track_levels && !vx_grow(b->a, (void**)&b->lvl, &b->lvl_cap, (size_t)b->n + k, 1)))
         return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u top slots", b->n + k);
     *at = b->n;
     memset(b->slot + 2 * (size_t)b->n, 0, 8 * (size_t)k);
@@ -77,6 +82,7 @@ static vx_result fill(pbuild* b, uint32_t mi, bool paged, uint32_t t, uint32_t o
     const vx_compact_scene* c = b->c;
     uint32_t desc = orig_desc(c, o, L), w1 = c->geom[2 * (size_t)o + 1];
     b->slot[2 * (size_t)t] = desc, b->slot[2 * (size_t)t + 1] = w1;
+    if (b->track_levels) b->lvl[t] = (uint8_t)L;
     if (L <= 2) return VX_OK; /* a brick: its mask */
     b->rank[t] = orig_rank(c, o, L);
     uint32_t valid = (desc >> 8) & 0xFFu, leaf = desc & 0xFFu, inner = valid & ~leaf, k = popc(inner);
@@ -244,11 +250,11 @@ static vx_result use_layout(pbuild* b, const vx_compact_scene* c, uint32_t cm) {
  * to the page level, pages numbered from the next one), its pages' images
  * (kept in p->data with keep_images; their sizes and colours in any case)
  * and its top attribute region (its values with its pages' cells as 0). */
-static vx_result cut_model(pbuild* b, uint32_t mi) {
+static vx_result cut_model(pbuild* b, uint32_t mi, uint32_t out) {
     const vx_compact_scene* c = b->c;
     vx_compact_paged* p = b->p;
     const vx_compact_model* m = &c->models[b->cm];
-    vx_compact_model* pm = &p->models[mi];
+    vx_compact_model* pm = &p->models[out]; /* the scene's model mi (out: its index in p->models) */
     *pm = *m;
     vx_result r = VX_OK;
     uint32_t first_page = p->page_count;
@@ -329,6 +335,7 @@ static void pbuild_free(pbuild* b) {
     vx_free(b->a, b->list);
     vx_free(b->a, b->img);
     vx_free(b->a, b->vals);
+    vx_free(b->a, b->lvl);
 }
 
 vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, const vx_allocator* alloc,
@@ -349,7 +356,7 @@ vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, 
     if (!r) r = use_layout(&b, c, 0);
     for (uint32_t i = 0; !r && i < c->model_count; i++) {
         b.cm = i;
-        r = cut_model(&b, i);
+        r = cut_model(&b, i, i);
     }
     if (!r) r = finish_top(&b);
     pbuild_free(&b);
@@ -377,6 +384,144 @@ static vx_result model_layout(const vx_svo_scene* graph, vx_svo_model* m, uint32
     return vx_compact_build(&cd, &one, out, err);
 }
 
+/* One model's part of the file source's top, cut on a worker thread: its
+ * top slots (from 0, with their levels), pages (numbered from 0), top
+ * attributes and record; merged in model order at the end. */
+typedef struct mpart {
+    uint32_t n;
+    uint32_t *slot, *rank;
+    uint8_t* lvl;
+    vx_compact_paged p; /* pages, models[0] */
+    uint32_t* attr;
+    uint64_t attr_n;
+    uint64_t source_bytes;
+    uint32_t palette_used[8];
+} mpart;
+
+typedef struct rjob {
+    vx_svo_model_reader* rd;
+    const vx_svo_scene* g;
+    const vx_allocator* a;
+    uint32_t Lp, block;
+    mpart* parts;
+    pthread_mutex_t lock;
+    bool failed;
+    vx_error err;
+} rjob;
+
+static void part_free(const vx_allocator* a, mpart* m) {
+    vx_free(a, m->slot);
+    vx_free(a, m->rank);
+    vx_free(a, m->lvl);
+    vx_free(a, m->attr);
+    vx_free(a, m->p.pages);
+    vx_free(a, m->p.models);
+    memset(m, 0, sizeof *m);
+}
+
+/* A worker: models from the reader in turn (its next is thread-safe), each
+ * built as a layout of its own, cut into its part and dropped. */
+static void reader_worker(void* ctx, unsigned thread, uint32_t job) {
+    (void)thread, (void)job;
+    rjob* j = (rjob*)ctx;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        bool stop = j->failed;
+        pthread_mutex_unlock(&j->lock);
+        if (stop) return;
+        vx_error err = {0};
+        uint32_t i = 0;
+        vx_svo_model m;
+        vx_result r = vx_svo_reader_next(j->rd, &i, &m, &err);
+        if (!r && i >= j->g->model_count) return;
+        vx_compact_scene c1;
+        memset(&c1, 0, sizeof c1);
+        bool built = false;
+        if (!r) {
+            r = model_layout(j->g, &m, j->block, j->a, &c1, &err);
+            vx_svo_model_free(j->g->alloc, &m);
+            built = !r;
+            if (r) {
+                char what[32];
+                snprintf(what, sizeof what, "model %u", i);
+                vx_error_prefix(&err, what);
+            }
+        }
+        mpart* part = r ? NULL : &j->parts[i];
+        if (part) {
+            part->p.alloc = j->a ? *j->a : (vx_allocator){0};
+            part->p.page_level = j->Lp, part->p.model_count = 1;
+            if (!(part->p.models = vx_calloc(j->a, 1, sizeof *part->p.models)))
+                r = vx_fail(&err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
+            pbuild b = {.p = &part->p, .a = j->a, .err = &err, .Lp = j->Lp, .track_levels = true};
+            if (!r && !(r = use_layout(&b, &c1, 0))) r = cut_model(&b, i, 0);
+            part->n = b.n, part->slot = b.slot, part->rank = b.rank, part->lvl = b.lvl, part->attr = b.attr;
+            part->attr_n = b.attr_n;
+            b.slot = b.rank = b.attr = NULL, b.lvl = NULL;
+            pbuild_free(&b);
+            part->source_bytes = 4ull * c1.geom_words + 4ull * c1.attr_words;
+            memcpy(part->palette_used, c1.palette_used, sizeof part->palette_used);
+        }
+        if (built) vx_compact_free(&c1);
+        if (r) {
+            pthread_mutex_lock(&j->lock);
+            /* the first error, or the one that stopped the reader over "stopped at an earlier error" */
+            if (!j->failed || (j->err.code == VX_ERR_INVALID_ARG && err.code != VX_ERR_INVALID_ARG)) j->err = err;
+            j->failed = true;
+            pthread_mutex_unlock(&j->lock);
+            return;
+        }
+    }
+}
+
+/* The parts into one top, in model order: slot words 1 of nodes relocated by
+ * the part's first slot, page numbers by its first page. */
+static vx_result merge_parts(pbuild* b, mpart* parts, uint32_t count) {
+    vx_compact_paged* p = b->p;
+    size_t page_cap = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        mpart* m = &parts[i];
+        uint32_t base, pbase = p->page_count;
+        if ((uint64_t)p->page_count + m->p.page_count > 0x7FFFFFFFu)
+            return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: more than 2^31 - 1 pages");
+        vx_result r = m->n ? top_alloc(b, m->n, &base) : VX_OK;
+        if (r) return r;
+        if (!m->n) base = b->n;
+        for (uint32_t s = 0; s < m->n; s++) {
+            uint32_t d = m->slot[2 * (size_t)s], w = m->slot[2 * (size_t)s + 1];
+            if (m->lvl[s] >= 3 && (w >> 31)) w = 0x80000000u | ((w & 0x7FFFFFFFu) + pbase);
+            else if (m->lvl[s] >= 3 && (((d >> 8) & ~d) & 0xFFu)) w += base;
+            b->slot[2 * ((size_t)base + s)] = d, b->slot[2 * ((size_t)base + s) + 1] = w;
+            b->rank[base + s] = m->rank[s];
+        }
+        if (m->p.page_count) {
+            if (!vx_grow(b->a, (void**)&p->pages, &page_cap, (size_t)p->page_count + m->p.page_count, sizeof *p->pages))
+                return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", p->page_count + m->p.page_count);
+            for (uint32_t k = 0; k < m->p.page_count; k++) {
+                vx_compact_page pg = m->p.pages[k];
+                pg.top_slot += base;
+                p->pages[p->page_count++] = pg;
+            }
+        }
+        if (m->p.max_page_words > p->max_page_words) p->max_page_words = m->p.max_page_words;
+        vx_compact_model pm = m->p.models[0];
+        if (pm.root < VX_SVO_ROOT_LEAF) pm.root += base;
+        pm.attr_base = (uint32_t)b->attr_n;
+        if (b->attr_n + m->attr_n > 0xFFFFFFF0u) return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: the top passes 2^32 words");
+        if (m->attr_n) {
+            if (!vx_grow(b->a, (void**)&b->attr, &b->attr_cap, (size_t)(b->attr_n + m->attr_n), 4))
+                return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
+            memcpy(b->attr + b->attr_n, m->attr, (size_t)m->attr_n * 4);
+            b->attr_n += m->attr_n;
+        }
+        p->models[i] = pm;
+        p->source_bytes += m->source_bytes;
+        for (int k = 0; k < 8; k++) p->palette_used[k] |= m->palette_used[k];
+        part_free(b->a, m);
+    }
+    return VX_OK;
+}
+
 vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_model_reader* rd, vx_compact_paged* out,
                                        vx_error* err) {
     if (!rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -387,31 +532,32 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
     vx_compact_paged p = {.page_level = Lp, .model_count = g->model_count, .reader = rd, .block = d.block};
     if (d.alloc) p.alloc = *d.alloc;
     memcpy(p.palette, g->palette, sizeof p.palette);
+    p.palette_used[0] = 1;
     pbuild b = {.p = &p, .a = &p.alloc, .err = err, .Lp = Lp};
     vx_result r = VX_OK;
     p.models = vx_calloc(b.a, g->model_count ? g->model_count : 1, sizeof *p.models);
-    if (!p.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
-    for (uint32_t n = 0; !r && n < g->model_count; n++) {
-        uint32_t i = 0;
-        vx_svo_model m;
-        if ((r = vx_svo_reader_next(rd, &i, &m, err))) break;
-        if (i >= g->model_count) break;
-        vx_compact_scene c1;
-        r = model_layout(g, &m, d.block, b.a, &c1, err);
-        vx_svo_model_free(g->alloc, &m);
-        if (r) {
-            char what[32];
-            snprintf(what, sizeof what, "model %u", i);
-            vx_error_prefix(err, what);
-            break;
+    rjob j = {.rd = rd, .g = g, .a = b.a, .Lp = Lp, .block = d.block};
+    j.parts = vx_calloc(b.a, g->model_count ? g->model_count : 1, sizeof *j.parts);
+    if (!p.models || !j.parts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
+    if (!r) {
+        /* the models on up to one thread a CPU: each model's build and cut on one, its decode on the
+         * reader's share of them (the parts in model order after: the page numbers of the sequential cut) */
+        unsigned t = d.threads ? d.threads : vx_cpu_count(VX_MAX_THREADS);
+        if (t > VX_MAX_THREADS) t = VX_MAX_THREADS;
+        if (t > g->model_count) t = g->model_count ? g->model_count : 1;
+        pthread_mutex_init(&j.lock, NULL);
+        vx_run_jobs(t, t, reader_worker, &j);
+        pthread_mutex_destroy(&j.lock);
+        if (j.failed) {
+            r = j.err.code ? j.err.code : VX_ERR_INVALID_ARG;
+            if (err) *err = j.err;
         }
-        p.source_bytes += 4ull * c1.geom_words + 4ull * c1.attr_words;
-        for (int k = 0; k < 8; k++) p.palette_used[k] |= c1.palette_used[k];
-        if (!(r = use_layout(&b, &c1, 0))) r = cut_model(&b, i);
-        vx_compact_free(&c1);
     }
     if (!r) r = vx_svo_reader_finish(rd, err);
+    if (!r) r = merge_parts(&b, j.parts, g->model_count);
     if (!r) r = finish_top(&b);
+    for (uint32_t i = 0; j.parts && i < g->model_count; i++) part_free(b.a, &j.parts[i]);
+    vx_free(b.a, j.parts);
     pbuild_free(&b);
     if (r) {
         vx_compact_paged_free(&p);
@@ -419,22 +565,6 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
     }
     *out = p;
     return VX_OK;
-}
-
-uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t mi, uint32_t x, uint32_t y, uint32_t z) {
-    if (!p || mi >= p->model_count) return UINT32_MAX;
-    const vx_compact_model* m = &p->models[mi];
-    if (m->root >= VX_SVO_ROOT_LEAF || m->depth <= p->page_level) return UINT32_MAX;
-    if (m->depth < 32 && (x >> m->depth || y >> m->depth || z >> m->depth)) return UINT32_MAX;
-    uint32_t n = m->root;
-    for (uint32_t L = m->depth; L > p->page_level; L--) {
-        uint32_t d = p->top[2 * (size_t)n], valid = (d >> 8) & 0xFFu, inner = valid & ~d & 0xFFu;
-        uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
-        if (!((inner >> o) & 1u)) return UINT32_MAX;
-        n = p->top[2 * (size_t)n + 1] + popc(inner & ((1u << o) - 1u));
-    }
-    uint32_t w1 = p->top[2 * (size_t)n + 1];
-    return (w1 >> 31) ? w1 & 0x7FFFFFFFu : UINT32_MAX;
 }
 
 /* ---- the file source's host cache --------------------------------------------------- */

@@ -136,6 +136,21 @@ static void check_images(const vx_svo_scene* s, const char* path, uint32_t lp, c
     }
     CHECKF(bad == 0, "%s: %u pages or models differ from the in-memory cut", what, bad);
     CHECK(!memcmp(pf.palette_used, c.palette_used, sizeof c.palette_used));
+    /* the models cut on one thread and on three: the same top and table (the parts merged in model order) */
+    for (uint32_t t = 1; t <= 3; t += 2) {
+        vx_svo_model_reader* r2 = NULL;
+        vx_compact_paged pt;
+        REQUIRE(vx_svo_reader_open(NULL, path, &r2, &err) == VX_OK);
+        REQUIRE(vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp, .threads = t}, r2, &pt, &err) == VX_OK);
+        uint32_t pd = 0;
+        for (uint32_t k = 0; k < pf.page_count && k < pt.page_count; k++)
+            pd += !same_page(&pt.pages[k], &pf.pages[k]) || pt.pages[k].top_slot != pf.pages[k].top_slot;
+        CHECKF(pt.top_words == pf.top_words && !memcmp(pt.top, pf.top, 4ull * pf.top_words) && pt.page_count == pf.page_count &&
+                   !pd && !memcmp(pt.models, pf.models, pf.model_count * sizeof *pf.models),
+               "%s: the top cut on %u threads differs (%u of %u words, %u pages)", what, t, pt.top_words, pf.top_words, pd);
+        vx_compact_paged_free(&pt);
+        vx_svo_reader_close(r2);
+    }
     /* the images through a cache of a third of their bytes: shuffled, in batches, twice */
     uint64_t bytes = 4 * pm.data_words;
     vx_compact_page_cache* pc = NULL;
