@@ -499,6 +499,7 @@ static vx_result fly_frames(const options* o, vx_render_scene* rs, const vx_svo_
                    (unsigned long long)ps.file_pages);
         else if (!r && o->verbose)
             printf("fly %u: %.2f ms (%.3f ms GPU)\n", f, ms[f], gpu_ms[f]);
+        if (o->verbose) fflush(stdout); /* a run stopped by a time limit keeps its lines */
     }
     if (!r) {
         qsort(ms, o->fly, sizeof *ms, cmp_double);
