@@ -567,6 +567,22 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
     return VX_OK;
 }
 
+uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t mi, uint32_t x, uint32_t y, uint32_t z) {
+    if (!p || mi >= p->model_count) return UINT32_MAX;
+    const vx_compact_model* m = &p->models[mi];
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth <= p->page_level) return UINT32_MAX;
+    if (m->depth < 32 && (x >> m->depth || y >> m->depth || z >> m->depth)) return UINT32_MAX;
+    uint32_t n = m->root;
+    for (uint32_t L = m->depth; L > p->page_level; L--) {
+        uint32_t d = p->top[2 * (size_t)n], valid = (d >> 8) & 0xFFu, inner = valid & ~d & 0xFFu;
+        uint32_t s = L - 1, o = ((x >> s) & 1u) | (((y >> s) & 1u) << 1) | (((z >> s) & 1u) << 2);
+        if (!((inner >> o) & 1u)) return UINT32_MAX;
+        n = p->top[2 * (size_t)n + 1] + popc(inner & ((1u << o) - 1u));
+    }
+    uint32_t w1 = p->top[2 * (size_t)n + 1];
+    return (w1 >> 31) ? w1 & 0x7FFFFFFFu : UINT32_MAX;
+}
+
 /* ---- the file source's host cache --------------------------------------------------- */
 
 struct vx_compact_page_cache {
