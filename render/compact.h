@@ -360,7 +360,8 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
  * .. n) (not relocated) to dst[i] (pages[i]'s words each): cached ones
  * copied, the others cut from their models, each model read once for its
  * pages of the call; errors (a file cut or changed since the first pass)
- * name the file and the model. */
+ * name the file and the model. One thread at a time per cache (the page
+ * service's); the reader's random access under it is thread-safe. */
 typedef struct vx_compact_page_cache vx_compact_page_cache;
 typedef struct vx_compact_cache_stats {
     uint64_t budget;      /* bytes the cache may hold */

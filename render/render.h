@@ -351,7 +351,9 @@ typedef struct vx_render_scene_desc {
     /* vx_render_scene_create_reader (and _create_paged): 0, the compact
      * layout built whole from the reader (and paged from it in memory where
      * it exceeds memory_budget: the host holds every page image). > 0: the
-     * file source: the compact layout paged from the file whatever its size,
+     * file source: the compact layout (where it is the layout: asked for, or
+     * AUTO's choice; a plain one is read whole as before) paged from the file
+     * whatever its size,
      * the host holding the top and a cache of at most host_budget bytes of
      * page images (least recently used out first), each page cut from its
      * model read again from the file when a frame needs it and the cache does
