@@ -311,9 +311,17 @@ typedef struct vx_compact_paged {
     uint32_t page_count;
     vx_compact_page* pages;
     uint64_t data_words;
-    uint32_t* data; /* the page images */
+    uint32_t* data; /* the page images; NULL with the file source (reader) */
     uint32_t max_page_words;
     uint32_t palette[256];
+    uint32_t palette_used[8]; /* as vx_compact_scene's (the passes' tables) */
+    uint64_t source_bytes;    /* the compact layout's bytes it was cut from (from a reader: the models'
+                                 own layouts summed, no sharing between models) */
+    /* the file source (vx_compact_page_build_reader): the reader the pages are
+     * cut from again on demand (borrowed: it must outlive every user of this
+     * layout), and the attribute block the models were built with */
+    vx_svo_model_reader* reader;
+    uint32_t block;
     vx_allocator alloc;
 } vx_compact_paged;
 
@@ -322,6 +330,55 @@ typedef struct vx_compact_paged {
 vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, const vx_allocator* alloc,
                                 vx_compact_paged* out, vx_error* err);
 void vx_compact_paged_free(vx_compact_paged* p);
+
+/* ---- pages from the file (the file source) -------------------------------------------
+ * The paged layout without the whole compact layout or its page images on
+ * the host: vx_compact_page_build_reader takes a fresh model reader's
+ * models in turn, builds each model's compact layout on its own (the words
+ * vx_compact_build gives its blocks: a page's image depends on its subtree
+ * and cells only), cuts it into its top and pages and drops it, keeping the
+ * top (each model's tree down to the page level and its top attributes) and
+ * the page table (each page's model, cube, cells, size and mean colour), not
+ * the images; the reader is finished and stays borrowed (p->reader). A page
+ * image is then cut again when a frame needs it: the page's model read again
+ * (vx_svo_reader_model), its layout built, its top walked to number its
+ * pages, the requested pages' images made and checked against the table,
+ * the model dropped. The images are vx_compact_page_build's word for word;
+ * the top differs only where models of at most page_level levels would
+ * share blocks across models (each model's top is its own). */
+typedef struct vx_compact_page_desc {
+    const vx_allocator* alloc;
+    uint32_t page_level; /* 3..31; 0: VX_RENDER_FRAME_LEVELS */
+    uint32_t block;      /* vx_compact_desc.block (0: per model) */
+    uint32_t threads;    /* models cut at once (each on one thread; their decodes share the CPUs): 0 one per CPU */
+} vx_compact_page_desc;
+vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_model_reader* rd, vx_compact_paged* out,
+                                       vx_error* err);
+/* A host cache of page images cut from the file, at most `budget` bytes of
+ * them (least recently used out first; 0: none kept, every load from the
+ * file). p (with its reader) is borrowed. _get writes the images of pages[0
+ * .. n) (not relocated) to dst[i] (pages[i]'s words each): cached ones
+ * copied, the others cut from their models, each model read once for its
+ * pages of the call; errors (a file cut or changed since the first pass)
+ * name the file and the model. One thread at a time per cache (the page
+ * service's); the reader's random access under it is thread-safe. */
+typedef struct vx_compact_page_cache vx_compact_page_cache;
+typedef struct vx_compact_cache_stats {
+    uint64_t budget;      /* bytes the cache may hold */
+    uint64_t bytes;       /* held now */
+    uint64_t peak_bytes;  /* the most it held */
+    uint64_t hits;        /* images copied from the cache (since it was made) */
+    uint64_t file_pages;  /* images cut from the file */
+    uint64_t models;      /* models read from the file for them */
+    uint64_t evictions;   /* images the budget pushed out */
+} vx_compact_cache_stats;
+vx_result vx_compact_page_cache_create(const vx_compact_paged* p, uint64_t budget, const vx_allocator* alloc,
+                                       vx_compact_page_cache** out, vx_error* err);
+vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n, uint32_t* const* dst,
+                                    vx_error* err);
+void vx_compact_page_cache_stats(const vx_compact_page_cache* pc, vx_compact_cache_stats* out);
+void vx_compact_page_cache_destroy(vx_compact_page_cache* pc);
+
 /* The page whose cube holds cell (x, y, z) of model m, or UINT32_MAX (a cell
  * of the top: no page there). */
 uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t m, uint32_t x, uint32_t y, uint32_t z);
@@ -387,6 +444,12 @@ uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg);
  * image of the whole layout when the pages it sees fit in the pool. */
 vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
                                       uint64_t pool_bytes, vx_compact_gpu** out, vx_error* err);
+/* The same, for a layout of the file source (vx_compact_page_build_reader:
+ * no images in p, its reader borrowed for the object's lifetime): the
+ * images are cut from the file as frames need them, through a host cache of
+ * host_budget bytes (vx_compact_page_cache; 0: none). */
+vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
+                                         uint64_t pool_bytes, uint64_t host_budget, vx_compact_gpu** out, vx_error* err);
 typedef vx_render_page_stats vx_compact_page_stats; /* render/render.h */
 /* Zeroes for an unpaged object. */
 void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* out);

@@ -39,6 +39,8 @@ typedef struct paging {
     uint32_t nmoved;
     uint32_t free_units;
     vx_compact_page_stats st;
+    vx_compact_page_cache* cache; /* the file source (p.reader): images cut from the file, a host cache */
+    uint32_t** dst;               /* scratch: where each load's image goes in the staging buffer */
 } paging;
 
 struct vx_compact_gpu {
@@ -100,7 +102,9 @@ static uint32_t deep_constant(const vx_svo_scene* s) {
 
 static void paging_free(vx_gpu* g, paging* pg) {
     if (!pg) return;
+    vx_compact_page_cache_destroy(pg->cache);
     vx_compact_paged_free(&pg->p);
+    vx_free(&g->alloc, pg->dst);
     vx_free(&g->alloc, pg->owner);
     vx_free(&g->alloc, pg->slot);
     vx_free(&g->alloc, pg->last_used);
@@ -573,7 +577,16 @@ vx_result vx_compact_gpu_page_evict(vx_compact_gpu* cg, uint32_t page, vx_error*
 void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* out) {
     if (!out) return;
     memset(out, 0, sizeof *out);
-    if (cg && cg->pg) *out = cg->pg->st;
+    if (!cg || !cg->pg) return;
+    *out = cg->pg->st;
+    if (cg->pg->cache) {
+        vx_compact_cache_stats cs;
+        vx_compact_page_cache_stats(cg->pg->cache, &cs);
+        out->from_file = true;
+        out->host_budget = cs.budget, out->host_bytes = cs.bytes, out->host_peak_bytes = cs.peak_bytes;
+        out->host_hits = cs.hits, out->file_pages = cs.file_pages, out->file_models = cs.models;
+        out->host_evictions = cs.evictions;
+    }
 }
 
 const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg) { return cg && cg->pg ? &cg->pg->p : NULL; }
@@ -652,11 +665,29 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     memcpy(st, pg->state, (size_t)pg->state_words * 4);
     cp[nc++] = (VkBufferCopy){.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)pg->state_words * 4};
     at += pg->state_words;
+    /* the images: from the layout's copy, or the file source (its cache, or cut from the file) */
+    for (uint32_t i = 0, a = at; i < nload; i++) {
+        const vx_compact_page* p = &pg->p.pages[load[i]];
+        pg->dst[i] = st + a;
+        if (!pg->cache) memcpy(st + a, pg->p.data + p->offset, (size_t)p->words * 4);
+        a += p->words;
+    }
+    if (pg->cache && nload && (r = vx_compact_page_cache_get(pg->cache, load, nload, pg->dst, err))) {
+        /* nothing went up: this service's pages (and those it moved) are not
+         * resident after all; the next service marks them so in the top
+         * before any ray enters them, and the next frame asks for them again */
+        for (uint32_t i = 0; i < nload; i++) {
+            page_drop(pg, load[i]);
+            if (i < pg->st.loaded) pg->nevict--; /* loaded now: the top still says so (no patch to write) */
+        }
+        pg->st.loaded = 0;
+        vx_free(&g->alloc, cp);
+        return r;
+    }
     for (uint32_t i = 0; i < nload; i++) {
         const vx_compact_page* p = &pg->p.pages[load[i]];
         uint32_t* w = st + at;
         uint32_t P = (uint32_t)pg->slot[load[i]];
-        memcpy(w, pg->p.data + p->offset, (size_t)p->words * 4);
         w[0] += 2 * P, w[1] += P;
         for (uint32_t j = 0; j < p->n3; j++) {
             uint32_t d = w[4 + 2 * j];
@@ -720,7 +751,14 @@ static vx_result page_readback(vx_compact_gpu* cg, vx_error* err) {
 
 vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
                                       uint64_t pool_bytes, vx_compact_gpu** out, vx_error* err) {
+    return vx_compact_gpu_create_paged_ex(rs, s, p, pool_bytes, 0, out, err);
+}
+
+vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p,
+                                         uint64_t pool_bytes, uint64_t host_budget, vx_compact_gpu** out, vx_error* err) {
     if (!rs || !s || !p || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!p->data && p->page_count && !p->reader)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the paged layout has neither its page images nor a reader");
     if (p->model_count != s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the paged layout has %u models, the scene %u",
                        p->model_count, s->model_count);
@@ -755,8 +793,15 @@ vx_result vx_compact_gpu_create_paged(vx_render_scene* rs, const vx_svo_scene* s
     pg->pending = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->evict_patch = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->moved = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->dst = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->dst);
     pg->state = vx_calloc(&g->alloc, pg->state_words, 4);
-    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state) {
+    vx_error cerr = {0};
+    if (!pg->p.data && pg->p.reader && vx_compact_page_cache_create(&pg->p, host_budget, &g->alloc, &pg->cache, &cerr)) {
+        paging_free(g, pg);
+        if (err) *err = cerr;
+        return cerr.code;
+    }
+    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst) {
         paging_free(g, pg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", P);
     }

@@ -3,14 +3,22 @@
  * level and position-independent page images below it, each with its own
  * geometry blocks, ranks and attribute region, which render/compact_gpu.c
  * loads into a pool on demand. */
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/compact.h"
 
 static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
 
+typedef struct blk {
+    uint32_t start, k, level;
+} blk;
+
 typedef struct pbuild {
-    const vx_compact_scene* c;
+    const vx_compact_scene* c; /* the layout the models are cut from: the scene's, or one model's */
+    uint32_t cm;               /* the model being cut: its index in c (the scene's index is the page's model) */
     vx_compact_paged* p;
     const vx_allocator* a;
     vx_error* err;
@@ -22,13 +30,26 @@ typedef struct pbuild {
     uint32_t n;
     /* blocks below the page level copied into the top once (models of at most Lp levels) */
     uint32_t* memo;
+    /* the models' top attribute regions, back to back (placed after the slots and ranks at the end) */
+    uint32_t* attr;
+    size_t attr_cap;
+    uint64_t attr_n;
+    /* the images' scratch: per block start of c, a page's stamp and local slot */
+    uint32_t *stamp, *local, *img, *vals;
+    blk* list;
+    size_t list_cap, img_cap, vals_cap, data_cap;
+    bool keep_images; /* the images into p->data (else only their sizes and colours are kept) */
+    uint8_t* lvl;     /* with track_levels: each top slot's level (a model's part relocated when merged) */
+    size_t lvl_cap;
+    bool track_levels;
 } pbuild;
 
 static vx_result top_alloc(pbuild* b, uint32_t k, uint32_t* at) {
     if ((uint64_t)b->n + k > VX_COMPACT_MAX_SLOTS)
         return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: more than %u top slots", VX_COMPACT_MAX_SLOTS);
     if (!vx_grow(b->a, (void**)&b->slot, &b->slot_cap, 2 * ((size_t)b->n + k), 4) ||
-        !vx_grow(b->a, (void**)&b->rank, &b->rank_cap, (size_t)b->n + k, 4))
+        !vx_grow(b->a, (void**)&b->rank, &b->rank_cap, (size_t)b->n + k, 4) ||
+        (b->track_levels && !vx_grow(b->a, (void**)&b->lvl, &b->lvl_cap, (size_t)b->n + k, 1)))
         return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u top slots", b->n + k);
     *at = b->n;
     memset(b->slot + 2 * (size_t)b->n, 0, 8 * (size_t)k);
@@ -61,6 +82,7 @@ static vx_result fill(pbuild* b, uint32_t mi, bool paged, uint32_t t, uint32_t o
     const vx_compact_scene* c = b->c;
     uint32_t desc = orig_desc(c, o, L), w1 = c->geom[2 * (size_t)o + 1];
     b->slot[2 * (size_t)t] = desc, b->slot[2 * (size_t)t + 1] = w1;
+    if (b->track_levels) b->lvl[t] = (uint8_t)L;
     if (L <= 2) return VX_OK; /* a brick: its mask */
     b->rank[t] = orig_rank(c, o, L);
     uint32_t valid = (desc >> 8) & 0xFFu, leaf = desc & 0xFFu, inner = valid & ~leaf, k = popc(inner);
@@ -102,15 +124,13 @@ static vx_result fill(pbuild* b, uint32_t mi, bool paged, uint32_t t, uint32_t o
     return VX_OK;
 }
 
-/* One page's image (compact.h): its blocks found from its children's block
- * (level Lp - 1), levels >= 3 first; stamp/local map blocks of c to local
- * slots for this page. */
-typedef struct blk {
-    uint32_t start, k, level;
-} blk;
-
-static vx_result page_image(pbuild* b, uint32_t pi, uint32_t* stamp, uint32_t* local, blk** list, size_t* list_cap,
-                            uint32_t** img, size_t* img_cap, uint32_t** vals, size_t* vals_cap) {
+/* One page's image (compact.h) into b->img: its blocks found from its
+ * children's block (level Lp - 1), levels >= 3 first; b->stamp/local map
+ * blocks of c to local slots for this page. */
+static vx_result page_image(pbuild* b, uint32_t pi) {
+    uint32_t *stamp = b->stamp, *local = b->local, **img = &b->img, **vals = &b->vals;
+    blk** list = &b->list;
+    size_t *list_cap = &b->list_cap, *img_cap = &b->img_cap, *vals_cap = &b->vals_cap;
     const vx_compact_scene* c = b->c;
     vx_compact_paged* p = b->p;
     vx_compact_page* pg = &p->pages[pi];
@@ -143,7 +163,7 @@ static vx_result page_image(pbuild* b, uint32_t pi, uint32_t* stamp, uint32_t* l
     for (size_t i = 0; i < nl; i++)
         if ((*list)[i].level < 3) local[(*list)[i].start] = n, n += (*list)[i].k;
     /* attributes: the page's cells' values, coded from index 0 */
-    const vx_compact_model* m = &c->models[pg->model];
+    const vx_compact_model* m = &c->models[b->cm];
     uint32_t* aw = NULL;
     uint32_t an = 0;
     uint64_t sum[4] = {0, 0, 0, 0};
@@ -151,7 +171,7 @@ static vx_result page_image(pbuild* b, uint32_t pi, uint32_t* stamp, uint32_t* l
         if (!vx_grow(b->a, (void**)vals, vals_cap, pg->cells ? pg->cells : 1, 4))
             return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u page values", pg->cells);
         for (uint32_t i = 0; i < pg->cells; i++) {
-            uint32_t v = vx__compact_value(c, pg->model, pg->first + i);
+            uint32_t v = vx__compact_value(c, b->cm, pg->first + i);
             (*vals)[i] = v;
             uint32_t rgba = m->attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v & 0xFFu] : v;
             for (int ch = 0; ch < 4; ch++) sum[ch] += (rgba >> (8 * ch)) & 0xFFu;
@@ -210,6 +230,114 @@ void vx_compact_paged_free(vx_compact_paged* p) {
     memset(p, 0, sizeof *p);
 }
 
+/* The scratch of b for a layout c (its blocks' maps), model cm of it. */
+static vx_result use_layout(pbuild* b, const vx_compact_scene* c, uint32_t cm) {
+    size_t starts = (size_t)c->geom_words + 1;
+    b->c = c, b->cm = cm;
+    vx_free(b->a, b->memo);
+    vx_free(b->a, b->stamp);
+    vx_free(b->a, b->local);
+    b->memo = vx_alloc(b->a, starts * 4);
+    b->stamp = vx_calloc(b->a, starts, 4);
+    b->local = vx_alloc(b->a, starts * 4);
+    if (!b->memo || !b->stamp || !b->local)
+        return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' maps");
+    memset(b->memo, 0xFF, starts * 4);
+    return VX_OK;
+}
+
+/* Model b->cm of b->c as model mi of the paged layout: its top (a tree down
+ * to the page level, pages numbered from the next one), its pages' images
+ * (kept in p->data with keep_images; their sizes and colours in any case)
+ * and its top attribute region (its values with its pages' cells as 0). */
+static vx_result cut_model(pbuild* b, uint32_t mi, uint32_t out) {
+    const vx_compact_scene* c = b->c;
+    vx_compact_paged* p = b->p;
+    const vx_compact_model* m = &c->models[b->cm];
+    vx_compact_model* pm = &p->models[out]; /* the scene's model mi (out: its index in p->models) */
+    *pm = *m;
+    vx_result r = VX_OK;
+    uint32_t first_page = p->page_count;
+    if (m->root < VX_SVO_ROOT_LEAF) {
+        uint32_t t, zero[3] = {0, 0, 0};
+        if (!(r = top_alloc(b, 1, &t))) r = fill(b, mi, m->depth > b->Lp, t, m->root, m->depth, zero, 0, m->voxels);
+        pm->root = t;
+    }
+    for (uint32_t pi = first_page; !r && pi < p->page_count; pi++) {
+        if ((r = page_image(b, pi))) break;
+        vx_compact_page* pg = &p->pages[pi];
+        pg->offset = 0;
+        if (pg->words > p->max_page_words) p->max_page_words = pg->words;
+        if (!b->keep_images) continue;
+        if (!vx_grow(b->a, (void**)&p->data, &b->data_cap, (size_t)(p->data_words + pg->words), 4)) {
+            r = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the page images");
+            break;
+        }
+        memcpy(p->data + p->data_words, b->img, (size_t)pg->words * 4);
+        pg->offset = p->data_words;
+        p->data_words += pg->words;
+    }
+    if (r) return r;
+    /* the model's top attributes: at attr_base from the regions' start (placed after the slots at the end) */
+    pm->attr_base = (uint32_t)b->attr_n, pm->attr_words = 0;
+    if (m->attr_kind == VX_COMPACT_ATTR_NONE || !m->voxels) return VX_OK;
+    if (!vx_grow(b->a, (void**)&b->vals, &b->vals_cap, m->voxels, 4))
+        return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u values", m->voxels);
+    for (uint32_t v = 0; v < m->voxels; v++) b->vals[v] = vx__compact_value(c, b->cm, v);
+    for (uint32_t pi = first_page; pi < p->page_count; pi++)
+        memset(b->vals + p->pages[pi].first, 0, (size_t)p->pages[pi].cells * 4);
+    uint32_t* aw = NULL;
+    uint32_t an = 0;
+    if ((r = vx__compact_encode(b->a, m->block, m->attr_kind, b->vals, m->voxels, NULL, &aw, &an, b->err))) return r;
+    if (b->attr_n + an > 0xFFFFFFF0u) {
+        vx_free(b->a, aw);
+        return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: the top passes 2^32 words");
+    }
+    if (!vx_grow(b->a, (void**)&b->attr, &b->attr_cap, (size_t)(b->attr_n + an + 1), 4)) {
+        vx_free(b->a, aw);
+        return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
+    }
+    memcpy(b->attr + b->attr_n, aw, (size_t)an * 4);
+    vx_free(b->a, aw);
+    pm->attr_words = an;
+    b->attr_n += an;
+    return VX_OK;
+}
+
+/* The top's words: slots, ranks, then the models' attribute regions. */
+static vx_result finish_top(pbuild* b) {
+    vx_compact_paged* p = b->p;
+    p->top_slots = b->n;
+    uint64_t tw = 3 * (uint64_t)p->top_slots;
+    tw += tw & 1u;
+    uint64_t total = tw + b->attr_n;
+    total += total & 1u;
+    if (total > 0xFFFFFFF0u) return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: the top passes 2^32 words");
+    p->top = vx_calloc(b->a, (size_t)(total ? total : 2), 4);
+    if (!p->top) return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
+    if (p->top_slots) {
+        memcpy(p->top, b->slot, 8 * (size_t)p->top_slots);
+        memcpy(p->top + 2 * (size_t)p->top_slots, b->rank, 4 * (size_t)p->top_slots);
+    }
+    if (b->attr_n) memcpy(p->top + tw, b->attr, (size_t)b->attr_n * 4);
+    for (uint32_t i = 0; i < p->model_count; i++) p->models[i].attr_base += (uint32_t)tw;
+    p->top_words = (uint32_t)total;
+    return VX_OK;
+}
+
+static void pbuild_free(pbuild* b) {
+    vx_free(b->a, b->slot);
+    vx_free(b->a, b->rank);
+    vx_free(b->a, b->memo);
+    vx_free(b->a, b->attr);
+    vx_free(b->a, b->stamp);
+    vx_free(b->a, b->local);
+    vx_free(b->a, b->list);
+    vx_free(b->a, b->img);
+    vx_free(b->a, b->vals);
+    vx_free(b->a, b->lvl);
+}
+
 vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, const vx_allocator* alloc,
                                 vx_compact_paged* out, vx_error* err) {
     if (!c || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -218,106 +346,219 @@ vx_result vx_compact_page_build(const vx_compact_scene* c, uint32_t page_level, 
     vx_compact_paged p = {.page_level = page_level, .model_count = c->model_count};
     if (alloc) p.alloc = *alloc;
     memcpy(p.palette, c->palette, sizeof p.palette);
-    pbuild b = {.c = c, .p = &p, .a = &p.alloc, .err = err, .Lp = page_level};
+    memcpy(p.palette_used, c->palette_used, sizeof p.palette_used);
+    p.source_bytes = 4ull * c->geom_words + 4ull * c->attr_words;
+    pbuild b = {.p = &p, .a = &p.alloc, .err = err, .Lp = page_level, .keep_images = true};
     vx_result r = VX_OK;
-    uint32_t *stamp = NULL, *local = NULL, *img = NULL, *vals = NULL;
-    blk* list = NULL;
-    size_t list_cap = 0, img_cap = 0, vals_cap = 0, data_cap = 0, top_cap = 0;
     p.models = vx_calloc(b.a, c->model_count ? c->model_count : 1, sizeof *p.models);
-    /* maps by block start: a slot, or the word of a block of brick index words */
-    size_t starts = (size_t)c->geom_words + 1;
-    b.memo = vx_alloc(b.a, starts * 4);
-    if (!p.models || !b.memo) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
-        goto done;
-    }
-    memset(b.memo, 0xFF, starts * 4);
+    if (!p.models) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
+    /* one map for the scene's blocks: the models of at most Lp levels share the top's blocks as they share c's */
+    if (!r) r = use_layout(&b, c, 0);
     for (uint32_t i = 0; !r && i < c->model_count; i++) {
-        const vx_compact_model* m = &c->models[i];
-        p.models[i] = *m;
-        if (m->root >= VX_SVO_ROOT_LEAF) continue;
-        uint32_t t, zero[3] = {0, 0, 0};
-        if (!(r = top_alloc(&b, 1, &t))) r = fill(&b, i, m->depth > page_level, t, m->root, m->depth, zero, 0, m->voxels);
-        p.models[i].root = t;
+        b.cm = i;
+        r = cut_model(&b, i, i);
     }
-    if (r) goto done;
-    p.top_slots = b.n;
-    /* the page images */
-    stamp = vx_calloc(b.a, starts, 4);
-    local = vx_alloc(b.a, starts * 4);
-    if (!stamp || !local) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' maps");
-        goto done;
+    if (!r) r = finish_top(&b);
+    pbuild_free(&b);
+    if (r) {
+        vx_compact_paged_free(&p);
+        return r;
     }
-    for (uint32_t pi = 0; !r && pi < p.page_count; pi++) {
-        if ((r = page_image(&b, pi, stamp, local, &list, &list_cap, &img, &img_cap, &vals, &vals_cap))) break;
-        vx_compact_page* pg = &p.pages[pi];
-        if (!vx_grow(b.a, (void**)&p.data, &data_cap, (size_t)(p.data_words + pg->words), 4)) {
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the page images");
-            break;
+    *out = p;
+    return VX_OK;
+}
+
+/* One model as a layout of its own (the page cuts of the file source): its
+ * geometry DAG and attributes as vx_compact_build makes them for the scene
+ * (a page's image depends on its subtree and cells alone, so the same words). */
+static vx_result model_layout(const vx_svo_scene* graph, vx_svo_model* m, uint32_t block, const vx_allocator* a,
+                              vx_compact_scene* out, vx_error* err) {
+    vx_svo_scene one;
+    memset(&one, 0, sizeof one);
+    one.alloc = graph->alloc;
+    memcpy(one.palette, graph->palette, sizeof one.palette);
+    one.has_palette = graph->has_palette;
+    one.models = m;
+    one.model_count = 1;
+    vx_compact_desc cd = {.alloc = a, .block = block, .threads = 1};
+    return vx_compact_build(&cd, &one, out, err);
+}
+
+/* One model's part of the file source's top, cut on a worker thread: its
+ * top slots (from 0, with their levels), pages (numbered from 0), top
+ * attributes and record; merged in model order at the end. */
+typedef struct mpart {
+    uint32_t n;
+    uint32_t *slot, *rank;
+    uint8_t* lvl;
+    vx_compact_paged p; /* pages, models[0] */
+    uint32_t* attr;
+    uint64_t attr_n;
+    uint64_t source_bytes;
+    uint32_t palette_used[8];
+} mpart;
+
+typedef struct rjob {
+    vx_svo_model_reader* rd;
+    const vx_svo_scene* g;
+    const vx_allocator* a;
+    uint32_t Lp, block;
+    mpart* parts;
+    pthread_mutex_t lock;
+    bool failed;
+    vx_error err;
+} rjob;
+
+static void part_free(const vx_allocator* a, mpart* m) {
+    vx_free(a, m->slot);
+    vx_free(a, m->rank);
+    vx_free(a, m->lvl);
+    vx_free(a, m->attr);
+    vx_free(a, m->p.pages);
+    vx_free(a, m->p.models);
+    memset(m, 0, sizeof *m);
+}
+
+/* A worker: models from the reader in turn (its next is thread-safe), each
+ * built as a layout of its own, cut into its part and dropped. */
+static void reader_worker(void* ctx, unsigned thread, uint32_t job) {
+    (void)thread, (void)job;
+    rjob* j = (rjob*)ctx;
+    for (;;) {
+        pthread_mutex_lock(&j->lock);
+        bool stop = j->failed;
+        pthread_mutex_unlock(&j->lock);
+        if (stop) return;
+        vx_error err = {0};
+        uint32_t i = 0;
+        vx_svo_model m;
+        vx_result r = vx_svo_reader_next(j->rd, &i, &m, &err);
+        if (!r && i >= j->g->model_count) return;
+        vx_compact_scene c1;
+        memset(&c1, 0, sizeof c1);
+        bool built = false;
+        if (!r) {
+            r = model_layout(j->g, &m, j->block, j->a, &c1, &err);
+            vx_svo_model_free(j->g->alloc, &m);
+            built = !r;
+            if (r) {
+                char what[32];
+                snprintf(what, sizeof what, "model %u", i);
+                vx_error_prefix(&err, what);
+            }
         }
-        memcpy(p.data + p.data_words, img, (size_t)pg->words * 4);
-        pg->offset = p.data_words;
-        p.data_words += pg->words;
-        if (pg->words > p.max_page_words) p.max_page_words = pg->words;
-    }
-    if (r) goto done;
-    /* the top's words: slots, ranks, each model's attributes with its pages' cells as 0 */
-    uint64_t tw = 3 * (uint64_t)p.top_slots;
-    tw += tw & 1u;
-    if (!vx_grow(b.a, (void**)&p.top, &top_cap, (size_t)(tw ? tw : 2), 4)) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
-        goto done;
-    }
-    memset(p.top, 0, (size_t)tw * 4);
-    if (p.top_slots) {
-        memcpy(p.top, b.slot, 8 * (size_t)p.top_slots);
-        memcpy(p.top + 2 * (size_t)p.top_slots, b.rank, 4 * (size_t)p.top_slots);
-    }
-    uint32_t next_page = 0;
-    for (uint32_t i = 0; !r && i < c->model_count; i++) {
-        const vx_compact_model* m = &c->models[i];
-        vx_compact_model* pm = &p.models[i];
-        pm->attr_base = (uint32_t)tw, pm->attr_words = 0;
-        if (m->attr_kind == VX_COMPACT_ATTR_NONE || !m->voxels) continue;
-        if (!vx_grow(b.a, (void**)&vals, &vals_cap, m->voxels, 4)) {
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u values", m->voxels);
-            break;
+        mpart* part = r ? NULL : &j->parts[i];
+        if (part) {
+            part->p.alloc = j->a ? *j->a : (vx_allocator){0};
+            part->p.page_level = j->Lp, part->p.model_count = 1;
+            if (!(part->p.models = vx_calloc(j->a, 1, sizeof *part->p.models)))
+                r = vx_fail(&err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
+            pbuild b = {.p = &part->p, .a = j->a, .err = &err, .Lp = j->Lp, .track_levels = true};
+            if (!r && !(r = use_layout(&b, &c1, 0))) r = cut_model(&b, i, 0);
+            part->n = b.n, part->slot = b.slot, part->rank = b.rank, part->lvl = b.lvl, part->attr = b.attr;
+            part->attr_n = b.attr_n;
+            b.slot = b.rank = b.attr = NULL, b.lvl = NULL;
+            pbuild_free(&b);
+            part->source_bytes = 4ull * c1.geom_words + 4ull * c1.attr_words;
+            memcpy(part->palette_used, c1.palette_used, sizeof part->palette_used);
         }
-        for (uint32_t v = 0; v < m->voxels; v++) vals[v] = vx__compact_value(c, i, v);
-        /* pages were numbered model by model in index order */
-        for (; next_page < p.page_count && p.pages[next_page].model == i; next_page++)
-            memset(vals + p.pages[next_page].first, 0, (size_t)p.pages[next_page].cells * 4);
-        uint32_t* aw = NULL;
-        uint32_t an = 0;
-        if ((r = vx__compact_encode(b.a, m->block, m->attr_kind, vals, m->voxels, NULL, &aw, &an, err))) break;
-        if (tw + an > 0xFFFFFFF0u) {
-            vx_free(b.a, aw);
-            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: the top passes 2^32 words");
-            break;
+        if (built) vx_compact_free(&c1);
+        if (r) {
+            pthread_mutex_lock(&j->lock);
+            /* the first error, or the one that stopped the reader over "stopped at an earlier error" */
+            if (!j->failed || (j->err.code == VX_ERR_INVALID_ARG && err.code != VX_ERR_INVALID_ARG)) j->err = err;
+            j->failed = true;
+            pthread_mutex_unlock(&j->lock);
+            return;
         }
-        if (!vx_grow(b.a, (void**)&p.top, &top_cap, (size_t)(tw + an + 1), 4)) {
-            vx_free(b.a, aw);
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
-            break;
-        }
-        memcpy(p.top + tw, aw, (size_t)an * 4);
-        vx_free(b.a, aw);
-        pm->attr_words = an;
-        tw += an;
     }
-    if (r) goto done;
-    if (tw & 1u) p.top[tw++] = 0;
-    p.top_words = (uint32_t)tw;
-done:
-    vx_free(b.a, b.slot);
-    vx_free(b.a, b.rank);
-    vx_free(b.a, b.memo);
-    vx_free(b.a, stamp);
-    vx_free(b.a, local);
-    vx_free(b.a, list);
-    vx_free(b.a, img);
-    vx_free(b.a, vals);
+}
+
+/* The parts into one top, in model order: slot words 1 of nodes relocated by
+ * the part's first slot, page numbers by its first page. */
+static vx_result merge_parts(pbuild* b, mpart* parts, uint32_t count) {
+    vx_compact_paged* p = b->p;
+    size_t page_cap = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        mpart* m = &parts[i];
+        uint32_t base, pbase = p->page_count;
+        if ((uint64_t)p->page_count + m->p.page_count > 0x7FFFFFFFu)
+            return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: more than 2^31 - 1 pages");
+        vx_result r = m->n ? top_alloc(b, m->n, &base) : VX_OK;
+        if (r) return r;
+        if (!m->n) base = b->n;
+        for (uint32_t s = 0; s < m->n; s++) {
+            uint32_t d = m->slot[2 * (size_t)s], w = m->slot[2 * (size_t)s + 1];
+            if (m->lvl[s] >= 3 && (w >> 31)) w = 0x80000000u | ((w & 0x7FFFFFFFu) + pbase);
+            else if (m->lvl[s] >= 3 && (((d >> 8) & ~d) & 0xFFu)) w += base;
+            b->slot[2 * ((size_t)base + s)] = d, b->slot[2 * ((size_t)base + s) + 1] = w;
+            b->rank[base + s] = m->rank[s];
+        }
+        if (m->p.page_count) {
+            if (!vx_grow(b->a, (void**)&p->pages, &page_cap, (size_t)p->page_count + m->p.page_count, sizeof *p->pages))
+                return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", p->page_count + m->p.page_count);
+            for (uint32_t k = 0; k < m->p.page_count; k++) {
+                vx_compact_page pg = m->p.pages[k];
+                pg.top_slot += base;
+                p->pages[p->page_count++] = pg;
+            }
+        }
+        if (m->p.max_page_words > p->max_page_words) p->max_page_words = m->p.max_page_words;
+        vx_compact_model pm = m->p.models[0];
+        if (pm.root < VX_SVO_ROOT_LEAF) pm.root += base;
+        pm.attr_base = (uint32_t)b->attr_n;
+        if (b->attr_n + m->attr_n > 0xFFFFFFF0u) return vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact pages: the top passes 2^32 words");
+        if (m->attr_n) {
+            if (!vx_grow(b->a, (void**)&b->attr, &b->attr_cap, (size_t)(b->attr_n + m->attr_n), 4))
+                return vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the top");
+            memcpy(b->attr + b->attr_n, m->attr, (size_t)m->attr_n * 4);
+            b->attr_n += m->attr_n;
+        }
+        p->models[i] = pm;
+        p->source_bytes += m->source_bytes;
+        for (int k = 0; k < 8; k++) p->palette_used[k] |= m->palette_used[k];
+        part_free(b->a, m);
+    }
+    return VX_OK;
+}
+
+vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_model_reader* rd, vx_compact_paged* out,
+                                       vx_error* err) {
+    if (!rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_compact_page_desc d = desc ? *desc : (vx_compact_page_desc){0};
+    uint32_t Lp = d.page_level ? d.page_level : VX_RENDER_FRAME_LEVELS;
+    if (Lp < 3 || Lp > 31) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "page level %u: not in 3..31", Lp);
+    const vx_svo_scene* g = vx_svo_reader_scene(rd);
+    vx_compact_paged p = {.page_level = Lp, .model_count = g->model_count, .reader = rd, .block = d.block};
+    if (d.alloc) p.alloc = *d.alloc;
+    memcpy(p.palette, g->palette, sizeof p.palette);
+    p.palette_used[0] = 1;
+    pbuild b = {.p = &p, .a = &p.alloc, .err = err, .Lp = Lp};
+    vx_result r = VX_OK;
+    p.models = vx_calloc(b.a, g->model_count ? g->model_count : 1, sizeof *p.models);
+    rjob j = {.rd = rd, .g = g, .a = b.a, .Lp = Lp, .block = d.block};
+    j.parts = vx_calloc(b.a, g->model_count ? g->model_count : 1, sizeof *j.parts);
+    if (!p.models || !j.parts) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the pages' top");
+    if (!r) {
+        /* the models on up to one thread a CPU: each model's build and cut on one, its decode on the
+         * reader's share of them (the parts in model order after: the page numbers of the sequential cut) */
+        unsigned t = d.threads ? d.threads : vx_cpu_count(VX_MAX_THREADS);
+        if (t > VX_MAX_THREADS) t = VX_MAX_THREADS;
+        if (t > g->model_count) t = g->model_count ? g->model_count : 1;
+        pthread_mutex_init(&j.lock, NULL);
+        vx_run_jobs(t, t, reader_worker, &j);
+        pthread_mutex_destroy(&j.lock);
+        if (j.failed) {
+            r = j.err.code ? j.err.code : VX_ERR_INVALID_ARG;
+            if (err) *err = j.err;
+        }
+    }
+    if (!r) r = vx_svo_reader_finish(rd, err);
+    if (!r) r = merge_parts(&b, j.parts, g->model_count);
+    if (!r) r = finish_top(&b);
+    for (uint32_t i = 0; j.parts && i < g->model_count; i++) part_free(b.a, &j.parts[i]);
+    vx_free(b.a, j.parts);
+    pbuild_free(&b);
     if (r) {
         vx_compact_paged_free(&p);
         return r;
@@ -340,4 +581,209 @@ uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t mi, uint32_t x, 
     }
     uint32_t w1 = p->top[2 * (size_t)n + 1];
     return (w1 >> 31) ? w1 & 0x7FFFFFFFu : UINT32_MAX;
+}
+
+/* ---- the file source's host cache --------------------------------------------------- */
+
+struct vx_compact_page_cache {
+    const vx_compact_paged* p; /* borrowed: the top, the page table, the reader */
+    vx_allocator alloc;
+    const vx_allocator* a;
+    uint64_t budget;
+    uint32_t* first_page; /* per model, its first page (pages are numbered model by model); model_count + 1 */
+    uint32_t** img;       /* per page: its image while cached, else NULL */
+    uint32_t *prev, *next; /* the cached pages, most recently used first (UINT32_MAX: none) */
+    uint32_t head, tail;
+    uint64_t* miss;       /* scratch: the requests not cached (page << 32 | request) */
+    uint32_t* want;
+    uint32_t miss_cap;
+    vx_compact_cache_stats st;
+};
+
+void vx_compact_page_cache_destroy(vx_compact_page_cache* pc) {
+    if (!pc) return;
+    const vx_allocator* a = pc->a;
+    for (uint32_t k = 0; pc->img && k < pc->p->page_count; k++) vx_free(a, pc->img[k]);
+    vx_free(a, pc->img);
+    vx_free(a, pc->first_page);
+    vx_free(a, pc->prev);
+    vx_free(a, pc->next);
+    vx_free(a, pc->miss);
+    vx_free(a, pc->want);
+    vx_allocator keep = pc->alloc;
+    vx_free(&keep, pc);
+}
+
+vx_result vx_compact_page_cache_create(const vx_compact_paged* p, uint64_t budget, const vx_allocator* alloc,
+                                       vx_compact_page_cache** out, vx_error* err) {
+    if (!p || !out || !p->reader) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument (or no reader)");
+    *out = NULL;
+    vx_allocator al = {0};
+    if (alloc) al = *alloc;
+    vx_compact_page_cache* pc = vx_calloc(alloc, 1, sizeof *pc);
+    if (!pc) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the page cache");
+    pc->alloc = al;
+    pc->a = alloc ? &pc->alloc : NULL;
+    pc->p = p;
+    pc->budget = budget;
+    pc->st.budget = budget;
+    pc->head = pc->tail = UINT32_MAX;
+    uint32_t P = p->page_count ? p->page_count : 1;
+    pc->img = vx_calloc(pc->a, P, sizeof *pc->img);
+    pc->prev = vx_alloc(pc->a, (size_t)P * 4);
+    pc->next = vx_alloc(pc->a, (size_t)P * 4);
+    pc->first_page = vx_alloc(pc->a, ((size_t)p->model_count + 1) * 4);
+    if (!pc->img || !pc->prev || !pc->next || !pc->first_page) {
+        vx_compact_page_cache_destroy(pc);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the page cache of %u pages", p->page_count);
+    }
+    for (uint32_t i = 0, k = 0; i <= p->model_count; i++) {
+        while (k < p->page_count && p->pages[k].model < i) k++;
+        pc->first_page[i] = k;
+    }
+    *out = pc;
+    return VX_OK;
+}
+
+static int cmp_u64(const void* x, const void* y) {
+    uint64_t a = *(const uint64_t*)x, b = *(const uint64_t*)y;
+    return (a > b) - (a < b);
+}
+
+static void lru_unlink(vx_compact_page_cache* pc, uint32_t k) {
+    uint32_t a = pc->prev[k], b = pc->next[k];
+    if (a != UINT32_MAX) pc->next[a] = b;
+    else pc->head = b;
+    if (b != UINT32_MAX) pc->prev[b] = a;
+    else pc->tail = a;
+}
+
+static void lru_front(vx_compact_page_cache* pc, uint32_t k) {
+    pc->prev[k] = UINT32_MAX, pc->next[k] = pc->head;
+    if (pc->head != UINT32_MAX) pc->prev[pc->head] = k;
+    pc->head = k;
+    if (pc->tail == UINT32_MAX) pc->tail = k;
+}
+
+/* Page k's image (words) into the cache, the least recently used pages out
+ * until it fits; an image larger than the budget is not kept. */
+static void cache_put(vx_compact_page_cache* pc, uint32_t k, const uint32_t* words) {
+    uint64_t bytes = 4ull * pc->p->pages[k].words;
+    if (pc->img[k] || bytes > pc->budget) return;
+    while (pc->st.bytes + bytes > pc->budget && pc->tail != UINT32_MAX) {
+        uint32_t old = pc->tail;
+        lru_unlink(pc, old);
+        vx_free(pc->a, pc->img[old]);
+        pc->img[old] = NULL;
+        pc->st.bytes -= 4ull * pc->p->pages[old].words;
+        pc->st.evictions++;
+    }
+    uint32_t* c = vx_alloc(pc->a, (size_t)bytes);
+    if (!c) return; /* a cache that cannot grow: the page comes from the file again next time */
+    memcpy(c, words, (size_t)bytes);
+    pc->img[k] = c;
+    lru_front(pc, k);
+    pc->st.bytes += bytes;
+    if (pc->st.bytes > pc->st.peak_bytes) pc->st.peak_bytes = pc->st.bytes;
+}
+
+/* The requested pages of model mi (want[0..n): indices into pages/dst),
+ * cut from the model read again from the file: the model's layout, its top
+ * walked to number its pages as the first pass did, then the images of the
+ * requested ones, checked against the page table. */
+static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const uint32_t* pages, uint32_t* const* dst,
+                                  const uint32_t* want, uint32_t n, vx_error* err) {
+    const vx_compact_paged* P = pc->p;
+    const vx_svo_scene* g = vx_svo_reader_scene(P->reader);
+    vx_svo_model m;
+    vx_result r = vx_svo_reader_model(P->reader, mi, &m, err);
+    if (r) return r;
+    vx_compact_scene c1;
+    r = model_layout(g, &m, P->block, pc->a, &c1, err);
+    vx_svo_model_free(g->alloc, &m);
+    if (r) return r;
+    pc->st.models++;
+    vx_compact_paged scratch = {.page_level = P->page_level, .model_count = 1};
+    if (pc->a) scratch.alloc = *pc->a;
+    pbuild b = {.p = &scratch, .a = &scratch.alloc, .err = err, .Lp = P->page_level};
+    const vx_compact_model* cm = &c1.models[0];
+    uint32_t t;
+    if (!(r = use_layout(&b, &c1, 0)) && cm->root < VX_SVO_ROOT_LEAF && cm->depth > P->page_level &&
+        !(r = top_alloc(&b, 1, &t))) {
+        uint32_t zero[3] = {0, 0, 0};
+        r = fill(&b, mi, true, t, cm->root, cm->depth, zero, 0, cm->voxels);
+    }
+    uint32_t base = pc->first_page[mi], have = pc->first_page[mi + 1] - base;
+    if (!r && scratch.page_count != have)
+        r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u has %u pages, the first pass cut %u (the file changed)", mi,
+                    scratch.page_count, have);
+    for (uint32_t i = 0; !r && i < n; i++) {
+        uint32_t k = pages[want[i]], local = k - base;
+        const vx_compact_page* was = &P->pages[k];
+        if (k < base || local >= have) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "page %u is not a page of model %u", k, mi);
+            break;
+        }
+        if ((r = page_image(&b, local))) break;
+        const vx_compact_page* now = &scratch.pages[local];
+        if (now->words != was->words || now->n3 != was->n3 || now->slots != was->slots || now->cells != was->cells ||
+            now->first != was->first || now->rgba != was->rgba || memcmp(now->cube, was->cube, sizeof now->cube)) {
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: page %u is not the page the first pass cut (the file changed)",
+                        mi, k);
+            break;
+        }
+        b.img[2] = k; /* the scene's page number */
+        memcpy(dst[want[i]], b.img, 4ull * was->words);
+        cache_put(pc, k, b.img);
+        pc->st.file_pages++;
+    }
+    pbuild_free(&b);
+    vx_free(b.a, scratch.pages);
+    vx_compact_free(&c1);
+    return r;
+}
+
+vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n, uint32_t* const* dst,
+                                    vx_error* err) {
+    if (!pc || (n && (!pages || !dst))) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    const vx_compact_paged* P = pc->p;
+    if (n > pc->miss_cap) {
+        vx_free(pc->a, pc->miss);
+        vx_free(pc->a, pc->want);
+        pc->miss_cap = 0;
+        pc->miss = vx_alloc(pc->a, (size_t)n * 8);
+        pc->want = vx_alloc(pc->a, (size_t)n * 4);
+        if (!pc->miss || !pc->want) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        pc->miss_cap = n;
+    }
+    uint32_t nm = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t k = pages[i];
+        if (k >= P->page_count) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no page %u", k);
+        if (pc->img[k]) {
+            memcpy(dst[i], pc->img[k], 4ull * P->pages[k].words);
+            lru_unlink(pc, k);
+            lru_front(pc, k);
+            pc->st.hits++;
+        } else {
+            pc->miss[nm++] = (uint64_t)k << 32 | i;
+        }
+    }
+    /* by page, so by model (pages are numbered model by model): each model read once for its requests */
+    qsort(pc->miss, nm, 8, cmp_u64);
+    for (uint32_t i = 0; i < nm; i++) pc->want[i] = (uint32_t)pc->miss[i];
+    for (uint32_t i = 0; i < nm;) {
+        uint32_t mi = P->pages[pages[pc->want[i]]].model, j = i + 1;
+        while (j < nm && P->pages[pages[pc->want[j]]].model == mi) j++;
+        vx_result r = load_model_pages(pc, mi, pages, dst, pc->want + i, j - i, err);
+        if (r) return r;
+        i = j;
+    }
+    return VX_OK;
+}
+
+void vx_compact_page_cache_stats(const vx_compact_page_cache* pc, vx_compact_cache_stats* out) {
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (pc) *out = pc->st;
 }

@@ -348,6 +348,18 @@ typedef struct vx_render_scene_desc {
      * clock, docs/PERFORMANCE.md issue 18, branches load2 and rdr2) */
     bool bricks_decided;
     uint32_t file_passes;
+    /* vx_render_scene_create_reader (and _create_paged): 0, the compact
+     * layout built whole from the reader (and paged from it in memory where
+     * it exceeds memory_budget: the host holds every page image). > 0: the
+     * file source: the compact layout (where it is the layout: asked for, or
+     * AUTO's choice; a plain one is read whole as before) paged from the file
+     * whatever its size,
+     * the host holding the top and a cache of at most host_budget bytes of
+     * page images (least recently used out first), each page cut from its
+     * model read again from the file when a frame needs it and the cache does
+     * not hold it (render/compact.h, vx_compact_page_build_reader); the reader
+     * stays borrowed by the scene until vx_render_scene_destroy */
+    uint64_t host_budget;
 } vx_render_scene_desc;
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
@@ -389,6 +401,21 @@ vx_result vx_render_scene_choose_layout(vx_gpu* gpu, const vx_svo_scene* s, cons
 vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* reader, struct vx_compact_scene* c,
                                          double build_seconds, const vx_render_scene_desc* desc,
                                          vx_render_scene** out, vx_error* err);
+/* The file source (desc->host_budget): the paged layout's top and page table
+ * from a fresh reader, one model at a time (vx_compact_page_build_reader at
+ * the page level create_ex would take: desc's, lowered below the drawn
+ * models' depth); the reader is finished and borrowed by *out. Then, after
+ * the device exists, vx_render_scene_create_paged makes the render scene of
+ * it (p is taken; the reader stays borrowed until the scene is destroyed):
+ * the pool is memory_budget (or 3/4 of the device's largest local heap) less
+ * the top, the host cache desc->host_budget bytes (0: none). A budget that
+ * cannot hold the top and the largest page is refused (VX_ERR_LIMIT). */
+struct vx_compact_paged;
+vx_result vx_render_page_build_reader(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, struct vx_compact_paged* out,
+                                      vx_error* err);
+vx_result vx_render_scene_create_paged(vx_gpu* gpu, vx_svo_model_reader* rd, struct vx_compact_paged* p,
+                                       double build_seconds, const vx_render_scene_desc* desc, vx_render_scene** out,
+                                       vx_error* err);
 /* AUTO's brick choice for compact layout c built in blocks from reader rd
  * (vx_compact_build_reader, finished): where c exceeds budget (and desc's
  * bricks are AUTO), the layout built again with the brick dictionary from a
@@ -442,6 +469,17 @@ typedef struct vx_render_page_stats {
     uint64_t pool_bytes;   /* the pool */
     uint64_t used_bytes;   /* the pool's bytes held by resident pages */
     uint64_t frames;       /* frames traced */
+    /* the file source (vx_render_scene_desc.host_budget): page images cut from
+     * the file as frames need them, through a host cache (totals since the
+     * scene was made) */
+    bool from_file;
+    uint64_t host_budget;     /* the cache's bound */
+    uint64_t host_bytes;      /* images it holds now */
+    uint64_t host_peak_bytes; /* the most it held */
+    uint64_t host_hits;       /* loads served from it */
+    uint64_t file_pages;      /* loads cut from the file */
+    uint64_t file_models;     /* models read from the file for them */
+    uint64_t host_evictions;  /* images the cache's bound pushed out */
 } vx_render_page_stats;
 /* Zeroes unless the scene is paged. */
 void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats* out);

@@ -1123,6 +1123,12 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
         vx_svo_scene_free(&whole);
         return r;
     }
+    if (desc && desc->host_budget) { /* the file source: the top and a cache of pages, not the layout */
+        vx_compact_paged p;
+        double t0 = vx_time_now();
+        if ((r = vx_render_page_build_reader(rd, desc, &p, err))) return r;
+        return vx_render_scene_create_paged(gpu, rd, &p, vx_time_now() - t0, desc, out, err);
+    }
     /* the compact layout from the models in turn; the graph's bounds and cells' boxes are known after */
     vx_compact_scene c;
     uint32_t bricks = desc ? desc->compact_bricks : VX_RENDER_BRICKS_AUTO;
@@ -1131,6 +1137,95 @@ vx_result vx_render_scene_create_reader(vx_gpu* gpu, vx_svo_model_reader* rd, co
     double t0 = vx_time_now();
     if ((r = vx_compact_build_reader(&cd, rd, &c, err))) return r;
     return from_built(gpu, rd, s, desc, &li, range, max_depth, &c, vx_time_now() - t0, out, err);
+}
+
+/* The page level upload_compact takes: desc's (or VX_RENDER_FRAME_LEVELS),
+ * lowered below the drawn models' depth where that is shallower. */
+static uint32_t page_level_for(const vx_svo_scene* s, const vx_render_scene_desc* desc) {
+    uint32_t max_depth = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        if (!vx_svo_instance_drawn(s, i)) continue;
+        uint32_t d = s->models[s->instances[i].model].depth;
+        if (d > max_depth) max_depth = d;
+    }
+    uint32_t lp = desc && desc->page_level ? desc->page_level : VX_RENDER_FRAME_LEVELS;
+    if (lp >= max_depth) lp = max_depth > 6 ? max_depth - 3 : 3;
+    return lp;
+}
+
+vx_result vx_render_page_build_reader(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, vx_compact_paged* out,
+                                      vx_error* err) {
+    if (!rd || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_compact_page_desc pd = {.page_level = page_level_for(vx_svo_reader_scene(rd), desc)};
+    return vx_compact_page_build_reader(&pd, rd, out, err);
+}
+
+/* The file source's paged layout p onto the GPU for rs (p is taken): the
+ * pool the budget less the top; unlike create_paged there is no whole
+ * layout to fall back on where the top and the largest page exceed it. */
+static vx_result upload_paged_file(vx_render_scene* rs, const vx_svo_scene* s, vx_compact_paged* p, uint64_t budget,
+                                   uint64_t host_budget, vx_error* err) {
+    uint64_t top = 4ull * p->top_words + 64ull * s->model_count + 1024 + 64 + 16ull * p->page_count;
+    if (top >= budget || budget - top < 4ull * p->max_page_words + 4ull * (p->max_page_words / 64 + 16)) {
+        vx_result r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                              "the paged layout's top (%.3f MB) and its largest page (%.3f MB) do not fit the GPU budget "
+                              "of %.3f MB: a larger budget or a lower page level",
+                              top / 1e6, 4e-6 * p->max_page_words, budget / 1e6);
+        vx_compact_paged_free(p);
+        return r;
+    }
+    rs->layout.pages = p->page_count;
+    rs->layout.page_level = p->page_level;
+    rs->layout.compact_bytes = p->source_bytes;
+    rs->layout.brick_dict = false;
+    memcpy(rs->palette_used, p->palette_used, sizeof rs->palette_used);
+    uint64_t pool = budget - top;
+    vx_result r = vx_compact_gpu_create_paged_ex(rs, s, p, pool - pool / 128 - 8, host_budget, &rs->compact, err);
+    vx_compact_paged_free(p); /* emptied when taken */
+    return r;
+}
+
+vx_result vx_render_scene_create_paged(vx_gpu* gpu, vx_svo_model_reader* rd, vx_compact_paged* p, double build_seconds,
+                                       const vx_render_scene_desc* desc, vx_render_scene** out, vx_error* err) {
+    if (!gpu || !rd || !p || !out) {
+        if (p) vx_compact_paged_free(p);
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    }
+    const vx_svo_scene* s = vx_svo_reader_scene(rd);
+    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
+    d.layout = VX_RENDER_LAYOUT_COMPACT;
+    vx_render_layout_info li;
+    uint32_t max_depth = 0;
+    uint64_t range = 0;
+    vx_result r = choose_layout(gpu, s, &d, &li, &max_depth, &range, err);
+    if (!r && (p->reader != rd || p->model_count != s->model_count))
+        r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the paged layout was not built from this reader");
+    if (r) {
+        vx_compact_paged_free(p);
+        return r;
+    }
+    double t1 = vx_time_now();
+    vx_render_scene* rs = new_scene(gpu, s, &li, range, max_depth);
+    if (!rs) {
+        vx_compact_paged_free(p);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    }
+    rs->smap_state = SMAP_NEVER;
+    rs->layout.build_seconds = build_seconds;
+    rs->layout.file_passes = 1;
+    r = prepare_models(rs, s, false, err);
+    if (!r) r = prepare_instances(rs, s, err);
+    if (!r) r = upload_paged_file(rs, s, p, li.budget, d.host_budget, err);
+    else vx_compact_paged_free(p);
+    rs->layout.upload_seconds = vx_time_now() - t1;
+    if (r) {
+        vx_render_scene_destroy(rs);
+        return r;
+    }
+    rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
+    rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
+    *out = rs;
+    return VX_OK;
 }
 
 vx_result vx_render_compact_auto_bricks(vx_svo_model_reader* rd, const vx_render_scene_desc* desc, uint64_t budget,

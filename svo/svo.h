@@ -660,6 +660,20 @@ vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err);
  * (VX_ERR_INVALID_ARG) before finish succeeded, after an error, or while a
  * call decodes. The graph (bounds, checks) stays the first pass's. */
 vx_result vx_svo_reader_rewind(vx_svo_model_reader* r, vx_error* err);
+/* Model `index` again, on its own (random access: a pager that decodes the
+ * model of a page it needs, render/compact.h): after a pass that finish
+ * accepted, its stream is read from the file again (pread of its bytes, at
+ * the offset and length the first pass's walk of the stream table kept: 16
+ * bytes a model), decoded and validated as next does, and handed over as
+ * next hands it (*out owned by the caller). A model that differs from the
+ * first pass's (digest or cells' box: the file changed in place) fails
+ * (VX_ERR_BAD_FORMAT naming the file and the model), a file cut short fails
+ * as a cut during a read (VX_ERR_TRUNCATED); neither stops the reader (each
+ * call checks its own bytes; the NODE section's CRC is the first pass's).
+ * Refused (VX_ERR_INVALID_ARG) before a pass that finish accepted, after an
+ * error of next or finish, for an index past the models. Thread-safe, also
+ * beside a later pass's next; concurrent calls share the CPUs as next's do. */
+vx_result vx_svo_reader_model(vx_svo_model_reader* r, uint32_t index, vx_svo_model* out, vx_error* err);
 /* A copy of the graph as it is now (models without arrays, their checks and
  * the bounds as far as read), allocated with alloc and owned by the caller
  * (vx_svo_scene_free): for code that keeps the scene graph past the reader,

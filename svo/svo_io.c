@@ -1060,9 +1060,17 @@ struct vx_svo_model_reader {
     uint32_t crc;  /* of NODE[0, pos) */
     bool failed;   /* a model or the stream table failed: nothing more is handed over */
     uint32_t done; /* models decoded and validated */
-    unsigned active; /* calls decoding now (they share the CPUs) */
+    unsigned active; /* calls of next decoding now (they share the CPUs) */
+    unsigned active_random; /* calls of vx_svo_reader_model decoding now (the CPUs too, not the pass's state) */
     bool finished;   /* finish succeeded on this pass: a rewind may start the next */
     uint32_t pass;   /* 0, then 1, 2 ... after each vx_svo_reader_rewind */
+    bool indexed;    /* a pass that finish accepted walked the stream table: stream_at/len are
+                        every model's (vx_svo_reader_model) */
+    /* per model: its stream's first byte in the file and its length, as the
+     * first pass found them (random access needs the table's lengths, which
+     * only a walk from model 0 gives) */
+    uint64_t* stream_at;
+    uint64_t* stream_len;
 };
 
 static void reader_free(vx_svo_model_reader* r) {
@@ -1072,6 +1080,8 @@ static void reader_free(vx_svo_model_reader* r) {
     vx_svo_scene_free(&r->s);
     vx_free(A, r->chunked);
     vx_free(A, r->ext);
+    vx_free(A, r->stream_at);
+    vx_free(A, r->stream_len);
     vx_free(A, r->path);
     pthread_mutex_destroy(&r->lock);
     vx_free(A, r);
@@ -1157,7 +1167,9 @@ vx_result vx_svo_reader_open(const vx_svo_read_desc* desc, const char* path, vx_
         goto fail;
     r->bounds_form = BOUNDS_COMPUTED;
     if ((res = read_scne(known, version, A, &r->s, &r->bounds_form, &r->chunked, err)) != VX_OK) goto fail;
-    if (r->s.model_count && !(r->ext = (vx__svo_extent*)vx_calloc(A, r->s.model_count, sizeof *r->ext))) {
+    if (r->s.model_count && (!(r->ext = (vx__svo_extent*)vx_calloc(A, r->s.model_count, sizeof *r->ext)) ||
+                             !(r->stream_at = (uint64_t*)vx_calloc(A, r->s.model_count, sizeof *r->stream_at)) ||
+                             !(r->stream_len = (uint64_t*)vx_calloc(A, r->s.model_count, sizeof *r->stream_len)))) {
         res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: out of memory");
         goto fail;
     }
@@ -1239,9 +1251,68 @@ static vx_result reader_take(vx_svo_model_reader* r, uint32_t* mi, uint8_t** str
     *stream = b;
     *len = (size_t)v;
     *where = base + pos;
+    if (!r->pass) r->stream_at[*mi] = base + pos, r->stream_len[*mi] = v; /* later passes find the same (or fail) */
     r->pos = pos + (size_t)v;
     r->next++;
     return VX_OK;
+}
+
+/* Decodes and validates model mi's stream (len bytes, its first at byte
+ * stream_at of the file) into *out, on the reader's CPUs shared by `share`
+ * calls at once; its check set, and with `again` (a later pass, a model
+ * read again) compared with the one the first pass left in the graph (`when`
+ * says in the error when the file changed). On failure *out holds nothing
+ * and the error names the file. */
+static vx_result reader_decode(vx_svo_model_reader* r, uint32_t mi, const uint8_t* stream, size_t len, uint64_t stream_at,
+                               unsigned share, bool again, const char* when, vx_svo_model* out, vx_error* err) {
+    vx_result res;
+    /* the calls decoding at once share the CPUs: each model its part of them */
+    unsigned threads = r->cpus / share ? r->cpus / share : 1;
+    vx_svo_model m = r->s.models[mi];
+    memset(&m.check, 0, sizeof m.check);
+    vx__svo_extent ext = {0}, tree = {0};
+    uint8_t rebuilt = 0;
+    res = vx__svo_unpack_one(stream, len, stream_at, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads, &r->testing,
+                             &tree, &rebuilt, err);
+    if (res == VX_OK) {
+        res = rebuilt == VX__SVO_SKIP_REBUILT ? vx__svo_check_rebuilt(&m, &tree, &ext, err)
+                                              : vx__svo_analyze_mt(&m, &ext, false, threads, err);
+        if (res != VX_OK) {
+            char p[32];
+            snprintf(p, sizeof p, "model %u", mi);
+            if (res == VX_ERR_INVALID_ARG) res = VX_ERR_BAD_FORMAT;
+            if (err) err->code = res;
+            vx_error_prefix(err, p);
+            vx_error_prefix(err, "svo: structure");
+        }
+    }
+    if (res == VX_OK) {
+        m.check.digest = vx_svo_model_digest(&m);
+        memcpy(m.check.min, ext.min, sizeof ext.min);
+        memcpy(m.check.max, ext.max, sizeof ext.max);
+        /* a later pass (vx_svo_reader_rewind) hands over the models the first
+         * pass validated, or fails: a consumer that builds from both passes
+         * (the compact layout's second build) must not mix two files */
+        const vx_svo_model_check* was = &r->s.models[mi].check;
+        if (again && (was->digest != m.check.digest || memcmp(was->min, m.check.min, sizeof was->min) ||
+                        memcmp(was->max, m.check.max, sizeof was->max))) {
+            res = vx_fail(err, VX_ERR_BAD_FORMAT, stream_at,
+                          "svo: model %u is not the model the first pass read (digest %08x, was %08x): the file "
+                          "changed %s",
+                          mi, (unsigned)m.check.digest, (unsigned)was->digest, when);
+        }
+    }
+    if (res == VX_OK) {
+        if (!again) {
+            r->s.models[mi].check = m.check; /* the graph's copy: its cells' box, for the caller */
+            r->ext[mi] = ext;
+        }
+    } else {
+        vx_svo_model_free(r->A, &m);
+        vx_error_prefix(err, r->path);
+    }
+    if (res == VX_OK) *out = m;
+    return res;
 }
 
 vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_model* out, vx_error* err) {
@@ -1269,52 +1340,12 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
         vx_error_prefix(err, r->path);
         return res;
     }
-    share = ++r->active;
+    share = ++r->active + r->active_random;
+    bool again = r->pass != 0;
     pthread_mutex_unlock(&r->lock);
-    /* the calls decoding at once share the CPUs: each model its part of them */
-    unsigned threads = r->cpus / share ? r->cpus / share : 1;
-    vx_svo_model m = r->s.models[mi];
-    memset(&m.check, 0, sizeof m.check);
-    vx__svo_extent ext = {0}, tree = {0};
-    uint8_t rebuilt = 0;
-    res = vx__svo_unpack_one(stream, len, stream_at, &m, mi, r->chunked ? r->chunked[mi] : 0, r->A, threads, &r->testing,
-                             &tree, &rebuilt, err);
-    if (res == VX_OK) {
-        res = rebuilt == VX__SVO_SKIP_REBUILT ? vx__svo_check_rebuilt(&m, &tree, &ext, err)
-                                              : vx__svo_analyze_mt(&m, &ext, false, threads, err);
-        if (res != VX_OK) {
-            char p[32];
-            snprintf(p, sizeof p, "model %u", mi);
-            if (res == VX_ERR_INVALID_ARG) res = VX_ERR_BAD_FORMAT;
-            if (err) err->code = res;
-            vx_error_prefix(err, p);
-            vx_error_prefix(err, "svo: structure");
-        }
-    }
+    vx_svo_model m;
+    res = reader_decode(r, mi, stream, len, stream_at, share, again, "between the passes", &m, err);
     vx_free(r->A, stream);
-    if (res == VX_OK) {
-        m.check.digest = vx_svo_model_digest(&m);
-        memcpy(m.check.min, ext.min, sizeof ext.min);
-        memcpy(m.check.max, ext.max, sizeof ext.max);
-        /* a later pass (vx_svo_reader_rewind) hands over the models the first
-         * pass validated, or fails: a consumer that builds from both passes
-         * (the compact layout's second build) must not mix two files */
-        const vx_svo_model_check* was = &r->s.models[mi].check;
-        if (r->pass && (was->digest != m.check.digest || memcmp(was->min, m.check.min, sizeof was->min) ||
-                        memcmp(was->max, m.check.max, sizeof was->max))) {
-            res = vx_fail(err, VX_ERR_BAD_FORMAT, stream_at,
-                          "svo: model %u is not the model the first pass read (digest %08x, was %08x): the file "
-                          "changed between the passes",
-                          mi, (unsigned)m.check.digest, (unsigned)was->digest);
-        }
-    }
-    if (res == VX_OK) {
-        r->s.models[mi].check = m.check; /* the graph's copy: its cells' box, for the caller */
-        r->ext[mi] = ext;
-    } else {
-        vx_svo_model_free(r->A, &m);
-        vx_error_prefix(err, r->path);
-    }
     pthread_mutex_lock(&r->lock);
     r->active--;
     if (res == VX_OK) r->done++;
@@ -1322,6 +1353,45 @@ vx_result vx_svo_reader_next(vx_svo_model_reader* r, uint32_t* index, vx_svo_mod
     pthread_mutex_unlock(&r->lock);
     if (res != VX_OK) return res;
     *index = mi;
+    *out = m;
+    return VX_OK;
+}
+
+vx_result vx_svo_reader_model(vx_svo_model_reader* r, uint32_t index, vx_svo_model* out, vx_error* err) {
+    if (!r || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    memset(out, 0, sizeof *out);
+    pthread_mutex_lock(&r->lock);
+    bool failed = r->failed, indexed = r->indexed;
+    unsigned share = 0;
+    if (!failed && indexed && index < r->s.model_count) share = r->active + ++r->active_random;
+    pthread_mutex_unlock(&r->lock);
+    if (failed) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the model reader stopped at an earlier error", r->path);
+    if (!indexed)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "%s: model %u: the model reader reads a model again only after a pass that finish accepted", r->path,
+                       index);
+    if (index >= r->s.model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: no model %u (the file has %u)", r->path, index,
+                       r->s.model_count);
+    uint64_t at = r->stream_at[index], len = r->stream_len[index]; /* set by the first pass, read-only since */
+    vx_svo_model m;
+    vx_result res = VX_OK;
+    uint8_t* stream = (uint8_t*)vx_alloc(r->A, len ? (size_t)len : 1);
+    if (!stream)
+        res = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo: model %u: out of memory for its stream of %llu bytes", index,
+                      (unsigned long long)len);
+    else if ((res = fsrc_read(&r->src, at, stream, (size_t)len, err)) != VX_OK) {
+        char what[48];
+        snprintf(what, sizeof what, "model %u's stream", index);
+        vx_error_prefix(err, what);
+    }
+    if (res != VX_OK) vx_error_prefix(err, r->path);
+    else res = reader_decode(r, index, stream, (size_t)len, at, share, true, "since that pass", &m, err);
+    vx_free(r->A, stream);
+    pthread_mutex_lock(&r->lock);
+    r->active_random--;
+    pthread_mutex_unlock(&r->lock);
+    if (res != VX_OK) return res;
     *out = m;
     return VX_OK;
 }
@@ -1350,6 +1420,7 @@ vx_result vx_svo_reader_finish(vx_svo_model_reader* r, vx_error* err) {
     if (r->bounds_form == BOUNDS_COMPUTED) vx__svo_scene_bounds_ext(&r->s, r->ext, r->s.bounds_min, r->s.bounds_max);
     pthread_mutex_lock(&r->lock);
     r->finished = true;
+    r->indexed = true;
     pthread_mutex_unlock(&r->lock);
     return VX_OK;
 }

@@ -27,6 +27,15 @@ if(VX_WITH_VULKAN)
   set_tests_properties(test_compact_page PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
 endif()
+# Paging from files (the file source: pages cut from their models read again
+# from the file, a host cache under a byte budget): the in-memory pager's page
+# table, images and frames, a file cut mid-run (lavapipe in CI).
+if(VX_WITH_VULKAN)
+  vx_add_test(test_compact_page_file SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_page_file.c
+              LIBS vx_render vx_trace vx_svo)
+  set_tests_properties(test_compact_page_file PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+endif()
 # The pass pipeline and the GI methods over a compact scene (trace_common.glsl's
 # COMPACT kernels): the plain layout's images bit for bit, the probe bake's
 # bytes (lavapipe in CI).

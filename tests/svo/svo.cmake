@@ -15,3 +15,7 @@ vx_add_test(svo_pack SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_pack.c LIBS vx
 vx_add_test(svo_light SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_light.c LIBS vx_svo LABELS svo)
 vx_add_test(svo_edit SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_edit.c LIBS vx_svo LABELS svo)
 vx_add_test(svo_reader_rewind SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_reader_rewind.c LIBS vx_svo LABELS svo)
+# The model reader's random access (vx_svo_reader_model): every model read again on its own equals the whole
+# read's, on generated scenes in every NODE form and the corpus .vox scenes.
+vx_add_test(svo_reader_model SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/test_svo_reader_model.c
+            LIBS vx_svo vx_formats vx_convert LABELS svo)

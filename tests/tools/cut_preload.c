@@ -13,7 +13,10 @@
  * deterministically. VX_CUT_FROM = 0 cuts at the first read of the file (a
  * whole read); the NODE section's offset cuts when the model reader takes its
  * first model's stream (the header, the table and the other sections were
- * read at open).
+ * read at open). With VX_CUT_AGAIN=1 the cut waits for the first such call
+ * at an offset that an earlier call on the file already read from: a byte
+ * range read a second time, as svo_render --host-budget reads a page's
+ * model again after the first pass (a cut mid-run, after the pass).
  *
  * Why a preload and not a hook: the library's on_open hook (vx_svo_read_desc)
  * serves its own tests; a tool-level hook would need an environment variable
@@ -35,6 +38,10 @@ typedef ssize_t (*read_fn)(int, void*, size_t);
 typedef size_t (*fread_fn)(void*, size_t, size_t, FILE*);
 
 static bool cut_done; /* one cut per process */
+/* VX_CUT_AGAIN: the offsets the file's reads started at (a test's small
+ * files: a fixed table, further offsets not remembered) */
+static off_t seen[4096];
+static unsigned nseen;
 
 /* Whether fd is the file VX_CUT_PATH names (compared by its resolved path). */
 static bool is_target(int fd, const char** path) {
@@ -56,6 +63,15 @@ static void maybe_cut(int fd, off_t off) {
     const char* from = getenv("VX_CUT_FROM");
     const char* to = getenv("VX_CUT_TO");
     if (!to || (long long)off < (from ? atoll(from) : 0)) return;
+    const char* again = getenv("VX_CUT_AGAIN");
+    if (again && *again == '1') {
+        bool before = false;
+        for (unsigned i = 0; i < nseen && !before; i++) before = seen[i] == off;
+        if (!before) {
+            if (nseen < sizeof seen / sizeof seen[0]) seen[nseen++] = off;
+            return;
+        }
+    }
     cut_done = true;
     if (truncate(path, (off_t)atoll(to)) != 0) _exit(99); /* the test sees a status no tool uses */
 }

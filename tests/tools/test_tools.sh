@@ -184,6 +184,18 @@ if [ -x "$BIN/svo_render" ]; then
     [ -s "$T/lay_g.pfm" ] && cmp -s "$T/lay_g.pfm" "$T/lay_gw.pfm" && ok "paged: --load models == --load whole" ||
         bad "paged: --load models == --load whole"
     grep -q "^note: [1-9][0-9]* pages drawn coarse" "$T/out" && ok "coarse pages noted" || bad "coarse pages noted"
+    # paging from the file (--host-budget: a host cache of 2 KB, pages cut again from their models): the
+    # in-memory pager's image under the same budget, the cache's counts, a fly-through after the image
+    expect_status 0 "svo_render --host-budget" svo_render "$T/demo.svo" "$T/lay_gf.pfm" --layout compact --gpu-budget 20K \
+        --page-level 3 --host-budget 2K --mode albedo --size 48x32 -v --fly 3
+    [ -s "$T/lay_gf.pfm" ] && cmp -s "$T/lay_g.pfm" "$T/lay_gf.pfm" && ok "paged from the file == paged in memory" ||
+        bad "paged from the file == paged in memory"
+    grep -q "^paging from the file: host cache .* of 0.002 MB .*; [1-9][0-9]* pages cut from the file ([1-9][0-9]* model reads)" "$T/out" &&
+        ok "-v states the host cache" || bad "-v states the host cache"
+    grep -q "^fly-through: 3 frames, median .* ms a frame" "$T/out" && ok "--fly times its frames" || bad "--fly times its frames"
+    expect_status 2 "svo_render --host-budget with --load whole" svo_render "$T/demo.svo" "$T/lay_x.png" --load whole --host-budget 1M
+    expect_status 2 "svo_render bad --host-budget" svo_render "$T/demo.svo" "$T/lay_x.png" --host-budget 0
+    expect_status 2 "svo_render --fly with passes" svo_render "$T/demo.svo" "$T/lay_x.png" --passes gbuffer,direct --fly 2
     expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
     # a storage buffer range below the plain words (the helmet at 32768^3 on a 4 GB range, issue 18):
     # auto takes the compact layout, its attributes (about 20 KB) in two buffers, the plain image

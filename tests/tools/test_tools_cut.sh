@@ -1,7 +1,8 @@
 #!/bin/sh
 # tests/tools/test_tools_cut.sh BIN_DIR CUT_PRELOAD SEEDS_DIR - a .svo cut short,
 # at the tools: svo_info, svo_render (the scene read whole, and the model
-# reader of --load models) and svo_bake given (a) a truncated copy of a real
+# reader of --load models, and its pages read from the file again by
+# --host-budget) and svo_bake given (a) a truncated copy of a real
 # file (every NODE form: the reader fuzz seeds and vox2svo's demo; cut inside
 # the header, the section table, the NODE section and before the last byte)
 # and (b) a file that shrinks while the tool reads it (CUT_PRELOAD, an
@@ -41,6 +42,10 @@ PRE=
 info() { $PRE "$BIN/svo_info" "$1" --to-vox "$T/o/x.vox"; }
 render_whole() { $PRE "$BIN/svo_render" "$1" "$T/o/x.png" --size 32x24; }                                  # passes: read whole
 render_models() { $PRE "$BIN/svo_render" "$1" "$T/o/x.png" --size 32x24 --mode albedo --layout compact; } # the model reader
+# paging from the file: pages cut again from their models, read after the first pass (a host cache of 1 KB)
+PAGED="--size 32x24 --mode albedo --layout compact --gpu-budget 1M --page-level 3 --host-budget 1K"
+render_paged() { $PRE "$BIN/svo_render" "$1" "$T/o/x.png" $PAGED; }
+render_paged_again() { $PRE env VX_CUT_AGAIN=1 "$BIN/svo_render" "$1" "$T/o/x.png" $PAGED; }
 bake() { $PRE "$BIN/svo_bake" "$1" "$T/o/x.probes" --grid 2,2,2 --res 16 --spp 1; }
 section() { # file tag -> "offset size"
     "$BIN/svo_info" "$1" | sed -n "s/^  $2  offset *\([0-9]*\)  size *\([0-9]*\) .*/\1 \2/p"
@@ -56,6 +61,10 @@ for f in coded split split_mixed chunked_zstd chunked_deflate chunked_stored; do
 expect_status 0 "demo.svo: svo_info --to-vox" info "$T/demo.svo"
 PRE="env LD_PRELOAD=$CUT"
 expect_status 0 "split.svo: svo_render, models, the preload without a cut" render_models "$SEEDS/split.svo"
+cp "$T/o/x.png" "$T/models.png"
+expect_status 0 "split.svo: svo_render --host-budget, the preload without a cut" render_paged "$SEEDS/split.svo"
+cmp -s "$T/o/x.png" "$T/models.png" && ok "split.svo: --host-budget's image is the whole layout's" ||
+    bad "split.svo: --host-budget's image differs from the whole layout's"
 PRE=
 expect_status 0 "split.svo: svo_bake" bake "$SEEDS/split.svo"
 [ -s "$T/o/x.png" ] && [ -s "$T/o/x.probes" ] && [ -s "$T/o/x.vox" ] && ok "outputs written" || bad "outputs written"
@@ -109,6 +118,10 @@ for f in $forms; do
     cp "$f" "$c"
     during "$n cut during the model reader's read: svo_render (models)" "model [0-9]+'s stream: .*$cut_msg" "$c" \
         "$node" "$half" render_models "$c"
+    # mid-run: after the first pass, when a page's model is read again (VX_CUT_AGAIN: the first byte range read twice)
+    cp "$f" "$c"
+    during "$n cut mid-run, a page's model read again: svo_render --host-budget" "model [0-9]+'s stream: .*$cut_msg" \
+        "$c" "$node" "$half" render_paged_again "$c"
     case $n in demo | split)
         for t in info render_whole bake; do
             cp "$f" "$c"

@@ -54,6 +54,7 @@ typedef struct options {
      * a scene that takes minutes to load (the 65536^3 helmet) is loaded once for both */
     vx_render_camera view2;
     const char* view2_out;
+    uint32_t fly; /* --fly N: a fly-through of N frames after the image (single-shader modes), timed */
 } options;
 
 static const char* prog = "svo_render";
@@ -185,6 +186,14 @@ _Noreturn static void usage(int status) {
             "                       pages are resident; pages that do not fit are drawn coarse (-v says so;\n"
             "                       a paged scene: the single-shader modes only)\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
+            "  --host-budget SIZE   paging from the file (--load models, the compact layout): the layout is\n"
+            "                       paged whatever its size and the host holds its top and a cache of at\n"
+            "                       most SIZE bytes of page images (least recently used out first), not\n"
+            "                       every page image: a page the cache lacks is cut again from its model,\n"
+            "                       read from the file when a frame needs it (default: 0, the pages cut from\n"
+            "                       the whole layout in memory; -v gives the cache's counts)\n"
+            "  --fly N              after the image, N frames of a fly-through around the scene (the camera\n"
+            "                       at three distances), each timed; -v prints a line a frame (paging too)\n"
             "  --buffer-range SIZE  bytes one storage buffer may hold (default: the device's\n"
             "                       maxStorageBufferRange, 4G on NVIDIA); the compact attributes past it\n"
             "                       go to several buffers (single-shader modes only; -v says how many)\n"
@@ -445,6 +454,70 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
     return r;
 }
 
+/* -v: the file source's host cache (--host-budget) */
+static void print_host_cache(const vx_render_page_stats* ps) {
+    printf("paging from the file: host cache %.3f MB of %.3f MB (peak %.3f MB); %llu pages cut from the file (%llu "
+           "model reads), %llu from the cache, %llu evicted from it\n",
+           ps->host_bytes / 1e6, ps->host_budget / 1e6, ps->host_peak_bytes / 1e6, (unsigned long long)ps->file_pages,
+           (unsigned long long)ps->file_models, (unsigned long long)ps->host_hits, (unsigned long long)ps->host_evictions);
+}
+
+/* --fly N: frames of a camera around the scene's centre at three distances,
+ * looking at points near it (compact_bench --fly's path), each timed: the
+ * wall time of vx_render_frame (a paged scene's page service, the trace,
+ * the image read back) and the GPU's. */
+static vx_result fly_frames(const options* o, vx_render_scene* rs, const vx_svo_scene* scene, bool paged, vx_error* err) {
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(scene, lo, hi);
+    double* ms = calloc(2 * (size_t)o->fly, sizeof *ms);
+    if (!ms) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    double* gpu_ms = ms + o->fly;
+    vx_result r = VX_OK;
+    uint64_t coarse = 0;
+    for (uint32_t f = 0; !r && f < o->fly; f++) {
+        vx_render_desc d = o->r;
+        double u = (double)f / o->fly, a = 6.2831853 * u, dist = 0.35 + 0.5 * (0.5 + 0.5 * cos(3 * a));
+        d.camera.set = true;
+        d.want_hits = false;
+        for (int k = 0; k < 3; k++) {
+            double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+            d.camera.target[k] = mid + 0.1 * ext * sin(a + k);
+            d.camera.eye[k] = mid + dist * ext * (k == 1 ? 0.4 : (k == 0 ? cos(a) : sin(a)));
+        }
+        vx_render_image img = {0};
+        double t0 = vx_time_now();
+        r = vx_render_frame(rs, &d, &img, err);
+        ms[f] = (vx_time_now() - t0) * 1e3, gpu_ms[f] = img.gpu_seconds * 1e3;
+        vx_render_image_free(&img);
+        vx_render_page_stats ps = {0};
+        vx_render_scene_page_stats(rs, &ps);
+        coarse += ps.coarse;
+        if (!r && o->verbose && paged)
+            printf("fly %u: %.2f ms (%.3f ms GPU); pages: %u coarse, %u loaded, %u evicted, %u refused, %u resident; "
+                   "host cache %.3f MB, %llu cut from the file so far\n",
+                   f, ms[f], gpu_ms[f], ps.coarse, ps.loaded, ps.evicted, ps.refused, ps.resident, ps.host_bytes / 1e6,
+                   (unsigned long long)ps.file_pages);
+        else if (!r && o->verbose)
+            printf("fly %u: %.2f ms (%.3f ms GPU)\n", f, ms[f], gpu_ms[f]);
+        if (o->verbose) fflush(stdout); /* a run stopped by a time limit keeps its lines */
+    }
+    if (!r) {
+        qsort(ms, o->fly, sizeof *ms, cmp_double);
+        qsort(gpu_ms, o->fly, sizeof *gpu_ms, cmp_double);
+        printf("fly-through: %u frames, median %.2f ms a frame (min %.2f, max %.2f; GPU median %.3f ms)", o->fly,
+               ms[o->fly / 2], ms[0], ms[o->fly - 1], gpu_ms[o->fly / 2]);
+        if (paged) printf(", %llu pages drawn coarse in all", (unsigned long long)coarse);
+        printf(", peak host memory %s\n", vx_tool_bytes(vx_peak_rss()));
+        if (paged && o->verbose) {
+            vx_render_page_stats ps = {0};
+            vx_render_scene_page_stats(rs, &ps);
+            if (ps.from_file) print_host_cache(&ps);
+        }
+    }
+    free(ms);
+    return r;
+}
+
 /* --frames N: the same frame again, for its times (the last image is left in *img). */
 /* -v: the share of pixels that hit geometry, from a frame rendered with its hits */
 static void print_hit_share(const vx_render_image* img) {
@@ -608,6 +681,13 @@ int main(int argc, char** argv) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
                 usage_error("bad --gpu-budget value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
+        } else if (!strcmp(a, "--host-budget")) {
+            NEED();
+            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.host_budget) || !o.scene_desc.host_budget)
+                usage_error("bad --host-budget value '%s' (bytes, e.g. 64M)", argv[i]);
+        } else if (!strcmp(a, "--fly")) {
+            NEED();
+            if (!parse_uint(argv[++i], &o.fly) || !o.fly || o.fly > 100000) usage_error("bad --fly '%s' (frames)", argv[i]);
         } else if (!strcmp(a, "--max-memory")) {
             NEED();
             if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
@@ -877,6 +957,11 @@ int main(int argc, char** argv) {
     vx_svo_model_reader* rd = NULL;
     bool by_models = o.load_models && !mpi && !o.cpu && !o.probe_mode && !pipeline && !o.voxel_lights && !o.probes &&
                      o.scene_desc.layout != VX_RENDER_LAYOUT_PLAIN; /* over --gpu-budget: paged from the layout */
+    if (o.scene_desc.host_budget && !by_models)
+        usage_error("%s", "--host-budget pages the compact layout from the file: with --load models in the GPU "
+                          "single-shader modes (not --layout plain, passes, probes, --cpu or --voxel-lights)");
+    if (o.fly && (o.sequence || pipeline || o.cpu || o.probe_mode || mpi))
+        usage_error("%s", "--fly: the GPU single-shader modes (not passes, a sequence, --cpu or the probe modes)");
     if (by_models ? vx_svo_reader_open(&(vx_svo_read_desc){.alloc = A}, o.in, &rd, &err) ||
                         vx_svo_reader_copy_graph(rd, A, &owned, &err)
                   : vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err)) {
@@ -1020,7 +1105,8 @@ int main(int argc, char** argv) {
          * runs here too, before the device (after it, the H200's clock fell to 345 MHz for the frames:
          * 3.35 ms against 0.68, branch rdr2's batch 1) */
         vx_compact_scene built;
-        bool have_built = false;
+        vx_compact_paged paged; /* --host-budget: the file source's top and page table */
+        bool have_built = false, have_paged = false;
         double built_s = 0, tb = vx_time_now();
         r = VX_OK;
         vx_gpu_desc gd = {.device = o.device, .validate = o.validate, .logger = &logger};
@@ -1029,7 +1115,8 @@ int main(int argc, char** argv) {
             vx_render_layout lay = o.scene_desc.layout;
             bool auto_bricks = o.scene_desc.compact_bricks == VX_RENDER_BRICKS_AUTO;
             uint64_t budget = o.scene_desc.memory_budget;
-            if (lay == VX_RENDER_LAYOUT_AUTO || (auto_bricks && !budget && lay == VX_RENDER_LAYOUT_COMPACT)) {
+            bool from_file = o.scene_desc.host_budget != 0; /* pages keep their bricks in blocks: no brick choice */
+            if (lay == VX_RENDER_LAYOUT_AUTO || (auto_bricks && !from_file && !budget && lay == VX_RENDER_LAYOUT_COMPACT)) {
                 r = vx_gpu_create(&gd, &gpu, &err);
                 if (!r && lay == VX_RENDER_LAYOUT_AUTO)
                     r = vx_render_scene_choose_layout(gpu, vx_svo_reader_scene(rd), &o.scene_desc, &lay, &err);
@@ -1037,7 +1124,11 @@ int main(int argc, char** argv) {
                 vx_gpu_destroy(gpu);
                 gpu = NULL;
             }
-            if (!r && lay == VX_RENDER_LAYOUT_COMPACT) {
+            if (!r && lay == VX_RENDER_LAYOUT_COMPACT && from_file) {
+                r = vx_render_page_build_reader(rd, &o.scene_desc, &paged, &err);
+                have_paged = !r;
+                built_s = vx_time_now() - tb;
+            } else if (!r && lay == VX_RENDER_LAYOUT_COMPACT) {
                 vx_compact_desc cd = {.attr_regions = true,
                                       .bricks = o.scene_desc.compact_bricks == VX_RENDER_BRICKS_DICT
                                                     ? VX_COMPACT_BRICKS_DICT
@@ -1059,19 +1150,22 @@ int main(int argc, char** argv) {
                 r = vx_svo_read_file(&(vx_svo_read_desc){.alloc = A}, o.in, &owned, &err);
                 if (!r) vx_svo_scene_frame(&owned, o.frame_first, &scene);
                 if (o.verbose && !r)
-                    printf("note: the layout is plain: the scene was read whole in %.3f s, peak host memory %s\n",
-                           vx_time_now() - tr, vx_tool_bytes(vx_peak_rss()));
+                    printf("note: the layout is plain: the scene was read whole in %.3f s, peak host memory %s%s\n",
+                           vx_time_now() - tr, vx_tool_bytes(vx_peak_rss()),
+                           o.scene_desc.host_budget ? " (--host-budget: nothing paged)" : "");
             }
         }
         if (!r) r = vx_gpu_create(&gd, &gpu, &err);
         if (r && have_built) vx_compact_free(&built), have_built = false;
+        if (r && have_paged) vx_compact_paged_free(&paged), have_paged = false;
         if (!r) {
             printf("device: %s%s\n", vx_gpu_device_name(gpu), vx_gpu_is_cpu(gpu) ? " (software)" : "");
             /* the whole animation: its models, and a camera that frames every frame */
-            double t1 = have_built ? tb : vx_time_now();
+            double t1 = have_built || have_paged ? tb : vx_time_now();
             if (rd) {
-                r = have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &sdesc, &rs, &err)
-                               : vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
+                r = have_paged  ? vx_render_scene_create_paged(gpu, rd, &paged, built_s, &sdesc, &rs, &err)
+                    : have_built ? vx_render_scene_create_compact(gpu, rd, &built, built_s, &sdesc, &rs, &err)
+                                 : vx_render_scene_create_reader(gpu, rd, &o.scene_desc, &rs, &err);
                 if (!r) { /* the bounds (where the reader computes them) and the cells' boxes, known now */
                     const vx_svo_scene* g = vx_svo_reader_scene(rd);
                     memcpy(owned.bounds_min, g->bounds_min, sizeof owned.bounds_min);
@@ -1079,8 +1173,10 @@ int main(int argc, char** argv) {
                     for (uint32_t i = 0; i < owned.model_count; i++) owned.models[i].check = g->models[i].check;
                     vx_svo_scene_frame(&owned, o.frame_first, &scene);
                 }
-                vx_svo_reader_close(rd);
-                rd = NULL;
+                if (!have_paged) { /* the file source reads pages from it until the scene is destroyed */
+                    vx_svo_reader_close(rd);
+                    rd = NULL;
+                }
             } else {
                 r = vx_render_scene_create_ex(gpu, &owned, &o.scene_desc, &rs, &err);
             }
@@ -1096,7 +1192,11 @@ int main(int argc, char** argv) {
                    vx_render_layout_name(li.layout), li.brick_dict ? " (brick dictionary)" : "", li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
-            if (li.compact_bytes && by_models)
+            if (li.compact_bytes && have_paged)
+                printf("compact: paged from the file (the models' own layouts %.3f MB): its top and page table built "
+                       "model by model in %.3f s, the top and pool made in %.3f s\n",
+                       li.compact_bytes / 1e6, li.build_seconds, li.upload_seconds);
+            else if (li.compact_bytes && by_models)
                 printf("compact: geometry %.3f MB, attributes %.3f MB; built model by model from the file in %.3f s%s (the "
                        "models read, their geometry and attributes on %u threads %.3f s, the regions placed %.3f s), "
                        "tables and upload %.3f s\n",
@@ -1159,7 +1259,9 @@ int main(int argc, char** argv) {
                            ps.pool_bytes / 1e6, ps.top_bytes / 1e6, ps.coarse, ps.refused, ps.refused_bytes / 1e6);
                 else if (ps.coarse)
                     printf("note: %u pages drawn coarse: they do not fit --gpu-budget (-v says more)\n", ps.coarse);
+                if (o.verbose && ps.from_file) print_host_cache(&ps);
             }
+            if (!r && o.fly) r = fly_frames(&o, rs, &scene, li.pages != 0, &err);
             if (!r) r = timed_frames(&o, rs, !vx_gpu_is_cpu(gpu), &img, &err);
             if (!r && o.view2_out) {
                 /* the second view: its share of hits, its frames, its image */

@@ -1,0 +1,427 @@
+/* tests/render/test_compact_page_file.c - paging from files (issue 18: the
+ * file source, render/compact_page.c vx_compact_page_build_reader and the
+ * host cache; render/compact_gpu.c's service through it), on lavapipe.
+ *
+ * The scene is written to a file (range-coded and split NODE forms). From
+ * a model reader, the paged layout's page table equals the one cut from the
+ * whole layout in memory (each page's model, cube, cells, size and mean
+ * colour), and every page image the host cache hands out, cut from its
+ * model read again from the file, equals the in-memory cut's word for word,
+ * also after the cache's byte budget evicted it and it was cut again. On
+ * the GPU, a fly-through with the file source (a host budget of a third of
+ * the pages' bytes, a pool of a quarter) renders the in-memory pager's
+ * frames pixel for pixel (instance, cell, t bits, colour, flags) and the
+ * same page counts frame by frame; at a still close-up both converge to
+ * the whole layout's image; all resident pages evicted come back (from the
+ * cache or the file) to the same image. Through the render scene
+ * (vx_render_scene_create_reader with host_budget): the frames of
+ * create_ex's in-memory pager under the same budget, frame by frame; a file
+ * cut short mid-run fails the next frame that needs a page from it
+ * (VX_ERR_TRUNCATED naming the file), again on the next frame, never a
+ * crash, and the scene is destroyed cleanly. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "render/compact.h"
+#include "render/render_internal.h"
+#include "tests/gpu_test.h"
+#include "tests/render/scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+static char g_dir[64];
+
+static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const char* what) {
+    uint32_t wrong = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
+        const vx_render_hit *x = &a->hits[i], *y = &b->hits[i];
+        bool same = x->instance == y->instance && !memcmp(&a->pixels[4 * i], &b->pixels[4 * i], 16) &&
+                    x->flags == y->flags;
+        if (x->instance != VX_RENDER_NO_HIT)
+            same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
+        if (!same && wrong++ < 3)
+            fprintf(stderr, "  %s pixel %zu: instance %u cell (%u %u %u) rgb %.4f flags %u; file %u (%u %u %u) rgb %.4f flags %u\n",
+                    what, i, x->instance, x->cell[0], x->cell[1], x->cell[2], a->pixels[4 * i], x->flags, y->instance,
+                    y->cell[0], y->cell[1], y->cell[2], b->pixels[4 * i], y->flags);
+    }
+    return wrong;
+}
+
+static vx_render_desc view(const double lo[3], const double hi[3], double u, bool close) {
+    vx_render_desc d = {.width = 96, .height = 64, .mode = VX_RENDER_ALBEDO, .want_hits = true};
+    d.camera.set = true;
+    d.camera.fov = close ? 40 : 60;
+    for (int k = 0; k < 3; k++) {
+        double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
+        double a = 6.2831853 * u + k;
+        d.camera.target[k] = mid + (close ? 0.1 * ext * cos(a) : 0.0);
+        d.camera.eye[k] = mid + (close ? 0.35 : 1.2) * ext * (k == 1 ? 0.6 : cos(a + 1.3 * k));
+    }
+    return d;
+}
+
+/* A sphere shell with RGBA colours (gradients and noise: delta blocks). */
+static vx_result shell_model(vx_svo_model* m, uint32_t n3, uint32_t seed) {
+    size_t n = 0, cap = (size_t)n3 * n3 * n3;
+    uint64_t* keys = malloc(cap * 8);
+    uint32_t* rgba = malloc(cap * 4);
+    vx_result r = VX_ERR_NOMEM;
+    if (keys && rgba) {
+        double c = n3 / 2.0, r0 = n3 * 0.45, r1 = n3 * 0.35;
+        for (uint32_t z = 0; z < n3; z++)
+            for (uint32_t y = 0; y < n3; y++)
+                for (uint32_t x = 0; x < n3; x++) {
+                    double q = (x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c);
+                    if (q < r0 * r0 && q > r1 * r1 && ts_rng(&seed) % 5) {
+                        keys[n] = vx_svo_morton(x, y, z);
+                        rgba[n++] = 0xFF000000u | (x * 4 & 0xFFu) | ((y * 4 & 0xFFu) << 8) | ((z * 4 & 0xFFu) << 16) |
+                                    (ts_rng(&seed) & 0x070707u);
+                    }
+                }
+        vx_error err = {0};
+        vx_svo_voxels v = {.size = {n3, n3, n3}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+        r = vx_svo_build_model(NULL, &v, m, NULL, &err);
+    }
+    free(keys);
+    free(rgba);
+    return r;
+}
+
+/* Four models (an RGBA shell, random palette models, one small enough to
+ * stay in the top at level 4), five instances, two rotated. */
+static void make_scene(vx_svo_scene* s) {
+    vx_svo_model m[4];
+    REQUIRE(shell_model(&m[0], 64, 3) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 48, 40, 44, 30, 2) == VX_OK);
+    REQUIRE(ts_random_model(&m[2], 20, 20, 20, 50, 5) == VX_OK);
+    REQUIRE(ts_random_model(&m[3], 12, 9, 14, 40, 8) == VX_OK);
+    static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};
+    vx_svo_instance in[6] = {ts_inst(0, NULL, 0, 0, 0),       ts_inst(1, rot, 90, 10, 0),  ts_inst(0, rot, -80, 20, 40),
+                             ts_inst(2, NULL, 10, 80, -30), ts_inst(1, NULL, 30, -70, 20), ts_inst(3, NULL, -40, -40, -40)};
+    ts_scene(s, m, 4, in, 6);
+}
+
+static bool same_page(const vx_compact_page* a, const vx_compact_page* b) {
+    return a->model == b->model && !memcmp(a->cube, b->cube, sizeof a->cube) && a->first == b->first && a->cells == b->cells &&
+           a->rgba == b->rgba && a->slots == b->slots && a->n3 == b->n3 && a->words == b->words;
+}
+
+/* The file source's table and images against the in-memory cut, on the CPU. */
+static void check_images(const vx_svo_scene* s, const char* path, uint32_t lp, const char* what) {
+    vx_error err = {0};
+    vx_compact_scene c;
+    vx_compact_paged pm, pf;
+    REQUIRE(vx_compact_build(NULL, s, &c, &err) == VX_OK);
+    REQUIRE(vx_compact_page_build(&c, lp, NULL, &pm, &err) == VX_OK);
+    vx_svo_model_reader* rd = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    vx_result r = vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp}, rd, &pf, &err);
+    CHECKF(r == VX_OK, "%s: %s", what, err.msg);
+    if (r) goto out;
+    CHECK(pf.data == NULL && pf.reader == rd && pf.max_page_words == pm.max_page_words && pf.model_count == pm.model_count);
+    CHECKF(pf.page_count == pm.page_count && pm.page_count > 8, "%s: %u pages from the file, %u in memory", what,
+           pf.page_count, pm.page_count);
+    uint32_t bad = 0;
+    for (uint32_t k = 0; k < pm.page_count && k < pf.page_count; k++) bad += !same_page(&pm.pages[k], &pf.pages[k]);
+    for (uint32_t i = 0; i < pm.model_count; i++) {
+        const vx_compact_model *a = &pm.models[i], *b = &pf.models[i];
+        bad += a->depth != b->depth || a->voxels != b->voxels || a->attr_kind != b->attr_kind || a->block != b->block ||
+               a->attr_words != b->attr_words;
+    }
+    CHECKF(bad == 0, "%s: %u pages or models differ from the in-memory cut", what, bad);
+    CHECK(!memcmp(pf.palette_used, c.palette_used, sizeof c.palette_used));
+    /* the models cut on one thread and on three: the same top and table (the parts merged in model order) */
+    for (uint32_t t = 1; t <= 3; t += 2) {
+        vx_svo_model_reader* r2 = NULL;
+        vx_compact_paged pt;
+        REQUIRE(vx_svo_reader_open(NULL, path, &r2, &err) == VX_OK);
+        REQUIRE(vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp, .threads = t}, r2, &pt, &err) == VX_OK);
+        uint32_t pd = 0;
+        for (uint32_t k = 0; k < pf.page_count && k < pt.page_count; k++)
+            pd += !same_page(&pt.pages[k], &pf.pages[k]) || pt.pages[k].top_slot != pf.pages[k].top_slot;
+        CHECKF(pt.top_words == pf.top_words && !memcmp(pt.top, pf.top, 4ull * pf.top_words) && pt.page_count == pf.page_count &&
+                   !pd && !memcmp(pt.models, pf.models, pf.model_count * sizeof *pf.models),
+               "%s: the top cut on %u threads differs (%u of %u words, %u pages)", what, t, pt.top_words, pf.top_words, pd);
+        vx_compact_paged_free(&pt);
+        vx_svo_reader_close(r2);
+    }
+    /* the images through a cache of a third of their bytes: shuffled, in batches, twice */
+    uint64_t bytes = 4 * pm.data_words;
+    vx_compact_page_cache* pc = NULL;
+    REQUIRE(vx_compact_page_cache_create(&pf, bytes / 3, NULL, &pc, &err) == VX_OK);
+    uint32_t n = pm.page_count, seed = 5;
+    uint32_t* order = malloc(2 * n * sizeof *order);
+    uint32_t** dst = malloc(2 * n * sizeof *dst);
+    REQUIRE(order && dst);
+    for (uint32_t k = 0; k < 2 * n; k++) order[k] = k % n;
+    for (uint32_t k = 2 * n; k > 1; k--) {
+        uint32_t j = ts_rng(&seed) % k, t = order[k - 1];
+        order[k - 1] = order[j], order[j] = t;
+    }
+    uint32_t wrong = 0;
+    for (uint32_t at = 0; at < 2 * n && !r;) {
+        uint32_t batch = 1 + ts_rng(&seed) % 7;
+        if (batch > 2 * n - at) batch = 2 * n - at;
+        /* a page once per batch (as the service asks) */
+        uint32_t nb = 0;
+        for (uint32_t i = 0; i < batch; i++) {
+            bool dup = false;
+            for (uint32_t j = 0; j < nb; j++) dup = dup || order[at + j] == order[at + i];
+            if (!dup) order[at + nb++] = order[at + i];
+        }
+        for (uint32_t i = 0; i < nb; i++) dst[i] = calloc(pm.pages[order[at + i]].words, 4);
+        r = vx_compact_page_cache_get(pc, order + at, nb, dst, &err);
+        CHECKF(r == VX_OK, "%s: %s", what, err.msg);
+        for (uint32_t i = 0; i < nb; i++) {
+            const vx_compact_page* pg = &pm.pages[order[at + i]];
+            if (!r && memcmp(dst[i], pm.data + pg->offset, 4ull * pg->words) && wrong++ < 3)
+                fprintf(stderr, "  %s: page %u's image differs from the in-memory cut's\n", what, order[at + i]);
+            free(dst[i]);
+        }
+        at += batch;
+    }
+    vx_compact_cache_stats cs;
+    vx_compact_page_cache_stats(pc, &cs);
+    CHECKF(wrong == 0, "%s: %u images differ", what, wrong);
+    CHECKF(cs.evictions > 0 && cs.hits > 0 && cs.file_pages > n && cs.peak_bytes <= bytes / 3 && cs.models > 0,
+           "%s: cache %llu hits, %llu cut from the file (%llu models), %llu evictions, peak %llu of %llu", what,
+           (unsigned long long)cs.hits, (unsigned long long)cs.file_pages, (unsigned long long)cs.models,
+           (unsigned long long)cs.evictions, (unsigned long long)cs.peak_bytes, (unsigned long long)(bytes / 3));
+    printf("  %s, level %u: %u pages (%.1f KB), top %.1f KB (in memory %.1f KB); cache of %.1f KB: %llu hits, %llu "
+           "cut from the file (%llu model reads), %llu evictions\n",
+           what, lp, n, bytes / 1e3, pf.top_words * 4e-3, pm.top_words * 4e-3, bytes / 3e3, (unsigned long long)cs.hits,
+           (unsigned long long)cs.file_pages, (unsigned long long)cs.models, (unsigned long long)cs.evictions);
+    /* a page past the table: refused */
+    uint32_t none = n, *d0 = dst[0];
+    CHECK(vx_compact_page_cache_get(pc, &none, 1, &d0, &err) == VX_ERR_INVALID_ARG);
+    free(order);
+    free(dst);
+    vx_compact_page_cache_destroy(pc);
+    vx_compact_paged_free(&pf);
+out:
+    vx_svo_reader_close(rd);
+    vx_compact_paged_free(&pm);
+    vx_compact_free(&c);
+}
+
+static void test_images(void) {
+    vx_svo_scene s;
+    make_scene(&s);
+    static const struct {
+        const char* name;
+        vx_write_desc d;
+    } forms[] = {{"range-coded", {0}}, {"split", {.testing.split_words = 1}}};
+    for (size_t f = 0; f < 2; f++) {
+        char path[128];
+        snprintf(path, sizeof path, "%s/img%zu.svo", g_dir, f);
+        vx_error err = {0};
+        REQUIRE(vx_svo_write_file(&forms[f].d, &s, path, &err) == VX_OK);
+        check_images(&s, path, 4, forms[f].name);
+        check_images(&s, path, 3, forms[f].name);
+    }
+    vx_svo_scene_free(&s);
+}
+
+/* The in-memory pager and the file source side by side on the GPU. */
+static void test_fly(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_scene s;
+    make_scene(&s);
+    char path[128];
+    snprintf(path, sizeof path, "%s/fly.svo", g_dir);
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
+    const uint32_t lp = 4;
+    vx_render_scene* rs = NULL;
+    vx_compact_scene c;
+    vx_compact_paged pm, pf;
+    vx_compact_gpu *full = NULL, *cm = NULL, *cf = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+            VX_OK);
+    REQUIRE(vx_compact_build(NULL, &s, &c, &err) == VX_OK);
+    REQUIRE(vx_compact_gpu_create(rs, &s, &c, &full, &err) == VX_OK);
+    REQUIRE(vx_compact_page_build(&c, lp, NULL, &pm, &err) == VX_OK);
+    vx_svo_model_reader* rd = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp}, rd, &pf, &err) == VX_OK);
+    uint64_t page_bytes = 4 * pm.data_words, pool = page_bytes / 4, host = page_bytes / 3;
+    uint32_t npages = pm.page_count;
+    if (pool < 4ull * pm.max_page_words) pool = 4ull * pm.max_page_words;
+    REQUIRE(vx_compact_gpu_create_paged(rs, &s, &pm, pool, &cm, &err) == VX_OK);
+    REQUIRE(vx_compact_gpu_create_paged_ex(rs, vx_svo_reader_scene(rd), &pf, pool, host, &cf, &err) == VX_OK);
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    uint32_t wrong = 0, stats_differ = 0, coarse = 0;
+    vx_result r = VX_OK;
+    for (int f = 0; f < 16 && !r; f++) {
+        vx_render_desc d = view(lo, hi, f / 16.0, f % 4 != 0);
+        vx_render_image a = {0}, b = {0};
+        r = vx_compact_gpu_frame(cm, &d, &a, &err);
+        if (!r) r = vx_compact_gpu_frame(cf, &d, &b, &err);
+        CHECKF(r == VX_OK, "frame %d: %s", f, err.msg);
+        if (!r) {
+            char what[32];
+            snprintf(what, sizeof what, "frame %d", f);
+            wrong += differ(&a, &b, what);
+            vx_compact_page_stats sa, sb;
+            vx_compact_gpu_page_stats(cm, &sa);
+            vx_compact_gpu_page_stats(cf, &sb);
+            stats_differ += sa.coarse != sb.coarse || sa.loaded != sb.loaded || sa.evicted != sb.evicted ||
+                            sa.resident != sb.resident || sa.refused != sb.refused || sa.used_bytes != sb.used_bytes;
+            coarse += sb.coarse;
+            CHECK(!sa.from_file && sb.from_file && sb.host_bytes <= host && sb.host_peak_bytes <= host);
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+    vx_compact_page_stats sf;
+    vx_compact_gpu_page_stats(cf, &sf);
+    CHECKF(wrong == 0 && stats_differ == 0, "fly-through: %u pixels and %u frames' page counts differ from the in-memory pager's",
+           wrong, stats_differ);
+    CHECKF(coarse > 0 && sf.host_evictions > 0 && sf.file_pages > 0, "fly-through: %u coarse, %llu host evictions, %llu cut",
+           coarse, (unsigned long long)sf.host_evictions, (unsigned long long)sf.file_pages);
+    printf("  fly-through, %u pages (%.1f KB), pool %.1f KB, host cache %.1f KB: %llu pages cut from the file (%llu model "
+           "reads), %llu from the cache, %llu evicted from it, peak %.1f KB\n",
+           npages, page_bytes / 1e3, pool / 1e3, host / 1e3, (unsigned long long)sf.file_pages,
+           (unsigned long long)sf.file_models, (unsigned long long)sf.host_hits, (unsigned long long)sf.host_evictions,
+           sf.host_peak_bytes / 1e3);
+    /* still: both converge to the whole layout's image; then every resident page out, back to the same image */
+    vx_render_desc d = view(lo, hi, 0.3, true);
+    d.width = 48, d.height = 32, d.camera.fov = 16;
+    vx_render_image ref = {0}, img = {0};
+    REQUIRE(vx_compact_gpu_frame(full, &d, &ref, &err) == VX_OK);
+    for (int round = 0; round < 2 && !r; round++) {
+        vx_compact_page_stats st = {0};
+        int f = 0;
+        for (; f < 24; f++) {
+            vx_render_image_free(&img);
+            if ((r = vx_compact_gpu_frame(cf, &d, &img, &err))) break;
+            vx_compact_gpu_page_stats(cf, &st);
+            if (st.coarse == 0 && st.loaded == 0) break;
+        }
+        CHECKF(r == VX_OK, "%s", err.msg);
+        uint32_t w = differ(&ref, &img, "whole layout");
+        CHECKF(st.coarse == 0 && w == 0, "round %d: after %d frames %u coarse, %u pixels differ from the whole layout's", round,
+               f + 1, st.coarse, w);
+        printf("  still close-up, round %d: converged in %d frames, %u resident; %llu cut from the file, %llu from the cache\n",
+               round, f + 1, st.resident, (unsigned long long)st.file_pages, (unsigned long long)st.host_hits);
+        if (round == 0)
+            for (uint32_t k = 0; k < npages; k++)
+                if (vx_compact_gpu_page_slot(cf, k) >= 0) REQUIRE(vx_compact_gpu_page_evict(cf, k, &err) == VX_OK);
+    }
+    vx_render_image_free(&img);
+    vx_render_image_free(&ref);
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    vx_compact_gpu_destroy(cf);
+    vx_compact_gpu_destroy(cm);
+    vx_compact_gpu_destroy(full);
+    vx_compact_paged_free(&pm);
+    vx_compact_paged_free(&pf);
+    vx_svo_reader_close(rd);
+    vx_compact_free(&c);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
+/* Through the render scene: create_reader with host_budget against
+ * create_ex's in-memory pager under the same budget; then the file cut. */
+static void test_render_scene(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    vx_svo_scene s;
+    make_scene(&s);
+    char path[128];
+    snprintf(path, sizeof path, "%s/rs.svo", g_dir);
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
+    vx_render_scene *rc = NULL, *rm = NULL, *rf = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc, &err) ==
+            VX_OK);
+    vx_render_layout_info lc, lm, lf;
+    vx_render_scene_layout(rc, &lc);
+    uint64_t budget = lc.compact_bytes / 2;
+    vx_render_scene_desc dm = {.memory_budget = budget, .page_level = 4, .compact_bricks = VX_RENDER_BRICKS_INLINE};
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &dm, &rm, &err) == VX_OK);
+    vx_svo_model_reader* rd = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    vx_render_scene_desc df = dm;
+    df.host_budget = 16000;
+    vx_result r = vx_render_scene_create_reader(gpu, rd, &df, &rf, &err);
+    CHECKF(r == VX_OK, "file source: %s", err.msg);
+    if (r) goto out;
+    vx_render_scene_layout(rm, &lm);
+    vx_render_scene_layout(rf, &lf);
+    CHECKF(lm.pages > 8 && lf.pages == lm.pages && lf.page_level == 4 && lf.compact_bytes >= lc.compact_bytes &&
+               lf.bytes <= budget,
+           "pages %u / %u, level %u, %llu bytes of %llu", lm.pages, lf.pages, lf.page_level, (unsigned long long)lf.bytes,
+           (unsigned long long)budget);
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    uint32_t wrong = 0;
+    vx_render_page_stats sm = {0}, sf = {0};
+    for (int f = 0; f < 12 && !r; f++) {
+        vx_render_desc d = view(lo, hi, f / 12.0, f % 3 != 0);
+        vx_render_image a = {0}, b = {0};
+        r = vx_render_frame(rm, &d, &a, &err);
+        if (!r) r = vx_render_frame(rf, &d, &b, &err);
+        CHECKF(r == VX_OK, "frame %d: %s", f, err.msg);
+        if (!r) {
+            char what[32];
+            snprintf(what, sizeof what, "render scene frame %d", f);
+            wrong += differ(&a, &b, what);
+            vx_render_scene_page_stats(rm, &sm);
+            vx_render_scene_page_stats(rf, &sf);
+            CHECK(sm.coarse == sf.coarse && sm.resident == sf.resident && sf.from_file && !sm.from_file);
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+    CHECKF(wrong == 0, "%u pixels differ from create_ex's pager", wrong);
+    printf("  render scene, budget %.1f KB, host %.1f KB: %u pages; %llu cut from the file, %llu from the cache, host peak "
+           "%.1f KB\n",
+           budget / 1e3, df.host_budget / 1e3, lf.pages, (unsigned long long)sf.file_pages, (unsigned long long)sf.host_hits,
+           sf.host_peak_bytes / 1e3);
+    /* the file cut short mid-run: the next frame that needs a page from it fails naming the file, and again */
+    {
+        struct stat st;
+        REQUIRE(stat(path, &st) == 0 && truncate(path, 64) == 0);
+        int failed = 0;
+        for (int f = 0; f < 24 && failed < 2; f++) {
+            vx_render_desc d = view(lo, hi, 0.05 + f / 24.0, f % 2);
+            vx_render_image b = {0};
+            vx_result fr = vx_render_frame(rf, &d, &b, &err);
+            if (fr) {
+                CHECKF(fr == VX_ERR_TRUNCATED && strstr(err.msg, path) && strstr(err.msg, "cut short"), "%d: %s", (int)fr,
+                       err.msg);
+                failed++;
+            }
+            vx_render_image_free(&b);
+        }
+        CHECKF(failed == 2, "the cut file failed %d frames", failed);
+    }
+out:
+    vx_render_scene_destroy(rf);
+    vx_svo_reader_close(rd);
+    vx_render_scene_destroy(rm);
+    vx_render_scene_destroy(rc);
+    vx_svo_scene_free(&s);
+}
+
+int main(void) {
+    snprintf(g_dir, sizeof g_dir, "/tmp/vx_pagefileXXXXXX");
+    if (!mkdtemp(g_dir)) return 1;
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
+    RUN(test_images);
+    RUN(test_fly);
+    RUN(test_render_scene);
+    vx_gpu_destroy(gpu);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", g_dir);
+    return vx_test_finish();
+}
