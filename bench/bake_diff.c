@@ -29,7 +29,7 @@
 
 static int usage(void) {
     fprintf(stderr, "usage: bake_diff FILE.svo [--grid X,Y,Z] [--res N] [--spp N] [--device NAME] [--max N] "
-                    "[--kernel inline|one]\n");
+                    "[--kernel inline|one] [--seed-m N]\n");
     return 2;
 }
 
