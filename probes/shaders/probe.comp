@@ -43,6 +43,12 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #define PT_PREC precise
 #define WALK_PRECISE
 #endif
+// CELL_HITS (trace_common.glsl): the bake's walks find their hits in cell-level leaves, so that the plain and
+// the compact layout's bakes give the same bytes (a leaf of the plain layout can be a cube of cells that the
+// compact geometry cuts otherwise; issue 18, branch bakex). Not in the render passes' kernel (PT_PRECISE).
+#ifndef PT_PRECISE
+#define CELL_HITS
+#endif
 // BEAM (constant 5, trace_common.glsl): the bake's camera rays start their walk at their texel
 // block's distance from probe_beam.comp (binding 11), where BEAM > 1 (the block side in texels)
 #define TRACE_BEAM

@@ -260,6 +260,21 @@ float g_tskip = 0.0;
 #endif
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
+
+// CELL_HITS (probe.comp's bake kernels, float variant): a hit is found in a cell-level leaf in every
+// layout. The plain layout's leaves can be whole cubes of cells (a subtree of one colour), the compact
+// layout's geometry is cut by other rules (its 4^3 bricks hold single cells; colours do not split it),
+// so the same solid cube is one leaf in one layout and a subtree in the other; where a ray meets it
+// within float rounding of an edge (the walk's crossing times lose 2^(depth - 23) of a cell), the
+// leaf's hit and the subtree's walk picked different cells, faces or distances (issue 18: svo_bake
+// --load models against --load whole, 1,840 of 105.6 M .probes bytes on the H200). With CELL_HITS a
+// leaf above the cell level is walked as a node whose children are all leaves (no loads), down to the
+// cell, and no push tests the child's exit (as the DEEP and compact walks), so both layouts' walks make
+// the same float operations on the same cubes from the first solid cube down, and agree bit for bit.
+// (a macro, not a constant: without it the other kernels' SPIR-V is main's, byte for byte)
+#if defined(CELL_HITS) && !defined(PRECISE)
+#define CELL_WALK
+#endif
 #ifdef PRECISE
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #endif
@@ -578,7 +593,15 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     bool have_attr = false;
 
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+#ifdef CELL_WALK
+    // inside a leaf above the cell level (its cube all solid): the nodes' descriptor (every child valid,
+    // none inner; the file's form: the low byte the leaf mask) and no loads
+    bool virt = false;
+    const uint FULL_DESC = FILE_FORM ? 0xFFFFu : 0xFF00u;
+    if (false) { // (a root leaf is walked as a full node below)
+#else
     if (m.root == ROOT_LEAF) {
+#endif
         if (tmin <= tmax) {
             hit = true;
             scale = S_MAX;
@@ -596,6 +619,13 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         int oct7 = oct ^ 7;
         uint desc = 0u;
         bool loaded = false;
+#ifdef CELL_WALK
+        if (m.root == ROOT_LEAF) {
+            // a root leaf: the model's cube walked as a full node (its record is the hit's)
+            virt = true, desc = FULL_DESC, loaded = true, parent = 0u;
+            attr_rec = m.root_attr, have_attr = true;
+        }
+#endif
 #ifndef PRECISE
         // COMPACT: the slot of the node at parent (level >= 2; a level-1
         // node is an octant of its brick, parent the brick's slot), and the
@@ -732,7 +762,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 // H200, 1-2% slower in the plain kernel, which keeps it. The
                 // compact walk skips it in DEEP 0 too, as trace_compact.comp's
                 // (docs/PERFORMANCE.md issue 18, sixteenth and seventeenth steps).
+#ifdef CELL_WALK
+                if (true) {
+#else
                 if (DEEP >= 1 || COMPACT || tmin <= tv_max) {
+#endif
 #ifdef PRECISE
                     bool is_leaf = ((inner >> cs) & 1u) == 0u;
 #else
@@ -756,6 +790,23 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
 #endif
                     }
+#ifdef CELL_WALK
+                    if (stop && scale - koff > S_MAX - int(m.depth)) {
+                        // a leaf above the cell level: walked as a full node. Its attribute
+                        // record is the hit's (the plain layout's; found here, before the
+                        // descriptor is the full node's)
+                        if (!virt && HAS_COLOR && !any_hit && !COMPACT && (m.flags & 1u) != 0u) {
+                            uint valid = (desc >> 8) & 0xFFu;
+                            uint blk = parent - (desc >> 17);
+                            if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
+                            uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))];
+                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
+                            have_attr = true;
+                        }
+                        virt = true;
+                        stop = false;
+                    }
+#endif
                     if (stop) {
                         // the attribute record is found after the loop
                         hit = true;
@@ -788,6 +839,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     parent = blk + uint(bitCount(inner & ((1u << cs) - 1u)));
 #else
                     bool keep = false; // COMPACT below level 2: the octant's descriptor, no load
+#ifdef CELL_WALK
+                    if (virt) {
+                        desc = FULL_DESC, keep = true;
+                    } else
+#endif
                     if (COMPACT) {
                         // the child's slot is in the block cnd.y (level >= 3); below a
                         // brick's level 2 the child is octant cs of the brick in cnd
@@ -914,6 +970,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
                 // (desc in the file's form where FILE_FORM, else the GPU form)
+#ifdef CELL_WALK
+                if (virt)
+                    ; // N lies in a leaf: a full node (parent unused)
+                else
+#endif
                 if (FILE_FORM)
                     parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
                                      : child_node_file(parent, desc, rb_cbit, nbase);
@@ -925,6 +986,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 pos = vec3(1.0);
                 WALK_FIRST_CHILD(vec3)
                 loaded = false; if (SENT) desc = 0u;
+#ifdef CELL_WALK
+                if (virt) desc = FULL_DESC, loaded = true;
+#endif
                 pending = 0;
                 continue;
             }
@@ -969,6 +1033,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
+#ifdef CELL_WALK
+        if (virt) {
+            // the record found at the leaf (or the root leaf's)
+        } else
+#endif
         if (hit && !any_hit && HAS_COLOR && !COMPACT && (m.flags & 1u) != 0u) {
             // the hit child's attribute record (after the loop: code in the
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
