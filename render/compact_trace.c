@@ -126,18 +126,8 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
         for (uint32_t x = 0; x < f.width; x++) {
             /* the centre ray of the pixel, as vx_render_cpu makes it */
             double u = ((x + 0.5) / f.width) * 2 - 1, v = 1 - ((y + 0.5) / f.height) * 2;
-            double P[3], d[3], t_off;
-            if (f.ortho) {
-                for (int k = 0; k < 3; k++) P[k] = u * f.rx[k] + v * f.uy[k], d[k] = f.fwd[k];
-                t_off = f.t_start;
-            } else {
-                double du[3], len = 0;
-                for (int k = 0; k < 3; k++) du[k] = f.fwd[k] + u * f.rx[k] + v * f.uy[k], len += du[k] * du[k];
-                len = sqrt(len);
-                for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f.t_start * (u * f.rx[k] + v * f.uy[k]);
-                t_off = f.t_start * len;
-            }
-            double o[3] = {f.ref[0] + P[0], f.ref[1] + P[1], f.ref[2] + P[2]};
+            double P[3], o[3], d[3];
+            double t_off = vx__frame_ray(&f, u, v, P, o, d);
             khit best = {.t = INFINITY};
             uint32_t which = UINT32_MAX, steps = 0;
             for (uint32_t i = 0; i < ni; i++) {

@@ -327,18 +327,8 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
                 double ox, oy;
                 vx__sample_offset(sidx, &ox, &oy);
                 double u = ((x + 0.5 + ox) / f.width) * 2 - 1, v = 1 - ((y + 0.5 + oy) / f.height) * 2;
-                double P[3], d[3], t_off;
-                if (f.ortho) {
-                    for (int k = 0; k < 3; k++) P[k] = u * f.rx[k] + v * f.uy[k], d[k] = f.fwd[k];
-                    t_off = f.t_start;
-                } else {
-                    double du[3], len = 0;
-                    for (int k = 0; k < 3; k++) du[k] = f.fwd[k] + u * f.rx[k] + v * f.uy[k], len += du[k] * du[k];
-                    len = sqrt(len);
-                    for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f.t_start * (u * f.rx[k] + v * f.uy[k]);
-                    t_off = f.t_start * len;
-                }
-                double o[3] = {f.ref[0] + P[0], f.ref[1] + P[1], f.ref[2] + P[2]};
+                double P[3], o[3], d[3];
+                double t_off = vx__frame_ray(&f, u, v, P, o, d);
                 chit h = {.t = INFINITY};
                 uint32_t which = 0, steps = 0;
                 bool hit = trace_scene(&cs, o, d, false, &h, &which, &steps);
