@@ -1267,6 +1267,20 @@ static void test_validate_rejects(void) {
     CHECK(vx_svo_validate_model(&ma, &e) == VX_ERR_BAD_FORMAT);
 }
 
+/* The grid cells of the n cells keys[] of an instance's model (floor(M (v + 1/2) + t)), added to the box
+ * [mn, mx): the scene bounds by brute force. */
+static void grow_bounds(const vx_svo_instance* in, const uint64_t* keys, size_t n, double mn[3], double mx[3]) {
+    for (size_t k = 0; k < n; k++) {
+        double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
+        const double* M = in->xform;
+        for (int r = 0; r < 3; r++) {
+            double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
+            if (g < mn[r]) mn[r] = g;
+            if (g + 1 > mx[r]) mx[r] = g + 1;
+        }
+    }
+}
+
 static void test_bounds_and_materials(void) {
     uint64_t keys[3] = {vx_svo_morton(2, 3, 4), vx_svo_morton(5, 3, 1), vx_svo_morton(3, 6, 2)};
     vx_svo_voxels in = {.size = {8, 8, 8}, .count = 3, .keys = keys};
@@ -1290,16 +1304,7 @@ static void test_bounds_and_materials(void) {
     vx_svo_scene_update_bounds(&s);
     /* brute force: every cell's grid cell */
     double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
-    for (int i = 0; i < 2; i++)
-        for (int k = 0; k < 3; k++) {
-            double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
-            const double* M = s.instances[i].xform;
-            for (int r = 0; r < 3; r++) {
-                double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
-                if (g < mn[r]) mn[r] = g;
-                if (g + 1 > mx[r]) mx[r] = g + 1;
-            }
-        }
+    for (int i = 0; i < 2; i++) grow_bounds(&s.instances[i], keys, 3, mn, mx);
     for (int r = 0; r < 3; r++) CHECKF(s.bounds_min[r] == mn[r] && s.bounds_max[r] == mx[r], "axis %d: %g..%g vs %g..%g", r,
                                        s.bounds_min[r], s.bounds_max[r], mn[r], mx[r]);
     CHECK(vx_svo_validate_scene(&s, &e) == VX_OK);
@@ -1364,18 +1369,8 @@ static void test_bounds_desc(void) {
     for (int i = 0; i < 3; i++) s.instances[i].layer = UINT32_MAX;
     /* brute force: every drawn cell's grid cell */
     double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
-    for (int i = 0; i < 2; i++) {
-        const uint64_t* keys = i ? kb : ka;
-        for (uint32_t k = 0; k < (i ? 1u : 2u); k++) {
-            double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
-            const double* M = s.instances[i].xform;
-            for (int r = 0; r < 3; r++) {
-                double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
-                if (g < mn[r]) mn[r] = g;
-                if (g + 1 > mx[r]) mx[r] = g + 1;
-            }
-        }
-    }
+    grow_bounds(&s.instances[0], ka, 2, mn, mx);
+    grow_bounds(&s.instances[1], kb, 1, mn, mx);
     const struct {
         const char* what;
         vx_svo_bounds_desc d;
