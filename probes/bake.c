@@ -397,10 +397,12 @@ static bool compact_solid(const void* user, const double q[3]) {
         if (m->root == VX_SVO_ROOT_EMPTY) continue;
         double om[3], dm[3];
         vx__inst_ray(in, q, solid_dir, om, dm);
-        vx__box_entry e;
-        if (!vx__box_enter(m->size, om, dm, 0.0, solid_tmax, &e) || e.te > 0.0) continue;
+        double te, tx;
+        if (!vx__box_span(m->size, om, dm, 0.0, solid_tmax, &te, &tx) || te > 0.0) continue;
+        int64_t cell[3];
+        vx__box_cell(m->size, om, dm, 0.0, te, cell, NULL); /* the caster's start cell; no ambiguity needed */
         uint32_t index;
-        if (vx_compact_lookup(P->c, in->model, (uint32_t)e.cell[0], (uint32_t)e.cell[1], (uint32_t)e.cell[2], &index))
+        if (vx_compact_lookup(P->c, in->model, (uint32_t)cell[0], (uint32_t)cell[1], (uint32_t)cell[2], &index))
             return true;
     }
     return false;

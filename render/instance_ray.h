@@ -19,6 +19,7 @@
  *   vx__inst_ray(&maps[i], o, d, om, dm);          // world ray -> model space
  *   vx__box_entry e;
  *   if (vx__box_enter(model->size, om, dm, t0, t1, &e)) ... e.cell ...
+ *   (or vx__box_span, then vx__box_cell: the same two steps apart)
  *
  * Double precision, the operations in one order (ISO C17, no contraction:
  * the build sets no -march and no -ffast-math). Names keep the vx__ prefix
@@ -79,7 +80,7 @@ static inline int64_t vx__cell_of(double p, double d) {
 static inline double vx__inv_safe(double d) { return fabs(d) < 1e-300 ? (signbit(d) ? -1e300 : 1e300) : 1.0 / d; }
 
 /* Where a model-space ray o + t d, t in [t0, t1], starts in the box
- * [0, size[0]] x [0, size[1]] x [0, size[2]]. */
+ * [0, size[0]] x [0, size[1]] x [0, size[2]]: vx__box_enter below. */
 typedef struct vx__box_entry {
     double te, tx;   /* the span inside the box: t0 <= te < tx <= t1 */
     int64_t cell[3]; /* the cell at te, inside the box (clamped) */
@@ -87,28 +88,36 @@ typedef struct vx__box_entry {
                       * edge or corner (two or more entry planes at te) */
 } vx__box_entry;
 
-/* Fills *e and returns true when the span is not empty (te < tx). The cell
- * at te: floor of the point per axis, except that a coordinate exactly on a
- * boundary counts to the lower cell where the ray's component is negative
- * (the cell it moves into); where te > t0 the ray enters through a face and
- * that axis's cell is the face's (0 or size - 1) exactly. A component of d
- * below 1e-300 in magnitude has the reciprocal +-1e300 (its sign kept), so
- * the slab test needs no case for rays parallel to a face. */
-static inline bool vx__box_enter(const uint32_t size[3], const double o[3], const double d[3], double t0,
-                                 double t1, vx__box_entry* e) {
-    double te = t0, tx = t1;
+/* The span of the ray in the box, [t0, t1] clipped: *te, *tx; false where it
+ * is empty (te >= tx). A component of d below 1e-300 in magnitude has the
+ * reciprocal +-1e300 (its sign kept), so the slab test needs no case for rays
+ * parallel to a face. */
+static inline bool vx__box_span(const uint32_t size[3], const double o[3], const double d[3], double t0, double t1,
+                                double* te, double* tx) {
+    double e = t0, x = t1;
     for (int k = 0; k < 3; k++) {
         double inv = vx__inv_safe(d[k]);
         double a = (0 - o[k]) * inv, b = ((double)size[k] - o[k]) * inv;
-        te = fmax(te, fmin(a, b));
-        tx = fmin(tx, fmax(a, b));
+        e = fmax(e, fmin(a, b));
+        x = fmin(x, fmax(a, b));
     }
-    if (!(te < tx)) return false;
+    *te = e, *tx = x;
+    return e < x;
+}
+
+/* The cell the ray is in at te (vx__box_span's): floor of the point per
+ * axis, except that a coordinate exactly on a boundary counts to the lower
+ * cell where the ray's component is negative (the cell it moves into); where
+ * te > t0 the ray enters through a face and that axis's cell is the face's
+ * (0 or size - 1) exactly; clamped to the box. amb (may be NULL: not
+ * computed) as vx__box_entry's. */
+static inline void vx__box_cell(const uint32_t size[3], const double o[3], const double d[3], double t0, double te,
+                                int64_t cell[3], bool* amb) {
     int entry_ties = 0;
-    bool amb = false;
+    bool on_boundary = false;
     for (int k = 0; k < 3; k++) {
         double pk = o[k] + d[k] * te;
-        if (te <= t0 && fabs(pk - nearbyint(pk)) <= 1e-9 * fmax(1, fabs(pk))) amb = true; /* starts on a boundary */
+        if (amb && te <= t0 && fabs(pk - nearbyint(pk)) <= 1e-9 * fmax(1, fabs(pk))) on_boundary = true;
         int64_t c = vx__cell_of(pk, d[k]);
         if (te > t0) { /* entering through a face: the entry axis is exact */
             double inv = vx__inv_safe(d[k]);
@@ -117,11 +126,18 @@ static inline bool vx__box_enter(const uint32_t size[3], const double o[3], cons
         }
         if (c < 0) c = 0;
         if (c >= (int64_t)size[k]) c = (int64_t)size[k] - 1;
-        e->cell[k] = c;
+        cell[k] = c;
     }
-    e->te = te;
-    e->tx = tx;
-    e->amb = amb || entry_ties > 1;
+    if (amb) *amb = on_boundary || entry_ties > 1;
+}
+
+/* Both: fills *e and returns true when the span is not empty. The CPU
+ * caster's and the compact layout's walks start here; the placement asks
+ * the span first and the cell only where the span starts at t0. */
+static inline bool vx__box_enter(const uint32_t size[3], const double o[3], const double d[3], double t0,
+                                 double t1, vx__box_entry* e) {
+    if (!vx__box_span(size, o, d, t0, t1, &e->te, &e->tx)) return false;
+    vx__box_cell(size, o, d, t0, e->te, e->cell, &e->amb);
     return true;
 }
 
