@@ -8,10 +8,13 @@
  * start inside a filled cell" without the caster's table of every leaf
  * (about 60 bytes a cell), and must answer it bit for bit as the caster does
  * (the same probes as vx_probe_place: tests/probes/test_probe_place_reader.c).
- * Both call these functions, so the arithmetic cannot drift apart: the
- * inverse map, the slab test with its guarded reciprocal, and the sign rule
- * that puts a start point on a cell boundary into the cell the ray moves
- * into (without it 85 of test_probe_place_reader's 18,620 probes differ).
+ * Both call these functions (and so does the compact layout's CPU walk,
+ * render/compact_trace.c), so the arithmetic cannot drift apart: the inverse
+ * map, the slab test with its guarded reciprocal, and the sign rule that puts
+ * a start point on a cell boundary into the cell the ray moves into (without
+ * it in the placement alone 85 of test_probe_place_reader's 18,620 probes
+ * differed; without it in vx__cell_of, for both, 48 do: the caster steps out
+ * of the wrong cell at t = 0 into the right one, the placement does not).
  *
  * Use:
  *   vx__inst_map* maps = <s->instance_count entries>; uint32_t n;
