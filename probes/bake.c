@@ -7,6 +7,7 @@
 
 #include "probes/probes_internal.h"
 #include "render/compact.h"
+#include "render/instance_ray.h"
 #include "render/trace.h"
 
 void vx_probe_set_free(vx_probe_set* ps) {
@@ -24,10 +25,13 @@ void vx_probe_set_free(vx_probe_set* ps) {
 
 /* ---- placement ---------------------------------------------------------------------- */
 
+/* Whether a probe at p starts inside a cell: the caster's ray from p along the diagonal hits at t = 0
+ * (compact_solid asks the same of the compact layout with this ray). */
+static const double solid_dir[3] = {0.5773502691896258, 0.5773502691896258, 0.5773502691896258};
+static const double solid_tmax = 1e-9;
 static bool inside_solid(const vx_render_caster* c, const double p[3]) {
-    static const double dir[3] = {0.5773502691896258, 0.5773502691896258, 0.5773502691896258};
     vx_render_ray_hit h;
-    return vx_render_cast(c, p, dir, 1e-9, false, &h) && h.t == 0;
+    return vx_render_cast(c, p, solid_dir, solid_tmax, false, &h) && h.t == 0;
 }
 
 typedef struct offs {
@@ -371,56 +375,35 @@ vx_result vx_probe_place(const vx_svo_scene* scene, const vx_probe_bake_desc* de
 
 /* ---- placement from the compact layout ------------------------------------------------ */
 
-/* The drawn instances as the CPU caster holds them (render/cpu_trace.c cscene_build): the model-from-world map
- * by the same arithmetic, and the model. */
+/* The drawn instances as the CPU caster holds them (render/instance_ray.h). */
 typedef struct cplace {
     const vx_compact_scene* c;
     const vx_svo_scene* s;
     uint32_t n;
-    double* inv;      /* 12 per drawn instance */
-    uint32_t* model;  /* per drawn instance */
+    vx__inst_map* maps; /* per drawn instance */
 } cplace;
 
-static double inv_safe(double d) { return fabs(d) < 1e-300 ? (signbit(d) ? -1e300 : 1e300) : 1.0 / d; }
-
 /* inside_solid's answer without the caster: its cast (render/cpu_trace.c trace_scene, cm_trace) hits at
- * t = 0 exactly where, for some drawn instance, the ray's entry into the model's box is t = 0 (q in the box,
- * te == 0 < the exit) and the cell it starts in (the sign rule on boundaries, clamped to the box) is set: an
- * empty start cell is left at t > 0, a later entry is at t > 0. The same arithmetic in the same order (no
- * contraction: ISO C17, no -march), the cell looked up in the layout's geometry (vx_compact_lookup) instead
- * of the caster's table of every leaf (about 60 bytes a cell: 6.3 GB for the 100 M-cell terrain). */
+ * t = 0 exactly where, for some drawn instance, the ray's span in the model's box starts at t = 0 (q in
+ * the box) and the cell it starts in is set: an empty start cell is left at t > 0, a later entry is at
+ * t > 0. The instance maps, the span and the start cell are the caster's own functions
+ * (render/instance_ray.h), the cell looked up in the layout's geometry (vx_compact_lookup) instead of the
+ * caster's table of every leaf (about 60 bytes a cell: 6.3 GB for the 100 M-cell terrain). */
 static bool compact_solid(const void* user, const double q[3]) {
-    static const double dir[3] = {0.5773502691896258, 0.5773502691896258, 0.5773502691896258};
     const cplace* P = user;
     for (uint32_t i = 0; i < P->n; i++) {
-        const vx_svo_model* m = &P->s->models[P->model[i]];
+        const vx__inst_map* in = &P->maps[i];
+        const vx_svo_model* m = &P->s->models[in->model];
         if (m->root == VX_SVO_ROOT_EMPTY) continue;
-        const double* inv = P->inv + 12 * (size_t)i;
         double om[3], dm[3];
-        for (int r = 0; r < 3; r++) {
-            const double* row = &inv[4 * r];
-            om[r] = row[0] * q[0] + row[1] * q[1] + row[2] * q[2] + row[3];
-            dm[r] = row[0] * dir[0] + row[1] * dir[1] + row[2] * dir[2];
-        }
-        double te = 0.0, tx = 1e-9;
-        for (int k = 0; k < 3; k++) {
-            double iv = inv_safe(dm[k]);
-            double a = (0 - om[k]) * iv, b = ((double)m->size[k] - om[k]) * iv;
-            te = fmax(te, fmin(a, b));
-            tx = fmin(tx, fmax(a, b));
-        }
-        if (!(te < tx) || te > 0.0) continue;
-        uint32_t cell[3];
-        for (int k = 0; k < 3; k++) {
-            double pk = om[k] + dm[k] * te, f = floor(pk);
-            if (pk == f && signbit(dm[k])) f -= 1;
-            int64_t v = (int64_t)f;
-            if (v < 0) v = 0;
-            if (v >= (int64_t)m->size[k]) v = (int64_t)m->size[k] - 1;
-            cell[k] = (uint32_t)v;
-        }
+        vx__inst_ray(in, q, solid_dir, om, dm);
+        double te, tx;
+        if (!vx__box_span(m->size, om, dm, 0.0, solid_tmax, &te, &tx) || te > 0.0) continue;
+        int64_t cell[3];
+        vx__box_cell(m->size, om, dm, 0.0, te, cell, NULL); /* the caster's start cell; no ambiguity needed */
         uint32_t index;
-        if (vx_compact_lookup(P->c, P->model[i], cell[0], cell[1], cell[2], &index)) return true;
+        if (vx_compact_lookup(P->c, in->model, (uint32_t)cell[0], (uint32_t)cell[1], (uint32_t)cell[2], &index))
+            return true;
     }
     return false;
 }
@@ -441,26 +424,12 @@ vx_result vx_probe_place_compact(const vx_compact_scene* c, const vx_svo_scene* 
     vx_result r = resolve(&d, &ps, err);
     if (r) return r;
     cplace P = {.c = c, .s = scene};
-    uint32_t ni = scene->instance_count;
-    P.inv = vx_alloc(d.alloc, (ni ? ni : 1) * 12 * sizeof(double));
-    P.model = vx_alloc(d.alloc, (ni ? ni : 1) * sizeof(uint32_t));
-    if (!P.inv || !P.model) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", ni);
-    for (uint32_t i = 0; !r && i < ni; i++) {
-        if (!vx_svo_instance_drawn(scene, i)) continue;
-        if (scene->instances[i].model >= scene->model_count) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "instance %u: model %u of %u", i, scene->instances[i].model,
-                        scene->model_count);
-            break;
-        }
-        double w[12];
-        vx_svo_instance_world(scene, &scene->instances[i], w);
-        vx__affine_inverse(w, P.inv + 12 * (size_t)P.n);
-        P.model[P.n++] = scene->instances[i].model;
-    }
+    P.maps = vx_calloc(d.alloc, scene->instance_count ? scene->instance_count : 1, sizeof *P.maps);
+    if (!P.maps) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instances", scene->instance_count);
+    if (!r) r = vx__inst_maps(scene, P.maps, &P.n, err);
     if (!r) r = record_light(&ps, NULL, scene, &d, err);
     if (!r) r = place(scene, &d, compact_solid, &P, &ps, err);
-    vx_free(d.alloc, P.inv);
-    vx_free(d.alloc, P.model);
+    vx_free(d.alloc, P.maps);
     if (r) {
         vx_probe_set_free(&ps);
         return r;

@@ -223,16 +223,8 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
         double ox = 0, oy = 0;
         if (J->jitter) ox = vx__rng_next(&rng) - 0.5, oy = vx__rng_next(&rng) - 0.5;
         double u = ((x + 0.5 + ox) / f->width) * 2 - 1, v = 1 - ((y + 0.5 + oy) / f->height) * 2;
-        double P[3], d[3];
-        if (f->ortho) {
-            for (int k = 0; k < 3; k++) P[k] = u * f->rx[k] + v * f->uy[k], d[k] = f->fwd[k];
-        } else {
-            double du[3], len = 0;
-            for (int k = 0; k < 3; k++) du[k] = f->fwd[k] + u * f->rx[k] + v * f->uy[k], len += du[k] * du[k];
-            len = sqrt(len);
-            for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f->t_start * (u * f->rx[k] + v * f->uy[k]);
-        }
-        double o[3] = {f->ref[0] + P[0], f->ref[1] + P[1], f->ref[2] + P[2]};
+        double P[3], o[3], d[3];
+        vx__frame_ray(f, u, v, P, o, d);
         double c[3] = {0, 0, 0};
         if (J->mode == VX_PROBE_RENDER_PATHTRACE || J->mode == VX_PROBE_RENDER_PT_INDIRECT) {
             acc[3] += vx__path(J->L, o, d, J->bounces, J->mode == VX_PROBE_RENDER_PT_INDIRECT, &rng, c);

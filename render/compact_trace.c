@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "render/compact.h"
+#include "render/instance_ray.h"
 #include "render/trace.h"
 
 static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
@@ -56,16 +57,6 @@ static uint32_t probe(const vx_compact_scene* c, const vx_compact_model* m, uint
     return 0;
 }
 
-static bool neg(double v) { return signbit(v) != 0; }
-
-static int64_t cell_of(double p, double d) {
-    double f = floor(p);
-    if (p == f && neg(d)) f -= 1;
-    return (int64_t)f;
-}
-
-static double inv_safe(double d) { return fabs(d) < 1e-300 ? (neg(d) ? -1e300 : 1e300) : 1.0 / d; }
-
 typedef struct khit {
     double t;
     int64_t cell[3];
@@ -74,35 +65,17 @@ typedef struct khit {
     bool amb;
 } khit;
 
-/* The reference's walk (cpu_trace.c cm_trace), with probe() for its table. */
+/* The reference's walk (cpu_trace.c cm_trace: its box entry and steps, render/instance_ray.h and
+ * vx__grid_step_out), with probe() for its table. */
 static bool trace_model(const vx_compact_scene* c, const vx_compact_model* m, const uint32_t size[3],
                         const double o[3], const double d[3], double t1, khit* h) {
     if (m->root == VX_SVO_ROOT_EMPTY) return false;
-    double te = 0, tx = t1;
-    for (int k = 0; k < 3; k++) {
-        double inv = inv_safe(d[k]);
-        double a = (0 - o[k]) * inv, b = ((double)size[k] - o[k]) * inv;
-        te = fmax(te, fmin(a, b));
-        tx = fmin(tx, fmax(a, b));
-    }
-    if (!(te < tx)) return false;
-    int64_t cell[3];
-    int entry_ties = 0;
-    bool amb = false;
-    for (int k = 0; k < 3; k++) {
-        double pk = o[k] + d[k] * te;
-        if (te <= 0 && fabs(pk - nearbyint(pk)) <= 1e-9 * fmax(1, fabs(pk))) amb = true;
-        cell[k] = cell_of(pk, d[k]);
-        if (te > 0) {
-            double inv = inv_safe(d[k]);
-            double a = (0 - o[k]) * inv, b = ((double)size[k] - o[k]) * inv;
-            if (fmin(a, b) == te) cell[k] = neg(d[k]) ? (int64_t)size[k] - 1 : 0, entry_ties++;
-        }
-        if (cell[k] < 0) cell[k] = 0;
-        if (cell[k] >= (int64_t)size[k]) cell[k] = (int64_t)size[k] - 1;
-    }
-    if (entry_ties > 1) amb = true;
-    double t = te;
+    vx__box_entry en;
+    if (!vx__box_enter(size, o, d, 0.0, t1, &en)) return false;
+    int64_t cell[3] = {en.cell[0], en.cell[1], en.cell[2]};
+    double tx = en.tx;
+    bool amb = en.amb;
+    double t = en.te;
     for (uint32_t steps = 0; steps < 100000000u; steps++) {
         bool full;
         uint32_t index = 0;
@@ -138,51 +111,29 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
     vx__frame f;
     if ((r = vx__frame_setup(lo, hi, desc, &f, err))) return r;
     uint32_t ni = 0;
-    double* inv = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, 12 * sizeof(double));
-    uint32_t* ids = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof(uint32_t));
+    vx__inst_map* maps = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof *maps);
     size_t npx = (size_t)f.width * f.height;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = alloc};
     img.pixels = vx_calloc(alloc, npx, 16);
     img.hits = vx_calloc(alloc, npx, sizeof *img.hits);
-    if (!inv || !ids || !img.pixels || !img.hits) {
-        vx_free(alloc, inv);
-        vx_free(alloc, ids);
+    if (!maps || !img.pixels || !img.hits) {
+        vx_free(alloc, maps);
         vx_render_image_free(&img);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", f.width, f.height);
     }
-    for (uint32_t i = 0; i < s->instance_count; i++) {
-        if (!vx_svo_instance_drawn(s, i)) continue;
-        double w[12];
-        vx_svo_instance_world(s, &s->instances[i], w);
-        vx__affine_inverse(w, &inv[12 * ni]);
-        ids[ni++] = i;
-    }
+    vx__inst_maps(s, maps, &ni, NULL); /* checked above */
     for (uint32_t y = 0; y < f.height; y++)
         for (uint32_t x = 0; x < f.width; x++) {
             /* the centre ray of the pixel, as vx_render_cpu makes it */
             double u = ((x + 0.5) / f.width) * 2 - 1, v = 1 - ((y + 0.5) / f.height) * 2;
-            double P[3], d[3], t_off;
-            if (f.ortho) {
-                for (int k = 0; k < 3; k++) P[k] = u * f.rx[k] + v * f.uy[k], d[k] = f.fwd[k];
-                t_off = f.t_start;
-            } else {
-                double du[3], len = 0;
-                for (int k = 0; k < 3; k++) du[k] = f.fwd[k] + u * f.rx[k] + v * f.uy[k], len += du[k] * du[k];
-                len = sqrt(len);
-                for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f.t_start * (u * f.rx[k] + v * f.uy[k]);
-                t_off = f.t_start * len;
-            }
-            double o[3] = {f.ref[0] + P[0], f.ref[1] + P[1], f.ref[2] + P[2]};
+            double P[3], o[3], d[3];
+            double t_off = vx__frame_ray(&f, u, v, P, o, d);
             khit best = {.t = INFINITY};
             uint32_t which = UINT32_MAX, steps = 0;
             for (uint32_t i = 0; i < ni; i++) {
-                const double* m = &inv[12 * i];
                 double om[3], dm[3];
-                for (int q = 0; q < 3; q++) {
-                    om[q] = m[4 * q] * o[0] + m[4 * q + 1] * o[1] + m[4 * q + 2] * o[2] + m[4 * q + 3];
-                    dm[q] = m[4 * q] * d[0] + m[4 * q + 1] * d[1] + m[4 * q + 2] * d[2];
-                }
-                uint32_t mi = s->instances[ids[i]].model;
+                vx__inst_ray(&maps[i], o, d, om, dm);
+                uint32_t mi = maps[i].model;
                 khit h = best;
                 h.steps = 0;
                 bool hit = trace_model(c, &c->models[mi], s->models[mi].size, om, dm, best.t, &h);
@@ -197,16 +148,15 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
                 hh->instance = VX_RENDER_NO_HIT;
                 continue;
             }
-            uint32_t col = vx_compact_rgba(c, s->instances[ids[which]].model, best.index);
+            uint32_t col = vx_compact_rgba(c, maps[which].model, best.index);
             px[0] = (float)((col & 0xFF) / 255.0), px[1] = (float)(((col >> 8) & 0xFF) / 255.0);
             px[2] = (float)(((col >> 16) & 0xFF) / 255.0), px[3] = 1;
-            hh->instance = ids[which];
+            hh->instance = maps[which].id;
             for (int k = 0; k < 3; k++) hh->cell[k] = (uint32_t)best.cell[k];
             hh->t = (float)(t_off + best.t);
             hh->flags = best.amb ? VX_RENDER_HIT_AMBIGUOUS : 0;
         }
-    vx_free(alloc, inv);
-    vx_free(alloc, ids);
+    vx_free(alloc, maps);
     img.gpu_seconds = vx_time_now() - t_begin;
     img.rays = npx;
     *out = img;

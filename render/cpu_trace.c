@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/instance_ray.h"
 #include "render/trace.h"
 
 typedef struct centry {
@@ -138,13 +139,6 @@ static vx_result cm_build(cmodel* c, const vx_svo_model* m, const vx_allocator* 
 
 static bool neg(double v) { return signbit(v) != 0; }
 
-/* cell containing coordinate p with the sign rule on boundaries */
-static int64_t cell_of(double p, double d) {
-    double f = floor(p);
-    if (p == f && neg(d)) f -= 1;
-    return (int64_t)f;
-}
-
 bool vx__grid_step_out(int64_t cell[3], int64_t B, const double o[3], const double d[3], double tx,
                        const uint32_t size[3], double* t, bool* amb) {
     int64_t lo[3];
@@ -165,7 +159,7 @@ bool vx__grid_step_out(int64_t cell[3], int64_t B, const double o[3], const doub
         if (ta[a] == texit) {
             cell[a] = d[a] > 0 ? lo[a] + B : lo[a] - 1;
         } else {
-            int64_t q = cell_of(o[a] + d[a] * texit, d[a]);
+            int64_t q = vx__cell_of(o[a] + d[a] * texit, d[a]);
             if (q < lo[a]) q = lo[a];
             if (q > lo[a] + B - 1) q = lo[a] + B - 1;
             cell[a] = q;
@@ -186,36 +180,15 @@ typedef struct chit {
     bool amb;
 } chit;
 
-static double inv_safe(double d) { return fabs(d) < 1e-300 ? (neg(d) ? -1e300 : 1e300) : 1.0 / d; }
-
 static bool cm_trace(const cmodel* c, const double o[3], const double d[3], double t0, double t1, bool any, chit* h) {
     const vx_svo_model* m = c->m;
     if (m->root == VX_SVO_ROOT_EMPTY) return false;
-    double te = t0, tx = t1;
-    for (int k = 0; k < 3; k++) {
-        double inv = inv_safe(d[k]);
-        double a = (0 - o[k]) * inv, b = ((double)m->size[k] - o[k]) * inv;
-        te = fmax(te, fmin(a, b));
-        tx = fmin(tx, fmax(a, b));
-    }
-    if (!(te < tx)) return false;
-    int64_t cell[3];
-    int entry_ties = 0;
-    bool amb = false;
-    for (int k = 0; k < 3; k++) {
-        double pk = o[k] + d[k] * te;
-        if (te <= t0 && fabs(pk - nearbyint(pk)) <= 1e-9 * fmax(1, fabs(pk))) amb = true; /* starts on a boundary */
-        cell[k] = cell_of(pk, d[k]);
-        if (te > t0) { /* entering through a face: the entry axis is exact */
-            double inv = inv_safe(d[k]);
-            double a = (0 - o[k]) * inv, b = ((double)m->size[k] - o[k]) * inv;
-            if (fmin(a, b) == te) cell[k] = neg(d[k]) ? (int64_t)m->size[k] - 1 : 0, entry_ties++;
-        }
-        if (cell[k] < 0) cell[k] = 0;
-        if (cell[k] >= (int64_t)m->size[k]) cell[k] = (int64_t)m->size[k] - 1;
-    }
-    if (entry_ties > 1) amb = true;
-    double t = te;
+    vx__box_entry en;
+    if (!vx__box_enter(m->size, o, d, t0, t1, &en)) return false;
+    int64_t cell[3] = {en.cell[0], en.cell[1], en.cell[2]};
+    double tx = en.tx;
+    bool amb = en.amb;
+    double t = en.te;
     for (uint32_t steps = 0; steps < 100000000u; steps++) {
         uint64_t key = vx_svo_morton((uint32_t)cell[0], (uint32_t)cell[1], (uint32_t)cell[2]);
         uint32_t k = 0;
@@ -253,16 +226,10 @@ static bool cm_trace(const cmodel* c, const double o[3], const double d[3], doub
     return false;
 }
 
-typedef struct cinst {
-    double inv[12];
-    uint32_t model, id;
-    double cell;
-} cinst;
-
 typedef struct cscene {
     const vx_svo_scene* s;
     cmodel* models;
-    cinst* inst;
+    vx__inst_map* inst;
     uint32_t n;
 } cscene;
 
@@ -270,13 +237,9 @@ static bool trace_scene(const cscene* cs, const double o[3], const double d[3], 
                         uint32_t* steps) {
     bool found = false;
     for (uint32_t i = 0; i < cs->n; i++) {
-        const cinst* in = &cs->inst[i];
+        const vx__inst_map* in = &cs->inst[i];
         double om[3], dm[3];
-        for (int r = 0; r < 3; r++) {
-            const double* row = &in->inv[4 * r];
-            om[r] = row[0] * o[0] + row[1] * o[1] + row[2] * o[2] + row[3];
-            dm[r] = row[0] * d[0] + row[1] * d[1] + row[2] * d[2];
-        }
+        vx__inst_ray(in, o, d, om, dm);
         chit h = *best;
         h.steps = 0;
         bool hit = cm_trace(&cs->models[in->model], om, dm, 0.0, best->t, any, &h);
@@ -291,29 +254,39 @@ static bool trace_scene(const cscene* cs, const double o[3], const double d[3], 
     return found;
 }
 
-static vx_result cscene_build(cscene* cs, const vx_svo_scene* s, const vx_allocator* alloc, vx_error* err) {
-    memset(cs, 0, sizeof *cs);
-    cs->s = s;
+vx_result vx__inst_maps(const vx_svo_scene* s, vx__inst_map* out, uint32_t* n, vx_error* err) {
+    *n = 0;
     vx_result r = vx__check_scene(s, err);
     if (r) return r;
-    cs->models = vx_calloc(alloc, s->model_count ? s->model_count : 1, sizeof *cs->models);
-    cs->inst = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof *cs->inst);
-    if (!cs->models || !cs->inst) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    uint32_t k = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
-        uint32_t mi = s->instances[i].model;
-        if (!cs->models[mi].tab && (r = cm_build(&cs->models[mi], &s->models[mi], alloc, err))) return r;
-        cinst* ci = &cs->inst[cs->n++];
+        vx__inst_map* ci = &out[k++];
         double w[12];
         vx_svo_instance_world(s, &s->instances[i], w);
-        vx__affine_inverse(w, ci->inv);
-        ci->model = mi;
+        vx__affine_inverse(w, ci->inv); /* invertible: vx__check_scene */
+        ci->model = s->instances[i].model;
         ci->id = i;
         ci->cell = 0;
         for (int c = 0; c < 3; c++) ci->cell = fmax(ci->cell, sqrt(w[c] * w[c] + w[4 + c] * w[4 + c] + w[8 + c] * w[8 + c]));
         ci->cell = (double)(float)ci->cell;
     }
+    *n = k;
     return VX_OK;
+}
+
+static vx_result cscene_build(cscene* cs, const vx_svo_scene* s, const vx_allocator* alloc, vx_error* err) {
+    memset(cs, 0, sizeof *cs);
+    cs->s = s;
+    cs->models = vx_calloc(alloc, s->model_count ? s->model_count : 1, sizeof *cs->models);
+    cs->inst = vx_calloc(alloc, s->instance_count ? s->instance_count : 1, sizeof *cs->inst);
+    if (!cs->models || !cs->inst) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    vx_result r = vx__inst_maps(s, cs->inst, &cs->n, err);
+    for (uint32_t i = 0; !r && i < cs->n; i++) {
+        uint32_t mi = cs->inst[i].model;
+        if (!cs->models[mi].tab) r = cm_build(&cs->models[mi], &s->models[mi], alloc, err);
+    }
+    return r;
 }
 
 static void cscene_free(cscene* cs, const vx_allocator* alloc) {
@@ -354,24 +327,14 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
                 double ox, oy;
                 vx__sample_offset(sidx, &ox, &oy);
                 double u = ((x + 0.5 + ox) / f.width) * 2 - 1, v = 1 - ((y + 0.5 + oy) / f.height) * 2;
-                double P[3], d[3], t_off;
-                if (f.ortho) {
-                    for (int k = 0; k < 3; k++) P[k] = u * f.rx[k] + v * f.uy[k], d[k] = f.fwd[k];
-                    t_off = f.t_start;
-                } else {
-                    double du[3], len = 0;
-                    for (int k = 0; k < 3; k++) du[k] = f.fwd[k] + u * f.rx[k] + v * f.uy[k], len += du[k] * du[k];
-                    len = sqrt(len);
-                    for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f.t_start * (u * f.rx[k] + v * f.uy[k]);
-                    t_off = f.t_start * len;
-                }
-                double o[3] = {f.ref[0] + P[0], f.ref[1] + P[1], f.ref[2] + P[2]};
+                double P[3], o[3], d[3];
+                double t_off = vx__frame_ray(&f, u, v, P, o, d);
                 chit h = {.t = INFINITY};
                 uint32_t which = 0, steps = 0;
                 bool hit = trace_scene(&cs, o, d, false, &h, &which, &steps);
                 double c[4] = {0};
                 double nw[3] = {0};
-                const cinst* in = hit ? &cs.inst[which] : NULL;
+                const vx__inst_map* in = hit ? &cs.inst[which] : NULL;
                 if (hit) {
                     const double* row = &in->inv[4 * h.axis];
                     double l = sqrt(row[0] * row[0] + row[1] * row[1] + row[2] * row[2]);
@@ -489,19 +452,16 @@ bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d
     uint32_t which = 0, steps = 0;
     if (!trace_scene(&c->cs, o, d, any, &h, &which, &steps)) return false;
     if (!hit) return true;
-    const cinst* in = &c->cs.inst[which];
+    const vx__inst_map* in = &c->cs.inst[which];
     const vx_svo_scene* s = c->cs.s;
     const vx_svo_model* m = &s->models[in->model];
     /* A ray that crosses an edge exactly enters the diagonal cell and the
      * tracer names the first tied axis; for shading, prefer a tied axis
      * whose face is exposed (the neighbour across it is empty). */
     const cmodel* cm = &c->cs.models[in->model];
-    double dm[3];
-    for (int r = 0; r < 3; r++) dm[r] = in->inv[4 * r] * d[0] + in->inv[4 * r + 1] * d[1] + in->inv[4 * r + 2] * d[2];
+    double om[3], dm[3];
+    vx__inst_ray(in, o, d, om, dm);
     if (cell_solid(cm, h.cell, h.axis, h.nsign)) {
-        double om[3];
-        for (int r = 0; r < 3; r++)
-            om[r] = in->inv[4 * r] * o[0] + in->inv[4 * r + 1] * o[1] + in->inv[4 * r + 2] * o[2] + in->inv[4 * r + 3];
         for (int a = 0; a < 3; a++) {
             if (a == h.axis || dm[a] == 0) continue;
             double plane = (double)(dm[a] < 0 ? h.cell[a] + 1 : h.cell[a]);

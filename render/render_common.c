@@ -368,6 +368,22 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
     return VX_OK;
 }
 
+double vx__frame_ray(const vx__frame* f, double u, double v, double P[3], double o[3], double d[3]) {
+    double t_off;
+    if (f->ortho) {
+        for (int k = 0; k < 3; k++) P[k] = u * f->rx[k] + v * f->uy[k], d[k] = f->fwd[k];
+        t_off = f->t_start;
+    } else {
+        double du[3], len = 0;
+        for (int k = 0; k < 3; k++) du[k] = f->fwd[k] + u * f->rx[k] + v * f->uy[k], len += du[k] * du[k];
+        len = sqrt(len);
+        for (int k = 0; k < 3; k++) d[k] = du[k] / len, P[k] = f->t_start * (u * f->rx[k] + v * f->uy[k]);
+        t_off = f->t_start * len;
+    }
+    for (int k = 0; k < 3; k++) o[k] = f->ref[k] + P[k];
+    return t_off;
+}
+
 void vx__sample_offset(uint32_t i, double* ox, double* oy) {
     if (i == 0) {
         *ox = *oy = 0;

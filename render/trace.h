@@ -75,6 +75,12 @@ void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__T
 void vx__frame_tile_grid(const vx__frame* f, uint32_t* shift, uint32_t* nx, uint32_t* ny);
 /* Sub-pixel offset of sample i in [-0.5, 0.5)^2 (sample 0 is the centre). */
 void vx__sample_offset(uint32_t i, double* ox, double* oy);
+/* The double-precision ray of image point (u, v) in [-1, 1]^2 (v up) by the
+ * model above: P its start relative to R, o = R + P, d unit; returns the
+ * depth of o along the ray (depth = the return value + s). The CPU reference
+ * (vx_render_cpu), the compact layout's CPU walk and the probes' CPU renders
+ * make their rays with it. */
+double vx__frame_ray(const vx__frame* f, double u, double v, double P[3], double o[3], double d[3]);
 void vx__affine_apply(const double m[12], const double p[3], double out[3]);
 /* Inverse of a 3x4 affine map; false if singular. */
 bool vx__affine_inverse(const double m[12], double out[12]);

@@ -130,10 +130,14 @@ vx_result vx_svo_editor_apply(vx_svo_editor* e, const vx_svo_cell_write* w, size
  * model). Everything reachable is checked as strictly. */
 vx_result vx_svo_validate_edited_model(const vx_svo_model* m, vx_error* err);
 
-/* The builder's model of m's cells (what vx_svo_build_model gives for them:
- * the words without the superseded copies), into *out (free with
- * vx_svo_model_free(alloc, out)). */
-vx_result vx_svo_model_compact(const vx_allocator* alloc, const vx_svo_model* m, vx_svo_model* out, vx_error* err);
+/* The builder's model of m's cells (what vx_svo_build_model(desc, ...) gives
+ * for them: the words without the superseded copies), into *out (free with
+ * vx_svo_model_free(desc->alloc, out)). desc: NULL or zero-initialised for
+ * the defaults; its alloc serves every block (the cells' scratch and *out),
+ * its other fields (no_collapse, no_dag, max_depth, progress,
+ * testing.far_limit) reach the build as vx_svo_build_model reads them. */
+vx_result vx_svo_model_compact(const vx_svo_build_desc* desc, const vx_svo_model* m, vx_svo_model* out,
+                               vx_error* err);
 
 #ifdef __cplusplus
 }

@@ -378,8 +378,20 @@ uint32_t vx_svo_model_digest(const vx_svo_model* m);
 /* Sets world_from_grid to the identity. */
 void vx_svo_scene_init(vx_svo_scene* scene, const vx_allocator* a);
 /* Recomputes bounds_min/max from the instances (hidden ones excluded) using
- * each model's occupied extent. */
+ * each model's occupied extent: vx_svo_scene_update_bounds_ex(NULL, scene). */
 void vx_svo_scene_update_bounds(vx_svo_scene* scene);
+/* Options of vx_svo_scene_update_bounds_ex; NULL or zero-initialised: the
+ * defaults. The bounds never depend on them. */
+typedef struct vx_svo_bounds_desc {
+    unsigned threads;       /* threads that find the models' extents (a pass over each tree) at once, for scenes
+                               of two models or more and 2^20 node words or more: 0 = one per CPU (at most
+                               VX_MAX_THREADS), 1 = the caller's thread only */
+    vx_svo_testing testing; /* test hooks: parallel_always only (svo/core.h); leave zeroed */
+} vx_svo_bounds_desc;
+/* vx_svo_scene_update_bounds with options (desc may be NULL). Scratch
+ * memory comes from scene->alloc; where it runs out the extents are found
+ * on the caller's thread (the same bounds). */
+void vx_svo_scene_update_bounds_ex(const vx_svo_bounds_desc* desc, vx_svo_scene* scene);
 /* ---- scene facts shared by every module (svo_scene.c) ------------------------------ */
 
 /* Whether instance i is shown: not hidden, not on a hidden layer, its model

@@ -655,8 +655,11 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     return true;
 }
 
-vx_result vx_svo_model_compact(const vx_allocator* alloc, const vx_svo_model* m, vx_svo_model* out, vx_error* err) {
+vx_result vx_svo_model_compact(const vx_svo_build_desc* desc, const vx_svo_model* m, vx_svo_model* out,
+                               vx_error* err) {
     if (!m || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo compact: NULL argument");
+    const vx_svo_build_desc bd = desc ? *desc : (vx_svo_build_desc){0};
+    const vx_allocator* alloc = bd.alloc;
     memset(out, 0, sizeof *out);
     if (m->voxel_count > SIZE_MAX / 16)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo compact: %llu cells", (unsigned long long)m->voxel_count);
@@ -679,7 +682,7 @@ vx_result vx_svo_model_compact(const vx_allocator* alloc, const vx_svo_model* m,
         vx_svo_voxels v = {.count = c.n, .keys = c.keys, .attrs = m->attrs, .palette = c.palette, .rgba = c.rgba,
                            .normal = c.normal, .material = c.material, .density = c.density};
         memcpy(v.size, m->size, sizeof v.size);
-        r = vx_svo_build_model(&(vx_svo_build_desc){.alloc = alloc}, &v, out, NULL, err);
+        r = vx_svo_build_model(&bd, &v, out, NULL, err);
     }
     vx_free(alloc, c.keys);
     vx_free(alloc, c.palette);

@@ -165,10 +165,12 @@ static void extent_job(void* ctx, unsigned thread, uint32_t i) {
     if (!model_extent(&j->s->models[i], &j->ext[i])) memset(&j->ext[i], 0, sizeof j->ext[i]);
 }
 
-void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]) {
+/* want, hooks: vx_svo_bounds_desc's threads and testing */
+static void scene_bounds(const vx_svo_scene* s, unsigned want, const vx_svo_testing* hooks, double bmin[3],
+                         double bmax[3]) {
     /* large scenes: every model's extent in parallel first (each is a full
      * pass over its tree), then the instances */
-    unsigned threads = s->models ? vx__svo_threads(s, 0, NULL) : 1;
+    unsigned threads = s->models ? vx__svo_threads(s, want, hooks) : 1;
     vx__svo_extent* ext = threads > 1 ? (vx__svo_extent*)vx_calloc(s->alloc, s->model_count, sizeof *ext) : NULL;
     if (ext) {
         extent_jobs j = {s, ext};
@@ -176,6 +178,10 @@ void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3])
     }
     vx__svo_scene_bounds_ext(s, ext, bmin, bmax);
     vx_free(s->alloc, ext);
+}
+
+void vx__svo_scene_bounds(const vx_svo_scene* s, double bmin[3], double bmax[3]) {
+    scene_bounds(s, 0, NULL, bmin, bmax);
 }
 
 void vx__svo_scene_bounds_ext(const vx_svo_scene* s, const vx__svo_extent* known, double bmin[3], double bmax[3]) {
@@ -234,10 +240,13 @@ void vx_svo_scene_update_bounds_coded(vx_svo_scene* s, const vx_svo_model_coded*
     vx_free(s->alloc, ext);
 }
 
-void vx_svo_scene_update_bounds(vx_svo_scene* s) {
+void vx_svo_scene_update_bounds_ex(const vx_svo_bounds_desc* desc, vx_svo_scene* s) {
     if (!s) return;
-    vx__svo_scene_bounds(s, s->bounds_min, s->bounds_max);
+    const vx_svo_bounds_desc d = desc ? *desc : (vx_svo_bounds_desc){0};
+    scene_bounds(s, d.threads, &d.testing, s->bounds_min, s->bounds_max);
 }
+
+void vx_svo_scene_update_bounds(vx_svo_scene* s) { vx_svo_scene_update_bounds_ex(NULL, s); }
 
 const char* vx_svo_material_get(const vx_svo_material* m, const char* key) {
     if (!m || !key || !m->dict || m->dict_size == 0) return NULL;

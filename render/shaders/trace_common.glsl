@@ -412,49 +412,11 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 // 21) fails with a ladder one level short.
 const bool STK_REG = NODES_FILE;
 const int STK_LO = S_MAX - (DEEP == 0 ? 7 : DEEP == 1 ? 9 : 20);
-#define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
-    if (3 >= STK_LO) stk_node[3] = s_ == 3 ? v_ : stk_node[3]; \
-    if (4 >= STK_LO) stk_node[4] = s_ == 4 ? v_ : stk_node[4]; \
-    if (5 >= STK_LO) stk_node[5] = s_ == 5 ? v_ : stk_node[5]; \
-    if (6 >= STK_LO) stk_node[6] = s_ == 6 ? v_ : stk_node[6]; \
-    if (7 >= STK_LO) stk_node[7] = s_ == 7 ? v_ : stk_node[7]; \
-    if (8 >= STK_LO) stk_node[8] = s_ == 8 ? v_ : stk_node[8]; \
-    if (9 >= STK_LO) stk_node[9] = s_ == 9 ? v_ : stk_node[9]; \
-    if (10 >= STK_LO) stk_node[10] = s_ == 10 ? v_ : stk_node[10]; \
-    if (11 >= STK_LO) stk_node[11] = s_ == 11 ? v_ : stk_node[11]; \
-    if (12 >= STK_LO) stk_node[12] = s_ == 12 ? v_ : stk_node[12]; \
-    if (13 >= STK_LO) stk_node[13] = s_ == 13 ? v_ : stk_node[13]; \
-    if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
-    if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
-    if (16 >= STK_LO) stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
-    if (17 >= STK_LO) stk_node[17] = s_ == 17 ? v_ : stk_node[17]; \
-    if (18 >= STK_LO) stk_node[18] = s_ == 18 ? v_ : stk_node[18]; \
-    if (19 >= STK_LO) stk_node[19] = s_ == 19 ? v_ : stk_node[19]; \
-    if (20 >= STK_LO) stk_node[20] = s_ == 20 ? v_ : stk_node[20]; \
-    if (21 >= STK_LO) stk_node[21] = s_ == 21 ? v_ : stk_node[21]; \
-    if (22 >= STK_LO) stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
-}
-#define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
-    if (3 >= STK_LO) g_ = s_ == 3 ? stk_node[3] : g_; \
-    if (4 >= STK_LO) g_ = s_ == 4 ? stk_node[4] : g_; \
-    if (5 >= STK_LO) g_ = s_ == 5 ? stk_node[5] : g_; \
-    if (6 >= STK_LO) g_ = s_ == 6 ? stk_node[6] : g_; \
-    if (7 >= STK_LO) g_ = s_ == 7 ? stk_node[7] : g_; \
-    if (8 >= STK_LO) g_ = s_ == 8 ? stk_node[8] : g_; \
-    if (9 >= STK_LO) g_ = s_ == 9 ? stk_node[9] : g_; \
-    if (10 >= STK_LO) g_ = s_ == 10 ? stk_node[10] : g_; \
-    if (11 >= STK_LO) g_ = s_ == 11 ? stk_node[11] : g_; \
-    if (12 >= STK_LO) g_ = s_ == 12 ? stk_node[12] : g_; \
-    if (13 >= STK_LO) g_ = s_ == 13 ? stk_node[13] : g_; \
-    if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
-    if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
-    if (16 >= STK_LO) g_ = s_ == 16 ? stk_node[16] : g_; \
-    if (17 >= STK_LO) g_ = s_ == 17 ? stk_node[17] : g_; \
-    if (18 >= STK_LO) g_ = s_ == 18 ? stk_node[18] : g_; \
-    if (19 >= STK_LO) g_ = s_ == 19 ? stk_node[19] : g_; \
-    if (20 >= STK_LO) g_ = s_ == 20 ? stk_node[20] : g_; \
-    if (21 >= STK_LO) g_ = s_ == 21 ? stk_node[21] : g_; \
-    OUT = uint(g_); }
+// STK_PUT / STK_GET: stack_ladder.glsl (one text with trace_compact.comp's);
+// the two switches keep this walk's SPIR-V as it was (slots 3 up, all guarded)
+#define STK_LADDER_DEEP
+#define STK_LADDER_GUARD_ALL
+#include "stack_ladder.glsl"
 #endif
 
 // Traces model space ray o + t d (t in world units, d not normalised)

@@ -61,9 +61,9 @@ layout(constant_id = 12) const bool PATH_START = false;
 // is a CPU (lavapipe), where the walk's stack is a ladder of selects (LADDER).
 layout(constant_id = 100) const bool NODES_FILE = false;
 // The walk's stack as a ladder of selects at constant indices on CPU devices
-// in DEEP 0-1 (trace.comp's STK_PUT / STK_GET form, trace_common.glsl, issue
-// 21's seventeenth sitting): lavapipe then keeps it in registers instead of
-// writing and reading an array lane by lane: the compact kernel 1.2-1.4x
+// in DEEP 0-1 (STK_PUT / STK_GET of stack_ladder.glsl, one text with
+// trace.comp's; issue 21's seventeenth sitting): lavapipe then keeps it in
+// registers instead of writing and reading an array lane by lane: the compact kernel 1.2-1.4x
 // faster there (albedo; docs/PERFORMANCE.md issue 18, sixteenth step). On the
 // H200 the same ladder cost 11-23% (48 registers in the albedo kernels
 // instead of 40, the stack's 96 bytes of local memory an L1 hit a pop): GPUs
@@ -256,29 +256,10 @@ float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 // LADDER: the stack's pushed scales, S_MAX - 7 (DEEP 0: models of up to 8
 // levels push from levels 8 to 2) or S_MAX - 9 (DEEP 1: up to 10) to
-// S_MAX - 1, each at a constant index
+// S_MAX - 1, each at a constant index (stack_ladder.glsl without its
+// switches: slots 14 up, 16 up unguarded)
 const int STK_LO = S_MAX - (DEEP == 0 ? 7 : 9);
-#define STK_PUT(S, V) { int s_ = (S), v_ = (V); \
-    if (14 >= STK_LO) stk_node[14] = s_ == 14 ? v_ : stk_node[14]; \
-    if (15 >= STK_LO) stk_node[15] = s_ == 15 ? v_ : stk_node[15]; \
-    stk_node[16] = s_ == 16 ? v_ : stk_node[16]; \
-    stk_node[17] = s_ == 17 ? v_ : stk_node[17]; \
-    stk_node[18] = s_ == 18 ? v_ : stk_node[18]; \
-    stk_node[19] = s_ == 19 ? v_ : stk_node[19]; \
-    stk_node[20] = s_ == 20 ? v_ : stk_node[20]; \
-    stk_node[21] = s_ == 21 ? v_ : stk_node[21]; \
-    stk_node[22] = s_ == 22 ? v_ : stk_node[22]; \
-}
-#define STK_GET(S, OUT) { int s_ = (S), g_ = stk_node[S_MAX - 1]; \
-    if (14 >= STK_LO) g_ = s_ == 14 ? stk_node[14] : g_; \
-    if (15 >= STK_LO) g_ = s_ == 15 ? stk_node[15] : g_; \
-    g_ = s_ == 16 ? stk_node[16] : g_; \
-    g_ = s_ == 17 ? stk_node[17] : g_; \
-    g_ = s_ == 18 ? stk_node[18] : g_; \
-    g_ = s_ == 19 ? stk_node[19] : g_; \
-    g_ = s_ == 20 ? stk_node[20] : g_; \
-    g_ = s_ == 21 ? stk_node[21] : g_; \
-    OUT = uint(g_); }
+#include "stack_ladder.glsl"
 
 // trace.comp's trace_model (trace_common.glsl, float variant, DEEP 0-2, no
 // LOD or beam) over the compact geometry: the same walk, the same two-frame

@@ -220,12 +220,46 @@ static void test_cut(void) {
     CHECK(vx_probe_place_reader(NULL, NULL, NULL, &b, &err) == VX_ERR_INVALID_ARG);
 }
 
+/* Instances the caster refuses are refused by the compact layout's placement with the same code and
+ * message (both read the instance maps through render/instance_ray.h): a singular map (its inverse would
+ * be read uninitialised otherwise), a hidden instance naming a model past the scene's. */
+static void test_refused_instances(void) {
+    vx_svo_scene s;
+    make_scene(&s);
+    vx_error err = {0}, err2 = {0};
+    vx_compact_scene cs;
+    REQUIRE(vx_compact_build(NULL, &s, &cs, &err) == VX_OK);
+    vx_probe_bake_desc d = {.spacing = 2, .res = 16};
+    vx_probe_set a = {0}, e = {0};
+    double keep[12];
+    memcpy(keep, s.instances[1].xform, sizeof keep);
+    for (int k = 0; k < 3; k++) s.instances[1].xform[4 * 2 + k] = 0; /* z row 0: flat */
+    vx_result ra = vx_probe_place(&s, &d, &a, &err);
+    vx_result re = vx_probe_place_compact(&cs, &s, &d, &e, &err2);
+    CHECKF(ra == VX_ERR_UNSUPPORTED && re == ra && !strcmp(err.msg, err2.msg) && !e.probes, "%d %d: %s / %s",
+           (int)ra, (int)re, err.msg, err2.msg);
+    memcpy(s.instances[1].xform, keep, sizeof keep);
+    s.instances[6].model = s.model_count; /* on the hidden layer: never drawn, still checked */
+    ra = vx_probe_place(&s, &d, &a, &err);
+    re = vx_probe_place_compact(&cs, &s, &d, &e, &err2);
+    CHECKF(ra == VX_ERR_BAD_FORMAT && re == ra && !strcmp(err.msg, err2.msg) && !e.probes, "%d %d: %s / %s",
+           (int)ra, (int)re, err.msg, err2.msg);
+    s.instances[6].model = 1;
+    REQUIRE(vx_probe_place(&s, &d, &a, &err) == VX_OK);
+    REQUIRE(vx_probe_place_compact(&cs, &s, &d, &e, &err) == VX_OK);
+    CHECK(same_set(&a, &e, "restored instances"));
+    vx_probe_set_free(&a), vx_probe_set_free(&e);
+    vx_compact_free(&cs);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     snprintf(g_dir, sizeof g_dir, "/tmp/vx_placeXXXXXX");
     if (!mkdtemp(g_dir)) return 1;
     RUN(test_same_placement);
     RUN(test_frame_view);
     RUN(test_cut);
+    RUN(test_refused_instances);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", g_dir);

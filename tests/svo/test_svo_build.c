@@ -1267,6 +1267,20 @@ static void test_validate_rejects(void) {
     CHECK(vx_svo_validate_model(&ma, &e) == VX_ERR_BAD_FORMAT);
 }
 
+/* The grid cells of the n cells keys[] of an instance's model (floor(M (v + 1/2) + t)), added to the box
+ * [mn, mx): the scene bounds by brute force. */
+static void grow_bounds(const vx_svo_instance* in, const uint64_t* keys, size_t n, double mn[3], double mx[3]) {
+    for (size_t k = 0; k < n; k++) {
+        double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
+        const double* M = in->xform;
+        for (int r = 0; r < 3; r++) {
+            double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
+            if (g < mn[r]) mn[r] = g;
+            if (g + 1 > mx[r]) mx[r] = g + 1;
+        }
+    }
+}
+
 static void test_bounds_and_materials(void) {
     uint64_t keys[3] = {vx_svo_morton(2, 3, 4), vx_svo_morton(5, 3, 1), vx_svo_morton(3, 6, 2)};
     vx_svo_voxels in = {.size = {8, 8, 8}, .count = 3, .keys = keys};
@@ -1290,16 +1304,7 @@ static void test_bounds_and_materials(void) {
     vx_svo_scene_update_bounds(&s);
     /* brute force: every cell's grid cell */
     double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
-    for (int i = 0; i < 2; i++)
-        for (int k = 0; k < 3; k++) {
-            double p[3] = {vx__compact3(keys[k]) + 0.5, vx__compact3(keys[k] >> 1) + 0.5, vx__compact3(keys[k] >> 2) + 0.5};
-            const double* M = s.instances[i].xform;
-            for (int r = 0; r < 3; r++) {
-                double g = floor(M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3]);
-                if (g < mn[r]) mn[r] = g;
-                if (g + 1 > mx[r]) mx[r] = g + 1;
-            }
-        }
+    for (int i = 0; i < 2; i++) grow_bounds(&s.instances[i], keys, 3, mn, mx);
     for (int r = 0; r < 3; r++) CHECKF(s.bounds_min[r] == mn[r] && s.bounds_max[r] == mx[r], "axis %d: %g..%g vs %g..%g", r,
                                        s.bounds_min[r], s.bounds_max[r], mn[r], mx[r]);
     CHECK(vx_svo_validate_scene(&s, &e) == VX_OK);
@@ -1325,6 +1330,76 @@ static void test_bounds_and_materials(void) {
 /* The cells' box of models whose cells fill a random part of their extent:
  * single cells and whole aligned blocks of 2^l cells (collapsed leaves at
  * levels 1-3 where the build collapses). */
+/* vx_svo_scene_update_bounds_ex: the desc reaches the bounds (threads, testing.parallel_always) and the
+ * bounds never depend on it. Observed through the scene's allocator: the models' extents found on threads
+ * take one scratch block (every model's extent), on the caller's thread two (the extents met so far and
+ * their states). */
+typedef struct count_alloc {
+    int blocks;
+} count_alloc;
+static void* counted_alloc(void* user, size_t n) {
+    ((count_alloc*)user)->blocks++;
+    return malloc(n ? n : 1);
+}
+static void counted_free(void* user, void* p) {
+    (void)user;
+    free(p);
+}
+
+static void test_bounds_desc(void) {
+    uint64_t ka[2] = {vx_svo_morton(1, 2, 3), vx_svo_morton(6, 0, 7)}, kb[1] = {vx_svo_morton(0, 5, 2)};
+    vx_svo_voxels va = {.size = {8, 8, 8}, .count = 2, .keys = ka}, vb = {.size = {8, 8, 8}, .count = 1, .keys = kb};
+    count_alloc ca = {0};
+    const vx_allocator A = {counted_alloc, counted_free, &ca};
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, &A);
+    s.models = (vx_svo_model*)calloc(2, sizeof *s.models);
+    s.model_count = 2;
+    vx_error e;
+    REQUIRE(vx_svo_build_model(NULL, &va, &s.models[0], NULL, &e) == VX_OK);
+    REQUIRE(vx_svo_build_model(NULL, &vb, &s.models[1], NULL, &e) == VX_OK);
+    s.instances = (vx_svo_instance*)calloc(3, sizeof *s.instances);
+    s.instance_count = 3;
+    double rot[12] = {0, -1, 0, 10, 1, 0, 0, -4, 0, 0, 1, 0.25}, sh[12] = {1, 0, 0, -20, 0, 1, 0, 3, 0, 0, 1, 0};
+    memcpy(s.instances[0].xform, rot, sizeof rot);
+    memcpy(s.instances[1].xform, sh, sizeof sh);
+    memcpy(s.instances[2].xform, sh, sizeof sh);
+    s.instances[1].model = 1;
+    s.instances[2].xform[3] = 500, s.instances[2].flags = VX_SVO_INSTANCE_HIDDEN;
+    for (int i = 0; i < 3; i++) s.instances[i].layer = UINT32_MAX;
+    /* brute force: every drawn cell's grid cell */
+    double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
+    grow_bounds(&s.instances[0], ka, 2, mn, mx);
+    grow_bounds(&s.instances[1], kb, 1, mn, mx);
+    const struct {
+        const char* what;
+        vx_svo_bounds_desc d;
+        bool null;
+        int blocks;
+    } cases[] = {
+        {"NULL desc", {0}, true, 2},
+        {"zeroed desc (two models, few words: one thread)", {0}, false, 2},
+        {"parallel_always, 2 threads", {.threads = 2, .testing.parallel_always = true}, false, 1},
+        {"parallel_always, one per CPU", {.testing.parallel_always = true}, false, vx_cpu_count(64) > 1 ? 1 : 2},
+        {"parallel_always, 1 thread", {.threads = 1, .testing.parallel_always = true}, false, 2},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        memset(s.bounds_min, 0, sizeof s.bounds_min), memset(s.bounds_max, 0, sizeof s.bounds_max);
+        ca.blocks = 0;
+        vx_svo_scene_update_bounds_ex(cases[c].null ? NULL : &cases[c].d, &s);
+        CHECKF(ca.blocks == cases[c].blocks, "%s: %d scratch blocks, expected %d", cases[c].what, ca.blocks,
+               cases[c].blocks);
+        for (int r = 0; r < 3; r++)
+            CHECKF(s.bounds_min[r] == mn[r] && s.bounds_max[r] == mx[r], "%s, axis %d: %g..%g vs %g..%g",
+                   cases[c].what, r, s.bounds_min[r], s.bounds_max[r], mn[r], mx[r]);
+    }
+    ca.blocks = 0;
+    vx_svo_scene_update_bounds(&s); /* the plain call: the defaults */
+    CHECK(ca.blocks == 2 && s.bounds_min[0] == mn[0] && s.bounds_max[2] == mx[2]);
+    s.alloc = NULL;
+    vx_svo_scene_free(&s);
+}
+
 static void test_cell_box(void) {
     for (int trial = 0; trial < 300; trial++) {
         uint32_t size[3], a[3], b[3];
@@ -1382,5 +1457,6 @@ int main(void) {
     RUN(test_interned);
     RUN(test_validate_rejects);
     RUN(test_bounds_and_materials);
+    RUN(test_bounds_desc);
     return vx_test_finish();
 }

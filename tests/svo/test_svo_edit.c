@@ -336,6 +336,20 @@ static void run_edits(uint32_t attrs, bool no_dag, uint32_t far_limit, int round
     CHECK(c.node_count == b.node_count && (!b.node_count || !memcmp(c.nodes, b.nodes, (size_t)b.node_count * 4)));
     CHECK(!b.rgba || !memcmp(c.rgba, b.rgba, (size_t)b.attr_count * 4));
     CHECK(!b.palette || !memcmp(c.palette, b.palette, b.attr_count));
+    /* the desc reaches the compaction's build: with the edits' far limit its words are the builder's with
+     * that limit (far slots where the default has none) */
+    if (far_limit < VX__SVO_PTR_MAX) {
+        vx_svo_model cf = {0}, bf = {0};
+        CHECK(vx_svo_model_compact(&(vx_svo_build_desc){.testing.far_limit = far_limit}, &m, &cf, &err) == VX_OK);
+        CHECK(build_from_grid(&g, attrs, far_limit, &bf) == VX_OK);
+        CHECKF(cf.node_count == bf.node_count && cf.root == bf.root &&
+                   (!bf.node_count || !memcmp(cf.nodes, bf.nodes, (size_t)bf.node_count * 4)),
+               "far limit %u: the compaction's words are not the builder's", far_limit);
+        CHECKF(cf.node_count != c.node_count || (c.node_count && memcmp(cf.nodes, c.nodes, (size_t)c.node_count * 4)),
+               "far limit %u: the compaction's words are the default limit's", far_limit);
+        vx_svo_model_free(NULL, &cf);
+        vx_svo_model_free(NULL, &bf);
+    }
     /* the compacted model is a valid file whose cells are the grid's */
     vx_svo_scene s;
     vx_svo_scene_init(&s, NULL);

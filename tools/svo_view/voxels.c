@@ -557,7 +557,7 @@ vx_result vvx_file_scene(const ved* e, vx_svo_scene* out, vx_error* err) {
             memcpy(models, s->models, (size_t)s->model_count * sizeof *models);
             out->models = models;
         }
-        vx_result r = vx_svo_model_compact(s->alloc, &s->models[i], &models[i], err);
+        vx_result r = vx_svo_model_compact(&(vx_svo_build_desc){.alloc = s->alloc}, &s->models[i], &models[i], err);
         if (r) {
             models[i] = s->models[i];
             vvx_file_scene_free(e, out);
