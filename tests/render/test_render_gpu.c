@@ -112,10 +112,26 @@ static void check_beam(const char* name, vx_render_scene* rs, vx_render_desc d, 
     }
 }
 
+/* Distance in float steps between two finite floats of one sign (a large
+ * value where they are not comparable that way). */
+static uint32_t ulps_apart(float a, float b) {
+    uint32_t ua, ub;
+    memcpy(&ua, &a, 4);
+    memcpy(&ub, &b, 4);
+    if (!isfinite(a) || !isfinite(b) || (ua >> 31) != (ub >> 31)) return ua == ub ? 0u : UINT32_MAX;
+    return ua > ub ? ua - ub : ub - ua;
+}
+
 /* The depth frame without hits (trace.comp's lean walk where it applies:
  * one instance, GPU form, issue 21's twentieth sitting) must hold the hits
- * frame's pixels, bit for bit: the same cells and depths from a loop
- * without the iteration guard, the ray-end test at a push and hh. */
+ * frame's pixels: the same hit or miss everywhere and the same depth, from a
+ * loop without the iteration guard, the ray-end test at a push and hh. The
+ * depth within 4 float steps, not bit for bit: the two frames are different
+ * kernels (WRITE_HITS), and on the H200 the NVIDIA compiler contracts their
+ * walks' arithmetic differently (stop 50's merged check: 2-23 pixels of a
+ * scene 1 step apart; bit for bit on lavapipe). A wrong walk (a wrong
+ * scale_exp2: 31-42 pixels a scene on lavapipe) misses a cell or hits
+ * another face, far more than 4 steps. */
 static void check_lean(const char* name, vx_render_scene* rs, vx_render_desc d, const vx_render_image* gi) {
     d.want_hits = false;
     vx_render_image li = {0};
@@ -124,7 +140,8 @@ static void check_lean(const char* name, vx_render_scene* rs, vx_render_desc d, 
     CHECKF(r == VX_OK, "%s without hits: %s", name, err.msg);
     size_t n = (size_t)gi->width * gi->height, diff = 0;
     for (size_t i = 0; !r && i < n; i++) {
-        if (!memcmp(&gi->pixels[4 * i], &li.pixels[4 * i], 16)) continue;
+        const float *a = &gi->pixels[4 * i], *b = &li.pixels[4 * i];
+        if (a[3] == b[3] && ulps_apart(a[0], b[0]) <= 4u && b[1] == b[0] && b[2] == b[0]) continue;
         if (diff++ < 4)
             fprintf(stderr, "  %s pixel %zu,%zu: t %.9g (%g) without hits, %.9g (%g) with\n", name, i % gi->width,
                     i / gi->width, li.pixels[4 * i], li.pixels[4 * i + 3], gi->pixels[4 * i], gi->pixels[4 * i + 3]);
