@@ -1185,6 +1185,16 @@ static vx_result upload_paged_file(vx_render_scene* rs, const vx_svo_scene* s, v
     return r;
 }
 
+/* The layout decision for a compact layout built from the reader (whole or paged): whatever AUTO would take is
+ * compacted, so AUTO's depth limit and the budget's check apply; d is desc with the layout set to compact. */
+static vx_result choose_compact(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                                vx_render_scene_desc* d, vx_render_layout_info* li, uint32_t* max_depth,
+                                uint64_t* range, vx_error* err) {
+    *d = desc ? *desc : (vx_render_scene_desc){0};
+    d->layout = VX_RENDER_LAYOUT_COMPACT;
+    return choose_layout(gpu, s, d, li, max_depth, range, err);
+}
+
 vx_result vx_render_scene_create_paged(vx_gpu* gpu, vx_svo_model_reader* rd, vx_compact_paged* p, double build_seconds,
                                        const vx_render_scene_desc* desc, vx_render_scene** out, vx_error* err) {
     if (!gpu || !rd || !p || !out) {
@@ -1192,12 +1202,11 @@ vx_result vx_render_scene_create_paged(vx_gpu* gpu, vx_svo_model_reader* rd, vx_
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     }
     const vx_svo_scene* s = vx_svo_reader_scene(rd);
-    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
-    d.layout = VX_RENDER_LAYOUT_COMPACT;
+    vx_render_scene_desc d;
     vx_render_layout_info li;
     uint32_t max_depth = 0;
     uint64_t range = 0;
-    vx_result r = choose_layout(gpu, s, &d, &li, &max_depth, &range, err);
+    vx_result r = choose_compact(gpu, s, desc, &d, &li, &max_depth, &range, err);
     if (!r && (p->reader != rd || p->model_count != s->model_count))
         r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the paged layout was not built from this reader");
     if (r) {
@@ -1262,13 +1271,11 @@ vx_result vx_render_scene_create_compact(vx_gpu* gpu, vx_svo_model_reader* rd, v
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     }
     const vx_svo_scene* s = vx_svo_reader_scene(rd);
-    /* compact whatever AUTO would take (c is that layout): its depth limit and the budget's check apply */
-    vx_render_scene_desc d = desc ? *desc : (vx_render_scene_desc){0};
-    d.layout = VX_RENDER_LAYOUT_COMPACT;
+    vx_render_scene_desc d;
     vx_render_layout_info li;
     uint32_t max_depth = 0;
     uint64_t range = 0;
-    vx_result r = choose_layout(gpu, s, &d, &li, &max_depth, &range, err);
+    vx_result r = choose_compact(gpu, s, desc, &d, &li, &max_depth, &range, err);
     if (r) {
         vx_compact_free(c);
         return r;
