@@ -444,6 +444,21 @@ const int STK_LO = S_MAX - (DEEP == 0 ? 7 : DEEP == 1 ? 9 : 20);
 // VX_RENDER_EXACT_DEPTH, rebased or not) also take a hit's t from its cube's
 // entry planes against the frame's origin, not from the walk's crossing
 // times (after the loop).
+// The hit child cs's attribute record in the plain layout (parent: its
+// node's block, desc: its descriptor; the records' word follows the block's
+// inner children): one text for the hit after the loop and the cell walk's
+// leaf above the cell level (CELL_WALK), so they cannot drift. A macro, not a
+// function, so that both sites compile to the SPIR-V they had.
+#define HIT_ATTR_REC                                                                                     \
+    {                                                                                                    \
+        uint valid = (desc >> 8) & 0xFFu;                                                                \
+        uint blk = parent - (desc >> 17);                                                                \
+        if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];                                    \
+        uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))]; \
+        attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));                                        \
+        have_attr = true;                                                                                \
+    }
+
 bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool any_hit, float lod_a, float lod_b, inout Hit h) {
     Model m = model_at(mi);
     if (m.root == ROOT_EMPTY) return false;
@@ -758,12 +773,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                         // record is the hit's (the plain layout's; found here, before the
                         // descriptor is the full node's)
                         if (!virt && HAS_COLOR && !any_hit && !COMPACT && (m.flags & 1u) != 0u) {
-                            uint valid = (desc >> 8) & 0xFFu;
-                            uint blk = parent - (desc >> 17);
-                            if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-                            uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))];
-                            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
-                            have_attr = true;
+                            HIT_ATTR_REC
                         }
                         virt = true;
                         stop = false;
@@ -1005,12 +1015,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             // loop runs masked on every step on SIMD CPUs such as lavapipe;
             // shadow rays, any_hit, need none)
             int cs = idx ^ oct7;
-            uint valid = (desc >> 8) & 0xFFu;
-            uint blk = parent - (desc >> 17);
-            if (FAR && (desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            uint a = nodes[blk + (FILE_FORM ? uint(bitCount(valid & ~(desc & 0xFFu))) : desc_inner_count(desc))];
-            attr_rec = a + uint(bitCount(valid & ((1u << cs) - 1u)));
-            have_attr = true;
+            HIT_ATTR_REC
         }
     }
     if (!hit) return false;
