@@ -1,5 +1,5 @@
 /* tests/fuzz/svo_reader_fuzz.c - libFuzzer target for the model reader
- * (vx_svo_reader_open, _next, _finish, _copy_graph; svo/svo.h), which the
+ * (vx_svo_reader_open, _next, _finish, _copy_graph, _model; svo/svo.h), which the
  * models path of the renderer takes (svo_render --load models) and which
  * svo_fuzz does not reach: the input goes into a memfd, so the reader maps
  * it as it maps a file on disk (its MADV_DONTNEED behind each model too).
@@ -71,6 +71,8 @@ static void one_pass(const char* path, const uint8_t* data, size_t size, bool sk
         return;
     }
     const vx_svo_scene* g = vx_svo_reader_scene(rd);
+    vx_svo_model again;
+    if (vx_svo_reader_model(rd, 0, &again, &err) == VX_OK) abort(); /* no random access before a finished pass */
     vx_svo_scene copy;
     if (vx_svo_reader_copy_graph(rd, NULL, &copy, &err) == VX_OK) {
         if (copy.model_count != g->model_count || copy.instance_count != g->instance_count) abort();
@@ -97,6 +99,17 @@ static void one_pass(const char* path, const uint8_t* data, size_t size, bool sk
     if (finished && (memcmp(g->bounds_min, whole.bounds_min, sizeof g->bounds_min) ||
                      memcmp(g->bounds_max, whole.bounds_max, sizeof g->bounds_max)))
         abort();
+    /* after a finished pass every model is read again at random, the same model as the pass's (and the whole
+     * read's); an index past the models is refused */
+    for (uint32_t i = 0; finished && i <= g->model_count; i++) {
+        bool ok = vx_svo_reader_model(rd, i, &again, &err) == VX_OK;
+        if (ok != (i < g->model_count)) abort();
+        if (!ok) continue;
+        if (vx_svo_model_digest(&again) != vx_svo_model_digest(&whole.models[i]) ||
+            again.node_count != whole.models[i].node_count || again.attr_count != whole.models[i].attr_count)
+            abort();
+        vx_svo_model_free(NULL, &again);
+    }
     vx_svo_reader_close(rd);
     if (whole_ok) vx_svo_scene_free(&whole);
 }
