@@ -23,7 +23,6 @@
 #include <string.h>
 
 #include "render/compact.h"
-#include "render/render_internal.h"
 #include "tests/gpu_test.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"

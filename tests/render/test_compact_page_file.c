@@ -28,7 +28,6 @@
 #include <unistd.h>
 
 #include "render/compact.h"
-#include "render/render_internal.h"
 #include "tests/gpu_test.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
