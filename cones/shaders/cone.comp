@@ -22,6 +22,11 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
+// CELL_HITS (trace_common.glsl): each pixel's primary ray (gbuffer_pixel, traced again here) finds its hit in
+// a cell-level leaf, so that both layouts shade the same cell and face: a solid cube of one colour is one leaf
+// in the plain layout and cells in the compact one, and a ray within rounding of the cube's inner edge hit
+// another face of it (issue 18)
+#define CELL_HITS
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;

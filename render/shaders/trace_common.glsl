@@ -261,8 +261,8 @@ float g_tskip = 0.0;
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 
-// CELL_HITS (probe.comp's bake kernels, float variant): a hit is found in a cell-level leaf in every
-// layout. The plain layout's leaves can be whole cubes of cells (a subtree of one colour), the compact
+// CELL_HITS (probe.comp's bake kernels; the cones' voxelize, inject and cone kernels; float variant): a hit
+// is found in a cell-level leaf in every layout. The plain layout's leaves can be whole cubes of cells (a subtree of one colour), the compact
 // layout's geometry is cut by other rules (its 4^3 bricks hold single cells; colours do not split it),
 // so the same solid cube is one leaf in one layout and a subtree in the other; where a ray meets it
 // within float rounding of an edge (the walk's crossing times lose 2^(depth - 23) of a cell), the

@@ -223,11 +223,29 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     lit.lights = lights, lit.light_count = 2;
     compare(name, "gbuffer,direct", &p, &c, NULL, NULL, &lit);
 
+    vx_error err = {0};
+    /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
+     * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
+     * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
+    for (int k = 0; k < 2; k++) {
+        vx_gi_method gp, gc;
+        vx_cone_gi *cp = NULL, *cc = NULL;
+        vx_cone_desc cd = {.res = 32};
+        if (k == 1) cd.lights = lights, cd.light_count = 2, cd.shadows = true;
+        vx_result q = vx_cone_gi_create(p.rs, s, &cd, &gp, &cp, &err);
+        if (!q) q = vx_cone_gi_create(c.rs, s, &cd, &gc, &cc, &err);
+        CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
+        if (!q) {
+            compare_volumes(name, k ? "cone volume (lights)" : "cone volume", cp, cc);
+            compare(name, k ? "gbuffer,gi=cones" : "gbuffer,direct,gi=cones", &p, &c, &gp, &gc, k ? &lit : &base);
+        }
+        vx_cone_gi_destroy(cp);
+        vx_cone_gi_destroy(cc);
+    }
     /* the probe bake: the same bytes from both layouts; a 3x3x3 grid at R=32 too, whose texel centre rays
      * meet solid cubes at their edges, where a cube of one colour (one leaf in the plain layout, cells in the
      * compact one) gave other cells, faces or distances before the bake's cell walk (probe.comp CELL_HITS:
      * eph_monu1's differed on lavapipe, the Cornell box's on the H200; issue 18, branch bakex) */
-    vx_error err = {0};
     {
         vx_probe_bake_desc be = {.grid = {3, 3, 3}, .res = 32, .spp = 1, .bounces = 1, .seed = 5};
         vx_probe_set ep = {0}, ec = {0};
@@ -270,24 +288,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     vx_probe_set_free(&psp);
     vx_probe_set_free(&psc);
 
-    /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
-     * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
-     * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
-    for (int k = 0; k < 2; k++) {
-        vx_gi_method gp, gc;
-        vx_cone_gi *cp = NULL, *cc = NULL;
-        vx_cone_desc cd = {.res = 32};
-        if (k == 1) cd.lights = lights, cd.light_count = 2, cd.shadows = true;
-        vx_result q = vx_cone_gi_create(p.rs, s, &cd, &gp, &cp, &err);
-        if (!q) q = vx_cone_gi_create(c.rs, s, &cd, &gc, &cc, &err);
-        CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
-        if (!q) {
-            compare_volumes(name, k ? "cone volume (lights)" : "cone volume", cp, cc);
-            compare(name, k ? "gbuffer,gi=cones" : "gbuffer,direct,gi=cones", &p, &c, &gp, &gc, k ? &lit : &base);
-        }
-        vx_cone_gi_destroy(cp);
-        vx_cone_gi_destroy(cc);
-    }
+    /* gi=photons */
     {
         vx_gi_method gp, gc;
         vx_photon_gi *pp = NULL, *pc = NULL;
