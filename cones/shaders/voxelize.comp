@@ -16,10 +16,9 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// CELL_HITS (trace_common.glsl): the face rays find their hits in cell-level leaves, so that the plain and the
-// compact layout give the same volume (a solid cube of one colour is one leaf in the plain layout and cells in
-// the compact one; a ray within rounding of the cube's inner edge met another cell or face; issue 18)
-#define CELL_HITS
+// WALK_PRECISE (trace_common.glsl): the face rays' walk not contracted, so that both layouts' pipelines
+// compute the same hit distances (cone.comp says why)
+#define WALK_PRECISE
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;

@@ -261,8 +261,8 @@ float g_tskip = 0.0;
 
 bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 
-// CELL_HITS (probe.comp's bake kernels; the cones' voxelize, inject and cone kernels; float variant): a hit
-// is found in a cell-level leaf in every layout. The plain layout's leaves can be whole cubes of cells (a subtree of one colour), the compact
+// CELL_HITS (probe.comp's bake kernels, float variant): a hit is found in a cell-level leaf in every
+// layout. The plain layout's leaves can be whole cubes of cells (a subtree of one colour), the compact
 // layout's geometry is cut by other rules (its 4^3 bricks hold single cells; colours do not split it),
 // so the same solid cube is one leaf in one layout and a subtree in the other; where a ray meets it
 // within float rounding of an edge (the walk's crossing times lose 2^(depth - 23) of a cell), the
@@ -279,9 +279,10 @@ bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #endif
 
-// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE): every float operation of the walk precise
-// (no contraction into fused multiply-adds: the NVIDIA compiler contracted the walk's crossing times
-// differently in two variants of that kernel, issue 21); elsewhere the walk is as it was
+// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE; gbuffer.comp, frame.comp and the cones' kernels):
+// every float operation of the walk precise (no contraction into fused multiply-adds: the NVIDIA compiler
+// contracted the walk's crossing times differently in two variants of that kernel, issue 21, and in the
+// plain and the compact layout's pipelines of one kernel, issue 18); elsewhere the walk is as it was
 #ifdef WALK_PRECISE
 #define WPREC precise
 #else

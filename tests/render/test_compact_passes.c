@@ -118,24 +118,29 @@ static void report(side* p, side* c, const char* list, const vx_gi_method* gp, c
     }
 }
 
-static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
-                    const vx_gi_method* gc, const vx_frame_desc* t) {
+static void compare_show(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
+                         const vx_gi_method* gc, const vx_frame_desc* t, vx_show show) {
     vx_render_image a = {0}, b = {0};
-    bool ok = render(p, list, gp, t, VX_SHOW_FINAL, &a) && render(c, list, gc, t, VX_SHOW_FINAL, &b);
+    bool ok = render(p, list, gp, t, show, &a) && render(c, list, gc, t, show, &b);
     CHECKF(ok, "%s '%s': rendered", name, list);
     if (ok) {
         size_t hits = 0, diff = differ(&a, &b, &hits);
-        printf("  %-28s %-36s %ux%u: %zu pixels hit, %zu floats differ%s\n", name, list, a.width, a.height, hits, diff,
-               t->light_count ? " (frame lights)" : "");
+        printf("  %-28s %-36s %ux%u: %zu pixels hit, %zu floats differ%s%s%s\n", name, list, a.width, a.height, hits,
+               diff, t->light_count ? " (frame lights)" : "", show ? ", show " : "", show ? vx_show_name(show) : "");
         CHECKF(diff == 0, "%s '%s': %zu floats differ", name, list, diff);
         CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
         if (diff && a.width == b.width && a.height == b.height) {
             list_pixels(&a, &b);
-            report(p, c, list, gp, gc, t);
+            if (show == VX_SHOW_FINAL) report(p, c, list, gp, gc, t);
         }
     }
     vx_render_image_free(&a);
     vx_render_image_free(&b);
+}
+
+static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
+                    const vx_gi_method* gc, const vx_frame_desc* t) {
+    compare_show(name, list, p, c, gp, gc, t, VX_SHOW_FINAL);
 }
 
 /* The two layouts' radiance volumes, level by level: the same halfs (voxelize.comp's opacity, inject.comp's
@@ -176,34 +181,21 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
-/* All scenes through the one device: its pipeline cache holds the pass, GI
- * and bake variants of both layouts of every scene (147 with the corpus
- * scenes), as a session that opens several scenes does.
- * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
-static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks) {
-    side p, c;
-    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, 0, &p)) {
-        CHECKF(false, "%s: plain scene", name);
-        return;
-    }
-    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, bricks, &c)) {
-        CHECKF(false, "%s: compact scene", name);
-        side_close(&p);
-        return;
-    }
-    vx_render_layout_info li;
-    vx_render_scene_layout(c.rs, &li);
-    CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages == 0 && vx__render_scene_compact(c.rs) &&
-               !vx__render_scene_compact(p.rs) && li.brick_dict == (bricks == VX_RENDER_BRICKS_DICT),
-           "%s: layout %s, %u pages, brick dictionary %d", name, vx_render_layout_name(li.layout), li.pages,
-           (int)li.brick_dict);
-    vx_frame_desc base = vx_frame_desc_defaults();
-    base.base = (vx_render_desc){.width = w, .height = h};
-    compare(name, "gbuffer,direct", &p, &c, NULL, NULL, &base);
-    compare(name, "gbuffer,direct,ao", &p, &c, NULL, NULL, &base);
+/* The frames: passes, frame lights, gi=cones (its volume too) and gi=photons, both layouts bit for bit. */
+static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    vx_error err = {0};
+    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
+     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
+     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
+    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
+    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
+        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
+    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
     vx_frame_desc two = base;
     two.base.spp = 2;
-    compare(name, "gbuffer,direct,ao,aa,tonemap", &p, &c, NULL, NULL, &two);
+    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
     /* frame lights (their shadow rays): a point light above the scene's middle, a spot light from a corner */
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(s, lo, hi);
@@ -222,9 +214,8 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     lights[0].intensity = lights[1].intensity = 0.5 * ext * ext;
     vx_frame_desc lit = base;
     lit.lights = lights, lit.light_count = 2;
-    compare(name, "gbuffer,direct", &p, &c, NULL, NULL, &lit);
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &lit);
 
-    vx_error err = {0};
     /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
      * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
      * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
@@ -233,16 +224,34 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
         vx_cone_gi *cp = NULL, *cc = NULL;
         vx_cone_desc cd = {.res = 32};
         if (k == 1) cd.lights = lights, cd.light_count = 2, cd.shadows = true;
-        vx_result q = vx_cone_gi_create(p.rs, s, &cd, &gp, &cp, &err);
-        if (!q) q = vx_cone_gi_create(c.rs, s, &cd, &gc, &cc, &err);
+        vx_result q = vx_cone_gi_create(p->rs, s, &cd, &gp, &cp, &err);
+        if (!q) q = vx_cone_gi_create(c->rs, s, &cd, &gc, &cc, &err);
         CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
         if (!q) {
             compare_volumes(name, k ? "cone volume (lights)" : "cone volume", cp, cc);
-            compare(name, k ? "gbuffer,gi=cones" : "gbuffer,direct,gi=cones", &p, &c, &gp, &gc, k ? &lit : &base);
+            compare(name, k ? "gbuffer,gi=cones" : "gbuffer,direct,gi=cones", p, c, &gp, &gc, k ? &lit : &base);
         }
         vx_cone_gi_destroy(cp);
         vx_cone_gi_destroy(cc);
     }
+    /* gi=photons */
+    {
+        vx_gi_method gp, gc;
+        vx_photon_gi *pp = NULL, *pc = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
+        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
+        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
+        vx_photon_gi_destroy(pp);
+        vx_photon_gi_destroy(pc);
+    }
+}
+
+/* The probe bakes (the same bytes) and the GI methods that read them (gi=probes, gi=pathtrace). */
+static void check_bakes(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    vx_error err = {0};
     /* the probe bake: the same bytes from both layouts; a 3x3x3 grid at R=32 too, whose texel centre rays
      * meet solid cubes at their edges, where a cube of one colour (one leaf in the plain layout, cells in the
      * compact one) gave other cells, faces or distances before the bake's cell walk (probe.comp CELL_HITS:
@@ -250,7 +259,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     {
         vx_probe_bake_desc be = {.grid = {3, 3, 3}, .res = 32, .spp = 1, .bounces = 1, .seed = 5};
         vx_probe_set ep = {0}, ec = {0};
-        bool ok = vx_probe_bake_gpu(p.rs, s, &be, &ep, &err) == VX_OK && vx_probe_bake_gpu(c.rs, s, &be, &ec, &err) == VX_OK;
+        bool ok = vx_probe_bake_gpu(p->rs, s, &be, &ep, &err) == VX_OK && vx_probe_bake_gpu(c->rs, s, &be, &ec, &err) == VX_OK;
         CHECKF(ok, "%s: edge bake: %s", name, err.msg);
         if (ok) {
             bool same = probe_sets_equal(&ep, &ec);
@@ -262,9 +271,9 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     }
     vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 5};
     vx_probe_set psp = {0}, psc = {0};
-    vx_result r1 = vx_probe_bake_gpu(p.rs, s, &bd, &psp, &err);
+    vx_result r1 = vx_probe_bake_gpu(p->rs, s, &bd, &psp, &err);
     CHECKF(r1 == VX_OK, "%s: plain bake: %s", name, err.msg);
-    vx_result r2 = vx_probe_bake_gpu(c.rs, s, &bd, &psc, &err);
+    vx_result r2 = vx_probe_bake_gpu(c->rs, s, &bd, &psc, &err);
     CHECKF(r2 == VX_OK, "%s: compact bake: %s", name, err.msg);
     if (!r1 && !r2) {
         bool same = probe_sets_equal(&psp, &psc);
@@ -276,38 +285,56 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
             vx_probe_render_desc pd = {.spp = 2, .bounces = 1, .seed = 3};
             vx_gi_method gp, gc;
             vx_probe_gi *pgp = NULL, *pgc = NULL;
-            vx_result q = vx_probe_gi_create(p.rs, s, &psp, methods[k], &pd, &gp, &pgp, &err);
-            if (!q) q = vx_probe_gi_create(c.rs, s, &psc, methods[k], &pd, &gc, &pgc, &err);
+            vx_result q = vx_probe_gi_create(p->rs, s, &psp, methods[k], &pd, &gp, &pgp, &err);
+            if (!q) q = vx_probe_gi_create(c->rs, s, &psc, methods[k], &pd, &gc, &pgc, &err);
             CHECKF(q == VX_OK, "%s: gi=%s: %s", name, methods[k], err.msg);
             char list[64];
             snprintf(list, sizeof list, "gbuffer,direct,gi=%s", methods[k]);
-            if (!q) compare(name, list, &p, &c, &gp, &gc, &base);
+            if (!q) compare(name, list, p, c, &gp, &gc, &base);
             vx_probe_gi_destroy(pgp);
             vx_probe_gi_destroy(pgc);
         }
     }
     vx_probe_set_free(&psp);
     vx_probe_set_free(&psc);
+}
 
-    /* gi=photons */
-    {
-        vx_gi_method gp, gc;
-        vx_photon_gi *pp = NULL, *pc = NULL;
-        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
-        vx_result q = vx_photon_gi_create(p.rs, s, NULL, &phd, &gp, &pp, &err);
-        if (!q) q = vx_photon_gi_create(c.rs, s, NULL, &phd, &gc, &pc, &err);
-        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
-        if (!q) compare(name, "gbuffer,direct,gi=photons", &p, &c, &gp, &gc, &base);
-        vx_photon_gi_destroy(pp);
-        vx_photon_gi_destroy(pc);
+/* All scenes through the one device: its pipeline cache holds the pass, GI
+ * and bake variants of both layouts of every scene, as a session that opens
+ * several scenes does. Each scene's frames and bakes are separate tests
+ * (FRAMES, BAKES), so that VX_TEST_ONLY picks one: a fresh GPU machine
+ * compiles every pipeline cold.
+ * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
+enum { FRAMES = 1, BAKES = 2 };
+
+static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks, int parts) {
+    side p, c;
+    if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, 0, &p)) {
+        CHECKF(false, "%s: plain scene", name);
+        return;
     }
+    if (!side_open(s, VX_RENDER_LAYOUT_COMPACT, bricks, &c)) {
+        CHECKF(false, "%s: compact scene", name);
+        side_close(&p);
+        return;
+    }
+    vx_render_layout_info li;
+    vx_render_scene_layout(c.rs, &li);
+    CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT && li.pages == 0 && vx__render_scene_compact(c.rs) &&
+               !vx__render_scene_compact(p.rs) && li.brick_dict == (bricks == VX_RENDER_BRICKS_DICT),
+           "%s: layout %s, %u pages, brick dictionary %d", name, vx_render_layout_name(li.layout), li.pages,
+           (int)li.brick_dict);
+    vx_frame_desc base = vx_frame_desc_defaults();
+    base.base = (vx_render_desc){.width = w, .height = h};
+    if (parts & FRAMES) check_frames(name, s, &p, &c, &base);
+    if (parts & BAKES) check_bakes(name, s, &p, &c, &base);
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     printf("  %-28s %u pipelines cached\n", name, gpu->pipeline_count);
     side_close(&c);
     side_close(&p);
 }
 
-static void test_generated(void) {
+static void generated_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     /* palette models (sparse, dense), an RGBA model with noise, a model of
      * full 8^3 leaf cubes (leaves above level 1) */
@@ -349,11 +376,11 @@ static void test_generated(void) {
     in[4] = ts_inst(2, rot, 20, 30, 25);
     vx_svo_scene s;
     ts_scene(&s, m, 4, in, 5);
-    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT);
+    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT, parts);
     vx_svo_scene_free(&s);
 }
 
-static void test_room(void) {
+static void room_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
     (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes (static there) */
@@ -365,11 +392,11 @@ static void test_room(void) {
     add_material(&s, 4, glass, 3);
     add_material(&s, 3, metal, 3);
     add_material(&s, 9, emit, 2);
-    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE, parts);
     vx_svo_scene_free(&s);
 }
 
-static void test_corpus(void) {
+static void corpus_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const char* files[] = {"eph_monu1.vox", "ogt_chr_knight.vox"};
     int done = 0;
@@ -380,19 +407,29 @@ static void test_corpus(void) {
         done++; /* found: a file that fails to load fails the test, not skips it */
         CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
         if (st != VX_TEST_VOX_OK) continue;
-        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT);
+        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT, parts);
         vx_svo_scene_free(&s);
     }
     if (!done) SKIP("no corpus .vox files");
 }
 
+static void test_generated_frames(void) { generated_scenes(FRAMES); }
+static void test_generated_bakes(void) { generated_scenes(BAKES); }
+static void test_room_frames(void) { room_scenes(FRAMES); }
+static void test_room_bakes(void) { room_scenes(BAKES); }
+static void test_corpus_frames(void) { corpus_scenes(FRAMES); }
+static void test_corpus_bakes(void) { corpus_scenes(BAKES); }
+
 int main(void) {
     int logged = 0;
     vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
-    RUN(test_generated);
-    RUN(test_room);
-    RUN(test_corpus);
+    RUN(test_generated_frames);
+    RUN(test_generated_bakes);
+    RUN(test_room_frames);
+    RUN(test_room_bakes);
+    RUN(test_corpus_frames);
+    RUN(test_corpus_bakes);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

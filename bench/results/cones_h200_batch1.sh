@@ -1,0 +1,39 @@
+#!/bin/bash
+# issue 18, branch cones: the layouts' differences in the cones pass (and the other GI and pass paths) on the
+# device, with main's kernels (test_diag: the branch's diagnostic test, every kernel's SPIR-V main's) and the fix's
+# (test_fix); then the cones pass's cost, main (gi_bench_base) against the fix (gi_bench_fix), in turn.
+T=/tmp/${NAME:-cones}
+rm -rf $T; mkdir -p $T
+for f in bin/*.gz; do gunzip -c $f > $T/$(basename $f .gz); chmod +x $T/$(basename $f .gz); done
+cp -r corpus $T/ 2>/dev/null
+cd $T
+echo "== machine: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1); $(nproc) CPUs; $(date -u +%T)"
+t0=$(date +%s)
+BUDGET=${BUDGET:-115}
+SB=""; command -v stdbuf > /dev/null && SB="stdbuf -oL -eL" # the tests' lines even where a timeout ends them
+run() { # LIMIT ARGS...
+    lim=$1; shift
+    left=$(( BUDGET - ($(date +%s) - t0) ))
+    [ $left -lt 4 ] && { echo "SKIPPED (time): $*"; return; }
+    [ $lim -gt $left ] && lim=$left
+    s=$(date +%s%N)
+    timeout $lim $SB "$@"
+    rc=$?; echo "rc $rc $(( ($(date +%s%N) - s) / 1000000 )) ms (at $(( $(date +%s) - t0 )) s)"
+}
+export VX_CORPUS_DIR=$T/corpus
+echo "== test_compact_passes (room), main's kernels (test_diag)"
+VX_TEST_ONLY=test_room run 55 ./test_diag 2>&1 | grep -v "^\[ run"
+echo "== test_compact_passes (room), the fix (test_fix)"
+VX_TEST_ONLY=test_room run 35 ./test_fix 2>&1 | grep -v "^\[ run"
+echo "== gi_bench --methods cones: A = main (gi_bench_base), B = the fix (gi_bench_fix), A B A B"
+G="--ref-spp 8 --runs 7 --warm 50 --methods cones,cones-half"
+for r in 1 2; do
+  for b in gi_bench_base gi_bench_fix; do
+    echo "-- $b round $r metal-room"; run 12 ./$b $G --name metal-room metal-room 1920x1080 2>&1 | grep -v "^#"
+    echo "-- $b round $r monu1"; run 12 ./$b $G --name monu1 corpus/vox/eph_monu1.vox 1920x1080 2>&1 | grep -v "^#"
+  done
+done
+echo "== test_compact_passes (generated, corpus), main's kernels then the fix, as time allows"
+VX_TEST_ONLY=test_generated,test_corpus run 30 ./test_diag 2>&1 | grep -v "^\[ run"
+VX_TEST_ONLY=test_generated,test_corpus run 30 ./test_fix 2>&1 | grep -v "^\[ run"
+echo "== end $(( $(date +%s) - t0 )) s"
