@@ -1,4 +1,8 @@
 #!/bin/bash
+# (as run, 2026-12-01 09:59 UTC, one fresh H200: bin/ held test_diag = test_compact_passes of 48f6232's test with
+# every kernel main's 1695247 (the shader changes stashed; SPIR-V headers compared), test_fix = 48f6232 (CELL_HITS in
+# the cones' kernels), gi_bench_base = gi_bench of main's sources, gi_bench_fix = 48f6232's; corpus/vox: eph_monu1.vox,
+# ogt_chr_knight.vox. Log: cones_h200_batch1.txt)
 # issue 18, branch cones: the layouts' differences in the cones pass (and the other GI and pass paths) on the
 # device, with main's kernels (test_diag: the branch's diagnostic test, every kernel's SPIR-V main's) and the fix's
 # (test_fix); then the cones pass's cost, main (gi_bench_base) against the fix (gi_bench_fix), in turn.
