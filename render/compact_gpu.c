@@ -470,8 +470,8 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
      * with the hit's level-3 and level-4 ancestors from the walk, a coloured
      * model's hit inside a brick finds its attribute index in loads that do
      * not wait on each other (compact_attr.glsl cell_index_path) instead of
-     * the descent's chain below the start table; 8 bytes a level-3 or -4
-     * slot (docs/PERFORMANCE.md issue 18, branch ck11). Models with a start
+     * the descent's chain below the start table; 8 bytes a level-3 slot
+     * (docs/PERFORMANCE.md issue 18, branch ck11). Models with a start
      * table of level 3 or more and colours of more than one value, in scenes
      * whose kernel is DEEP 1 (records_on). */
     uint32_t* rec = NULL, rec_first = 0, rec_count = 0;

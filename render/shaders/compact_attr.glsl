@@ -211,12 +211,6 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     return base + below;
 }
 
-// cell_index for the whole layout (no pages) where the model's start table
-// is of level K >= 4: the levels above 4 in a loop, levels 4 and 3 after it
-// in straight code (cell_index tests a step's level for their forms):
-// +2.5% of the H200's albedo rays/s on the helmet's close-up (levels 4, 3
-// and the brick below its table), the other views within 0.3%
-// (docs/PERFORMANCE.md issue 18, twelfth step). Other models: cell_index.
 // The start table's entry of cell c's level-K cube (CModel.tab_k) and the
 // levels K..5 below it (cell_index_table, cell_index_path): true where that
 // gives the index (base: in a full leaf cube, or a uniform cube's value, its
@@ -251,6 +245,12 @@ bool table_to_level4(CModel m, uvec3 c, out uint n, out uint base, inout uint at
     return false;
 }
 
+// cell_index for the whole layout (no pages) where the model's start table
+// is of level K >= 4: the levels above 4 in a loop, levels 4 and 3 after it
+// in straight code (cell_index tests a step's level for their forms):
+// +2.5% of the H200's albedo rays/s on the helmet's close-up (levels 4, 3
+// and the brick below its table), the other views within 0.3%
+// (docs/PERFORMANCE.md issue 18, twelfth step). Other models: cell_index.
 uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
     attr_base = m.attr_base;
     if (m.root == ROOT_LEAF || m.tab_k < 4u) return cell_index(m, c, attr_base);
@@ -291,8 +291,9 @@ uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
 // block) and the slot before n3 (the cells of n4's children before n3: its
 // rank, where n3 is not the block's first). cell_index_table's descent below
 // the table is a chain of dependent loads (level 4's slot, then level 3's and
-// the rank, then the bricks before); this cost the H200 the helmet's close-up
-// colour (docs/PERFORMANCE.md issue 18, branch ck11).
+// the rank, then the bricks before): the helmet's close-up at 512 0.857 ->
+// 0.886 of trace.comp's albedo rays/s on the H200 with its table of level 3
+// (docs/PERFORMANCE.md issue 18, branch ck11).
 uint cell_index_path(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, out uint attr_base) {
     attr_base = m.attr_base;
     // (a table of level 3 holds level 4's cells in its entry: no level-4 loads)
