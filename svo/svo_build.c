@@ -651,11 +651,10 @@ typedef struct uni_run {
     uint32_t start[8];
 } uni_run;
 
-static bool out_push(bld* b, outw* o, uint32_t v) {
-    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
-        o->w[o->n++] = v;
-        return true;
-    }
+/* The push where the words have no room (grows them; false at the limit or
+ * without memory): out of line, so that out_push's common case inlines
+ * into lay_block (a call per word was a fortieth of the helmet's read). */
+static bool __attribute__((noinline)) out_push_slow(bld* b, outw* o, uint32_t v) {
     if (o->n >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 node words");
         return false;
@@ -663,6 +662,13 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
     if (!vx_grow(b->a, (void**)&o->w, &o->cap, o->n + 1, sizeof(uint32_t))) return oom(b, "node words");
     o->w[o->n++] = v;
     return true;
+}
+static inline bool out_push(bld* b, outw* o, uint32_t v) {
+    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
+        o->w[o->n++] = v;
+        return true;
+    }
+    return out_push_slow(b, o, v);
 }
 
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
@@ -1210,15 +1216,32 @@ static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     const bld* b = f->b;
     vx_svo_model* m = f->m;
     uint32_t* rgba = f->own ? NULL : m->rgba;
+    if (b->direct) {
+        /* records are the one channel's values (the ids), the others the
+         * constants: a loop per array, each a copy or a fill the compiler
+         * vectorises, where a record was made and taken apart per element
+         * (the 4096^3 helmet's 74 M material copies of one value) */
+        const uint32_t* v = f->ids;
+        const rec c = b->cst;
+        uint32_t va = b->vattr;
+        if (m->palette)
+            for (size_t i = lo; i < hi; i++) m->palette[i] = va == VX_ATTR_PALETTE ? (uint8_t)v[i] : c.palette;
+        if (rgba)
+            for (size_t i = lo; i < hi; i++) rgba[i] = va == VX_ATTR_RGBA8 ? v[i] : c.rgba;
+        if (m->normal)
+            for (size_t i = lo; i < hi; i++) m->normal[i] = va == VX_ATTR_NORMAL ? v[i] : c.normal;
+        if (m->material)
+            for (size_t i = lo; i < hi; i++) m->material[i] = va == VX_ATTR_MATERIAL ? (uint16_t)v[i] : c.material;
+        if (m->density)
+            for (size_t i = lo; i < hi; i++) {
+                rec dv = c;
+                rec_put_value(va, v[i], &dv);
+                m->density[i] = dv.density;
+            }
+        return;
+    }
     for (size_t i = lo; i < hi; i++) {
-        rec dv;
-        const rec* r = &dv;
-        if (b->direct) {
-            dv = b->cst; /* the constant channels (none in the builder) */
-            rec_put_value(b->vattr, f->ids[i], &dv);
-        } else {
-            r = &b->recs[f->ids[i]];
-        }
+        const rec* r = &b->recs[f->ids[i]];
         if (m->palette) m->palette[i] = r->palette;
         if (rgba) rgba[i] = r->rgba;
         if (m->normal) m->normal[i] = r->normal;
@@ -2483,16 +2506,19 @@ static void unp_lay(unp* u) {
  * its run and fetching the table slots that run will probe where it is
  * looked up (run_prefetch's hint), and moves the waiting nodes on by a
  * stage each. */
-static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsigned nk, const uint32_t* kid, const uint32_t* cd,
+static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t ids[8], unsigned nk, const uint32_t kid[8], const uint32_t cd[8],
                      unsigned nn) {
     unp_pend* e = &u->ring[u->rin++ % UNP_RING];
     e->hdr = hdr;
     e->at = (uint32_t)at;
     e->nk = nk;
     e->nn = nn;
-    memcpy(e->ids, ids, nk * sizeof *ids);
-    memcpy(e->kid, kid, nn * sizeof *kid);
-    memcpy(e->cd, cd, nn * sizeof *cd);
+    /* whole arrays (ids, kid and cd hold 8 each; the entries past nk and nn
+     * are never read): a few vector moves where three calls of a variable
+     * size were */
+    memcpy(e->ids, ids, sizeof e->ids);
+    memcpy(e->kid, kid, sizeof e->kid);
+    memcpy(e->cd, cd, sizeof e->cd);
     e->h = 0;
     e->find = false;
     const bld* lb = &u->lb;
@@ -2591,8 +2617,8 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (leaf & ~valid)
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
-    uint32_t kids[8], ids[8];
-    uint32_t cdm[8]; /* fused: the non-leaf children's masks (kids: their indices in done[], in order) */
+    uint32_t kids[8] = {0}, ids[8] = {0}; /* (whole: unp_push copies all 8) */
+    uint32_t cdm[8] = {0}; /* fused: the non-leaf children's masks (kids: their indices in done[], in order) */
     unsigned nn = 0;
     xt_node cx[8]; /* the children's heights and extents (done[].xt) */
     unsigned n = 0, h = 1;
