@@ -319,7 +319,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
         for (uint32_t v = 0; v < nv; v++) {
             double mb = bench_median(tb[v], ROUNDS), db = bench_median(db3[v], ROUNDS);
             printf("| %s | %s | %.3f ms = %.2f G rays/s | %.3f ms = %.2f G rays/s | **%.3f** | %.3f | %.1f / %.1f | %llu | "
-                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu) | %llu |\n",
+                   "%llu / %llu / %llu / %llu | %.1f MB | %.1f MB | %.1f KB (%llu), %.1f KB | %llu |\n",
                    name, v == nl + 1 ? (view ? "close-up, starts from one push" : "overview, starts from one push")
                          : v == nl ? (view ? "close-up, from the root" : "overview, from the root")
                          : v ? (view ? "close-up, paged" : "overview, paged") : (view ? "close-up" : "overview"),
@@ -329,7 +329,8 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
                    (unsigned long long)dt[v], (unsigned long long)dtbig[v], 4.0 * (double)(words + colors) / 1e6,
                    (double)vx_compact_gpu_bytes(v == 1 && cgp ? cgp : cg) / 1e6,
                    (double)vx__compact_gpu_table_bytes(v == 1 && cgp ? cgp : cg) / 1e3,
-                   (unsigned long long)vx__compact_gpu_uniform_entries(v == 1 && cgp ? cgp : cg), (unsigned long long)dnh[v]);
+                   (unsigned long long)vx__compact_gpu_uniform_entries(v == 1 && cgp ? cgp : cg),
+                   (double)vx__compact_gpu_record_bytes(v == 1 && cgp ? cgp : cg) / 1e3, (unsigned long long)dnh[v]);
         }
         fflush(stdout);
     }
@@ -550,7 +551,8 @@ int main(int argc, char** argv) {
             }
             printf("device: %s\n\n| scene | view | trace.comp (albedo) | trace_compact.comp | compact / today | "
                    "the same, depth mode | steps per ray (today / compact) | pixels hit | differing: instance or cell / "
-                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables (entries of one value) | "
+                   "colour / t bits / t > 1e-5 | today's buffers | compact buffers | of them start tables (entries of one value), "
+                   "level-3 records | "
                    "pixels differing without hits |\n"
                    "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
                    vx_gpu_device_name(gpu));

@@ -3,8 +3,15 @@
  * pipeline's overhead over the single trace shader (trace.comp's colour
  * mode) on the same rays. Needs only libvulkan and libc.
  *
- *   passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] SCENE.{vox,svo} ...
+ *   passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]
+ *                SCENE.{vox,svo} ...
  *
+ * --warmup S: before each row's frames, its frame back to back for S seconds
+ * (default 0: only the 3 warm-up frames), so that every row runs at the
+ * GPU's working clock (a process's first rows ran 3-5x slower on the H200).
+ * --quick: only the lists "gbuffer" and "gbuffer,direct" (merged, with the
+ * shadow map) and the shadow map check, no point lights (A/B runs on a
+ * shared device).
  * --layout compact keeps each scene in the compact layout (render/compact.h,
  * issue 18: the passes' kernels then walk it, trace_common.glsl COMPACT);
  * the single shader's row is then trace_compact.comp (vx_render_frame).
@@ -45,6 +52,8 @@ int main(int argc, char** argv) {
     int runs = 15;
     uint32_t W = 1920, H = 1080;
     int first = 1;
+    bool quick = false;
+    double warmup = 0;
     vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_PLAIN};
     for (; first < argc && argv[first][0] == '-'; first++) {
         if (!strcmp(argv[first], "--layout") && first + 1 < argc) {
@@ -53,17 +62,23 @@ int main(int argc, char** argv) {
             else if (strcmp(l, "plain")) return 2;
             continue;
         }
-        if (!strcmp(argv[first], "--device") && first + 1 < argc) device = argv[++first];
+        if (!strcmp(argv[first], "--quick")) quick = true;
+        else if (!strcmp(argv[first], "--warmup") && first + 1 < argc) {
+            char* end;
+            warmup = strtod(argv[++first], &end);
+            if (*end || !(warmup >= 0 && warmup <= 60)) return 2;
+        }
+        else if (!strcmp(argv[first], "--device") && first + 1 < argc) device = argv[++first];
         else if (!strcmp(argv[first], "--runs") && first + 1 < argc) runs = atoi(argv[++first]);
         else if (!strcmp(argv[first], "--size") && first + 1 < argc) {
             if (sscanf(argv[++first], "%ux%u", &W, &H) != 2) return 2;
         } else {
-            fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] SCENE...\n");
+            fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S] SCENE...\n");
             return 2;
         }
     }
     if (runs < 1 || runs > 1000 || first >= argc) {
-        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] SCENE...\n");
+        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S] SCENE...\n");
         return 2;
     }
     vx_error err = {0};
@@ -118,6 +133,8 @@ int main(int argc, char** argv) {
             vx__frame f;
             double sec;
             bool compact = sd.layout == VX_RENDER_LAYOUT_COMPACT;
+            for (double w0 = vx_time_now(); !compact && vx_time_now() - w0 < warmup;)
+                if (vx__render_dispatch(rs, &base, false, 8, &f, &sec, &err)) break;
             for (int k = 0; k < 3 + runs; k++) {
                 vx_result rr;
                 if (compact) {
@@ -138,7 +155,7 @@ int main(int argc, char** argv) {
             double single = bench_median(t, runs);
             printf("| passes | frame ms | per pass ms | vs single shader |\n| --- | ---: | --- | ---: |\n");
             printf("| single shader (%s colour) | %.3f | | 1.00 |\n", compact ? "trace_compact.comp" : "trace.comp", single);
-            for (size_t l = 0; l < NLISTS; l++) {
+            for (size_t l = 0; l < (quick ? 2 : NLISTS); l++) {
                 vx_pass_list L;
                 bool nomap = lists[l][0] == '!';
                 bool sep = lists[l][nomap] == '=';
@@ -154,6 +171,10 @@ int main(int argc, char** argv) {
                 const char* names[VX_PASS_KIND_COUNT + 1] = {0};
                 uint32_t nn = 0;
                 bool ok = true;
+                for (double w0 = vx_time_now(); vx_time_now() - w0 < warmup;) {
+                    if (vx_frame_render(fr, &fd, &res, &err)) break;
+                    vx_render_image_free(&res.image);
+                }
                 for (int k = 0; k < 3 + runs && ok; k++) {
                     if (vx_frame_render(fr, &fd, &res, &err)) {
                         fprintf(stderr, "passes_bench: %s\n", err.msg);
@@ -205,6 +226,7 @@ int main(int argc, char** argv) {
             }
             /* brute-force point lights with ray-traced shadows: the direct pass loops over every
              * light (the baseline for issue 11's clustered culling) */
+            if (quick) continue;
             printf("\n| point lights (brute force, 16 shadowed) | frame ms | direct ms | direct ms per light |\n"
                    "| ---: | ---: | ---: | ---: |\n");
             static const uint32_t counts[] = {1, 8, 64, 512};

@@ -810,20 +810,22 @@ void vx_compact_free(vx_compact_scene* c) {
 }
 
 /* The geometry array of c from the builder's blocks (compact.h): the brick
- * dictionary, the slots of levels >= 5, those of levels 3-4, the bricks in
+ * dictionary, the slots of levels >= 5, those of level 4, of level 3, the bricks in
  * their blocks, the ranks of levels >= 5, then the blocks of brick index
  * words (two builder words each, one here). Pointers to blocks and the
  * models' roots are renumbered. */
 static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
     uint32_t n = b->n, D = b->dict_n;
-    uint64_t n5 = 0, n34 = 0, n2 = 0;
+    uint64_t n5 = 0, n4 = 0, n3 = 0, n2 = 0;
     for (uint32_t e = 0; e < n; e++) {
         if (!b->meta[e]) continue;
         uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
         if (level >= 5) n5 += len;
-        else if (level >= 3) n34 += len;
+        else if (level == 4) n4 += len;
+        else if (level == 3) n3 += len;
         else n2 += len;
     }
+    uint64_t n34 = n4 + n3;
     uint64_t nbr = b->use_dict ? 0 : n2, ni = b->use_dict ? n2 : 0;
     uint64_t slots = D + n5 + n34 + nbr, words = 2 * slots + n5 + ni;
     words += words & 1u;
@@ -845,10 +847,13 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu geometry words",
                        (unsigned long long)words);
     }
-    uint32_t at5 = D, at34 = D + (uint32_t)n5, at2 = b->use_dict ? (uint32_t)(2 * slots + n5) : at34 + (uint32_t)n34;
+    /* level 4 before level 3: the level-3 slots together, so that their
+     * records (vx__compact_level3_records) take 8 bytes each and no more */
+    uint32_t at5 = D, at4 = D + (uint32_t)n5, at3 = at4 + (uint32_t)n4;
+    uint32_t at2 = b->use_dict ? (uint32_t)(2 * slots + n5) : at4 + (uint32_t)n34;
     for (uint32_t e = 0; e < n;) {
         uint32_t len = b->meta[e] & 15u, level = b->meta[e] >> 4;
-        for (uint32_t k = 0; k < len; k++) map[e + k] = level >= 5 ? at5++ : level >= 3 ? at34++ : at2++;
+        for (uint32_t k = 0; k < len; k++) map[e + k] = level >= 5 ? at5++ : level == 4 ? at4++ : level == 3 ? at3++ : at2++;
         e += len;
     }
     for (uint32_t i = 0; i < D; i++) g[2 * (size_t)i] = (uint32_t)b->dict[i], g[2 * (size_t)i + 1] = (uint32_t)(b->dict[i] >> 32);
@@ -1579,6 +1584,50 @@ uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_
     for (uint32_t i = 0; i < k; i++)
         n += popc(c->geom[2 * (size_t)(blk + i)]) + popc(c->geom[2 * (size_t)(blk + i) + 1]);
     return n;
+}
+
+/* The levels of the slots of levels >= 3 below node n of level L (lev[s],
+ * 0 unseen): each once, the DAG's shared blocks too. */
+static void mark_levels(const vx_compact_scene* c, uint8_t* lev, uint32_t n, uint32_t L) {
+    if (L < 3 || n >= c->slot_count || lev[n]) return;
+    lev[n] = (uint8_t)L;
+    const uint32_t* sl = c->geom + 2 * (size_t)n;
+    uint32_t inner = (sl[0] >> 8) & ~sl[0] & 0xFFu;
+    if (L == 3) return;
+    for (uint32_t k = 0; k < popc(inner); k++) mark_levels(c, lev, vx__compact_child(c, L, sl[1], k), L - 1);
+}
+
+vx_result vx__compact_level3_records(const vx_compact_scene* c, const vx_allocator* alloc, uint32_t** words,
+                                     uint32_t* first, uint32_t* count, vx_error* err) {
+    *words = NULL, *first = 0, *count = 0;
+    if (!c->slot_count) return VX_OK;
+    uint8_t* lev = vx_calloc(alloc, c->slot_count, 1);
+    if (!lev) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u slot levels", c->slot_count);
+    for (uint32_t i = 0; i < c->model_count; i++)
+        if (c->models[i].root < VX_SVO_ROOT_LEAF && c->models[i].depth >= 3)
+            mark_levels(c, lev, c->models[i].root, c->models[i].depth);
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (uint32_t s = 0; s < c->slot_count; s++)
+        if (lev[s] == 3) lo = s < lo ? s : lo, hi = s + 1;
+    vx_result r = VX_OK;
+    uint32_t* w = hi ? vx_calloc(alloc, 2 * (size_t)(hi - lo), 4) : NULL;
+    if (hi && !w) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u level-3 records", hi - lo);
+    for (uint32_t s = lo; w && s < hi; s++) {
+        if (lev[s] != 3) continue;
+        const uint32_t* sl = c->geom + 2 * (size_t)s;
+        uint32_t leaf = sl[0] & 0xFFu, inner = (sl[0] >> 8) & ~leaf & 0xFFu;
+        uint64_t v = 0;
+        for (uint32_t o = 1; o < 8; o++) {
+            uint32_t below = (1u << o) - 1u;
+            uint64_t b = ((uint64_t)popc(leaf & below) << 6) + vx__compact_inner_before(c, 3, sl[1], popc(inner & below));
+            v |= b << (9 * (o - 1));
+        }
+        w[2 * (size_t)(s - lo)] = (uint32_t)v, w[2 * (size_t)(s - lo) + 1] = (uint32_t)(v >> 32);
+    }
+    vx_free(alloc, lev);
+    if (r) return r;
+    *words = w, *first = hi ? lo : 0, *count = hi ? hi - lo : 0;
+    return VX_OK;
 }
 
 uint32_t vx__compact_child(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k) {

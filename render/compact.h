@@ -43,7 +43,7 @@
  * a second dependent load per push into a brick (docs/PERFORMANCE.md, issue
  * 18, seventh step); scenes whose bricks do not repeat grow.
  * Order: the dictionary's brick_count slots (a model of depth <= 2 has its
- * brick there as root), the slots of levels >= 5, those of levels 3-4, the
+ * brick there as root), the slots of levels >= 5, of level 4, of level 3, the
  * bricks' blocks (slot_count slots in all, words 0 .. 2 slot_count), the
  * rank words of the levels >= 5 slots (slot s at word 2 slot_count -
  * brick_count + s), then the blocks of index words. Blocks are hash-consed
@@ -249,6 +249,18 @@ uint32_t vx__compact_inner_before(const vx_compact_scene* c, uint32_t L, uint32_
 /* Internal: the slot of child k (in block order) of a level-L node whose
  * children's block is blk (a brick's dictionary slot at level 3). */
 uint32_t vx__compact_child(const vx_compact_scene* c, uint32_t L, uint32_t blk, uint32_t k);
+/* Internal (compact.c, compact_gpu.c): the level-3 records, a GPU-side
+ * index (docs/PERFORMANCE.md issue 18, branch ck11): for each level-3 slot s
+ * reached from a model's root, words 2 (s - *first) and 2 (s - *first) + 1
+ * hold the cells before each octant o = 1..7 of the node (its leaf cubes
+ * and its non-leaf children's cells; at most 448, 9 bits at bit 9 (o - 1)
+ * of the 64-bit pair), so that the trace kernel finds a hit's cells before
+ * its brick in one load where the walk gives the level-3 node's slot.
+ * *count records from slot *first (level-3 and level-4 slots lie together,
+ * compact.h's order; the others' records are 0); *words NULL and *count 0
+ * where no model has a level-3 node. Owned by the caller (alloc). */
+vx_result vx__compact_level3_records(const vx_compact_scene* c, const vx_allocator* alloc, uint32_t** words,
+                                     uint32_t* first, uint32_t* count, vx_error* err);
 /* Decodes attribute index i of model m (its block's payload); opaque white
  * for a model without attributes or i past its cells. */
 uint32_t vx_compact_rgba(const vx_compact_scene* c, uint32_t m, uint32_t i);
@@ -417,6 +429,8 @@ vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, ui
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);
+/* Internal: the level-3 records' bytes on the GPU (after the geometry words; 0: none) */
+uint64_t vx__compact_gpu_record_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks, tests): the fewest pushes from the root a primary
  * ray's start below the root must skip (trace_compact.comp PATH_START;
  * tiles whose start would skip fewer walk from the root); 0 the default (2). */

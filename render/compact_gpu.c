@@ -15,6 +15,7 @@ typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
     uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
     uint32_t value; /* flags & 4 (a model whose cells all hold one value, the whole layout): its colour */
+    uint32_t rec3;  /* the whole layout: level-3 slot s's record is geometry slot rec3 + s (0: none; below) */
 } cmodel_gpu;
 /* a scene of one instance: its model's record in the frame block too (dispatch) */
 _Static_assert(sizeof(cmodel_gpu) <= sizeof(((vx__gpu_frame*)0)->cmodel0), "cmodel_gpu vs the frame block's cmodel0");
@@ -56,6 +57,8 @@ struct vx_compact_gpu {
     uint32_t deep;
     uint32_t dict; /* the kernel's DICT constant: the layout has its brick dictionary */
     uint64_t table_bytes; /* the start tables' (in attr) */
+    uint64_t record_bytes; /* the level-3 records' (after the geometry words) */
+    bool records;          /* some model has them (CModel.rec3): the kernel's RECORDS constant */
     uint64_t uniform_entries; /* of their entries, TAB_UNIFORM ones */
     uint32_t uniform_models; /* of the models, those of one value (CModel flag 4) */
     uint64_t bytes;
@@ -351,6 +354,18 @@ static uint32_t tab_level(uint32_t depth, uint64_t budget) {
     return 0;
 }
 
+/* The level-3 records and the colour from the walk's path (below) in the
+ * scenes whose kernel is DEEP 1 (models of 9 and 10 levels): on the H200 the
+ * DEEP 0 kernels lost 1-3% of their albedo rays/s with the path's capture
+ * (eph_monu1, eph_menger), and the DEEP 2 kernels (rebased) have none
+ * (docs/PERFORMANCE.md issue 18, branch ck11). */
+static bool records_on(uint32_t deep) { return deep == 1; }
+/* The start tables' smallest budget (entries, shared by the coloured models):
+ * with the records, 2^18 entries (2 MB; the helmet at 512: a table of level
+ * 3, whose path loads the entry and the record only, no level-4 slots),
+ * else 4096 (docs/PERFORMANCE.md issue 18, branch ck11) */
+#define TAB_FLOOR(records) ((records) ? (1u << 18) : 4096u)
+
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
                                 vx_compact_gpu** out, vx_error* err) {
     if (!rs || !s || !c || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -358,6 +373,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact scene has %u models, the scene %u",
                        c->model_count, s->model_count);
     uint32_t deep = deep_constant(s);
+    bool records = records_on(deep);
     vx_gpu* g = vx__render_scene_gpu(rs);
     vx_compact_gpu* cg = vx_calloc(&g->alloc, 1, sizeof *cg);
     if (!cg) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
@@ -383,14 +399,14 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                                            : 0};
     }
     /* the start tables after the attribute words: a scene budget of one
-     * entry (2 words) per 16 words of the layout, at least 4096 (32 KB),
-     * shared by the coloured models (the table of the next level down is
-     * 8 times larger: at most an eighth more bytes, DamagedHelmet at 512
-     * 7.7%, at 4096 1.6%; docs/PERFORMANCE.md issue 18, eighth step) */
+     * entry (2 words) per 16 words of the layout, at least TAB_FLOOR (32 KB,
+     * 2 MB with the records), shared by the coloured models (the table of
+     * the next level down is 8 times larger: at most an eighth more bytes
+     * beyond the floor; docs/PERFORMANCE.md issue 18, eighth step) */
     uint64_t ncol = 0, tab_words = 0;
     for (uint32_t i = 0; i < s->model_count; i++) ncol += (cm[i].flags & 1u) && c->models[i].root < VX_SVO_ROOT_LEAF;
     uint64_t budget = ((uint64_t)c->geom_words + c->attr_words) / 16;
-    if (budget < 4096) budget = 4096;
+    if (budget < TAB_FLOOR(records)) budget = TAB_FLOOR(records);
     if (ncol) budget /= ncol;
     for (uint32_t i = 0; i < s->model_count; i++) {
         if (!(cm[i].flags & 1u) || c->models[i].root >= VX_SVO_ROOT_LEAF) continue;
@@ -450,7 +466,35 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                     "compact layout: %llu geometry bytes exceed the device's storage buffer range (%llu bytes)",
                     (unsigned long long)c->geom_words * 4, (unsigned long long)range);
     if (!r) r = attr_parts(aw, range, &cg->attr_shift, &cg->attr_parts, err);
-    if (!r) r = upload(g, &cg->geom, c->geom, (uint64_t)c->geom_words * 4, "compact geometry", err);
+    /* The level-3 records after the geometry words (vx__compact_level3_records):
+     * with the hit's level-3 and level-4 ancestors from the walk, a coloured
+     * model's hit inside a brick finds its attribute index in loads that do
+     * not wait on each other (compact_attr.glsl cell_index_path) instead of
+     * the descent's chain below the start table; 8 bytes a level-3 slot
+     * (docs/PERFORMANCE.md issue 18, branch ck11). Models with a start
+     * table of level 3 or more and colours of more than one value, in scenes
+     * whose kernel is DEEP 1 (records_on). */
+    uint32_t* rec = NULL, rec_first = 0, rec_count = 0;
+    uint64_t gw = ((uint64_t)c->geom_words + 1) & ~1ull;
+    if (!r && records) r = vx__compact_level3_records(c, &g->alloc, &rec, &rec_first, &rec_count, err);
+    if (!r && rec_count && (gw + 2ull * rec_count) * 4 > range) rec_count = 0; /* no room: the descent */
+    for (uint32_t i = 0; i < s->model_count && rec_count; i++)
+        if ((cm[i].flags & 5u) == 1u && cm[i].tab_k >= 3 && c->models[i].depth >= 4) {
+            cm[i].rec3 = (uint32_t)(gw / 2 - rec_first);
+            cg->records = true;
+        }
+    uint32_t* geo = !r && rec_count ? vx_alloc(&g->alloc, (size_t)(gw + 2ull * rec_count) * 4) : NULL;
+    if (!r && rec_count && !geo) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (geo) {
+        memcpy(geo, c->geom, (size_t)c->geom_words * 4);
+        if (gw > c->geom_words) geo[c->geom_words] = 0;
+        memcpy(geo + gw, rec, (size_t)rec_count * 8);
+    }
+    vx_free(&g->alloc, rec);
+    cg->record_bytes = geo ? 8ull * rec_count : 0;
+    if (!r) r = upload(g, &cg->geom, geo ? geo : c->geom, geo ? (gw + 2ull * rec_count) * 4 : (uint64_t)c->geom_words * 4,
+                       "compact geometry", err);
+    vx_free(&g->alloc, geo);
     for (uint32_t k = 0; !r && k < cg->attr_parts; k++) {
         uint64_t first = (uint64_t)k << cg->attr_shift, n = cg->attr_shift ? 1ull << cg->attr_shift : aw;
         if (n > aw - first) n = aw - first;
@@ -480,7 +524,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         return r;
     }
     cg->table_bytes = tab_words * 4;
-    cg->bytes = (uint64_t)c->geom_words * 4 + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
+    cg->bytes = (uint64_t)c->geom_words * 4 + cg->record_bytes + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
                 2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
     *out = cg;
     return VX_OK;
@@ -493,6 +537,7 @@ void vx__compact_gpu_start_min(vx_compact_gpu* cg, uint32_t pushes) {
 }
 
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg) { return cg ? cg->table_bytes : 0; }
+uint64_t vx__compact_gpu_record_bytes(const vx_compact_gpu* cg) { return cg ? cg->record_bytes : 0; }
 uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg) { return cg ? cg->uniform_entries : 0; }
 
 uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg) { return cg ? cg->attr_parts : 0; }
@@ -904,7 +949,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     /* 11: the miss pass */
     /* 6: one sample a pixel; 7: some start-table entry or some model is of one value (the kernel tests for them);
      * 12: the starts below the root */
-    uint32_t spec[13] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], 0, want_hits, cg->dict,
+    uint32_t spec[13] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], cg->records, want_hits, cg->dict,
                          f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0,
                          path};
     uint64_t key = vx__spec_key(0xC0AC7000u, spec, 13);

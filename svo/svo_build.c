@@ -313,13 +313,16 @@ static uint32_t representative(bld* b, const uint32_t* ids, unsigned n) {
          * so the quotient is exact; the four divisions were a fifth of this
          * function's samples on the 4096^3 helmet */
         static const uint32_t RCP[9] = {0, 65536, 32768, 21846, 16384, 13108, 10923, 9363, 8192};
-        uint32_t o = 0, r = RCP[n]; /* (n is 2..8 here: a node has 1..8 children, one is `same`) */
-        for (unsigned ch = 0; ch < 4; ch++) {
-            unsigned sum = 0;
-            for (unsigned i = 0; i < n; i++) sum += (ids[i] >> (8 * ch)) & 0xFFu;
-            o |= (((sum + n / 2) * r) >> 16) << (8 * ch); /* rounded, ties up (as vx__svo_rec_mean) */
-        }
-        return o;
+        uint32_t r = RCP[n]; /* (n is 2..8 here: a node has 1..8 children, one is `same`) */
+        /* the four channel sums two to a word (bytes 0 and 2, then 1 and 3):
+         * each sum is at most 8 * 255 + 4 < 2^16, so the halves never carry
+         * into each other; a mask and an add a child per pair where a shift,
+         * a mask and an add per channel were */
+        uint32_t ev = 0, od = 0, half = (uint32_t)(n / 2) * 0x00010001u;
+        for (unsigned i = 0; i < n; i++) ev += ids[i] & 0x00FF00FFu, od += ids[i] >> 8 & 0x00FF00FFu;
+        ev += half, od += half; /* rounded, ties up (as vx__svo_rec_mean) */
+        return ((ev & 0xFFFFu) * r) >> 16 | (((od & 0xFFFFu) * r) >> 16) << 8 | (((ev >> 16) * r) >> 16) << 16 |
+               (((od >> 16) * r) >> 16) << 24;
     }
     if (b->direct && (b->vattr == VX_ATTR_PALETTE || b->vattr == VX_ATTR_MATERIAL)) {
         unsigned v[8];
@@ -648,11 +651,10 @@ typedef struct uni_run {
     uint32_t start[8];
 } uni_run;
 
-static bool out_push(bld* b, outw* o, uint32_t v) {
-    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
-        o->w[o->n++] = v;
-        return true;
-    }
+/* The push where the words have no room (grows them; false at the limit or
+ * without memory): out of line, so that out_push's common case inlines
+ * into lay_block (a call per word was a fortieth of the helmet's read). */
+static bool __attribute__((noinline)) out_push_slow(bld* b, outw* o, uint32_t v) {
     if (o->n >= 0xFFFFFFF0u) {
         b->fail = vx_fail(b->err, VX_ERR_LIMIT, VX_NO_OFFSET, "svo build: more than 2^32 node words");
         return false;
@@ -660,6 +662,13 @@ static bool out_push(bld* b, outw* o, uint32_t v) {
     if (!vx_grow(b->a, (void**)&o->w, &o->cap, o->n + 1, sizeof(uint32_t))) return oom(b, "node words");
     o->w[o->n++] = v;
     return true;
+}
+static inline bool out_push(bld* b, outw* o, uint32_t v) {
+    if (o->n < o->cap && o->n < 0xFFFFFFF0u) { /* the common case without a call (vx_grow) per word */
+        o->w[o->n++] = v;
+        return true;
+    }
+    return out_push_slow(b, o, v);
 }
 
 /* Appends (or with the DAG on, reuses) a run of records; UINT32_MAX on failure. */
@@ -1207,15 +1216,32 @@ static void rec_fill_range(void* ctx, size_t lo, size_t hi) {
     const bld* b = f->b;
     vx_svo_model* m = f->m;
     uint32_t* rgba = f->own ? NULL : m->rgba;
+    if (b->direct) {
+        /* records are the one channel's values (the ids), the others the
+         * constants: a loop per array, each a copy or a fill the compiler
+         * vectorises, where a record was made and taken apart per element
+         * (the 4096^3 helmet's 74 M material copies of one value) */
+        const uint32_t* v = f->ids;
+        const rec c = b->cst;
+        uint32_t va = b->vattr;
+        if (m->palette)
+            for (size_t i = lo; i < hi; i++) m->palette[i] = va == VX_ATTR_PALETTE ? (uint8_t)v[i] : c.palette;
+        if (rgba)
+            for (size_t i = lo; i < hi; i++) rgba[i] = va == VX_ATTR_RGBA8 ? v[i] : c.rgba;
+        if (m->normal)
+            for (size_t i = lo; i < hi; i++) m->normal[i] = va == VX_ATTR_NORMAL ? v[i] : c.normal;
+        if (m->material)
+            for (size_t i = lo; i < hi; i++) m->material[i] = va == VX_ATTR_MATERIAL ? (uint16_t)v[i] : c.material;
+        if (m->density)
+            for (size_t i = lo; i < hi; i++) {
+                rec dv = c;
+                rec_put_value(va, v[i], &dv);
+                m->density[i] = dv.density;
+            }
+        return;
+    }
     for (size_t i = lo; i < hi; i++) {
-        rec dv;
-        const rec* r = &dv;
-        if (b->direct) {
-            dv = b->cst; /* the constant channels (none in the builder) */
-            rec_put_value(b->vattr, f->ids[i], &dv);
-        } else {
-            r = &b->recs[f->ids[i]];
-        }
+        const rec* r = &b->recs[f->ids[i]];
         if (m->palette) m->palette[i] = r->palette;
         if (rgba) rgba[i] = r->rgba;
         if (m->normal) m->normal[i] = r->normal;
@@ -2259,6 +2285,7 @@ typedef struct unp {
     size_t pfr;        /* the runs stream's byte of the next node pushed */
     bool pf_on;        /* runs are looked up (the DAG and attributes): hash and prefetch at the push */
     bool lay_dead;     /* the layout failed: the reconstruction goes on, its own error first (as with a layout thread) */
+    bool leaves_failed; /* unp_leaves failed (out of memory) */
 } unp;
 
 /* The reader's check of the rebuilt tree (vx__svo_check_rebuilt) without a
@@ -2479,16 +2506,19 @@ static void unp_lay(unp* u) {
  * its run and fetching the table slots that run will probe where it is
  * looked up (run_prefetch's hint), and moves the waiting nodes on by a
  * stage each. */
-static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsigned nk, const uint32_t* kid, const uint32_t* cd,
+static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t ids[8], unsigned nk, const uint32_t kid[8], const uint32_t cd[8],
                      unsigned nn) {
     unp_pend* e = &u->ring[u->rin++ % UNP_RING];
     e->hdr = hdr;
     e->at = (uint32_t)at;
     e->nk = nk;
     e->nn = nn;
-    memcpy(e->ids, ids, nk * sizeof *ids);
-    memcpy(e->kid, kid, nn * sizeof *kid);
-    memcpy(e->cd, cd, nn * sizeof *cd);
+    /* whole arrays (ids, kid and cd hold 8 each; the entries past nk and nn
+     * are never read): a few vector moves where three calls of a variable
+     * size were */
+    memcpy(e->ids, ids, sizeof e->ids);
+    memcpy(e->kid, kid, sizeof e->kid);
+    memcpy(e->cd, cd, sizeof e->cd);
     e->h = 0;
     e->find = false;
     const bld* lb = &u->lb;
@@ -2507,6 +2537,68 @@ static void unp_push(unp* u, uint32_t hdr, size_t at, const uint32_t* ids, unsig
     if (u->rin - u->rout > UNP_AHEAD) unp_lay(u);
 }
 
+/* The extent code (xt_pack's) of a node of height 1 with these children:
+ * each child a cell, so the box's side along axis i is 0..1 or 1..2 by
+ * whether an octant with bit i clear (the masks 0x55, 0x33, 0x0F) or set
+ * holds one. */
+static inline uint64_t xt_height1(uint32_t valid) {
+    static const uint32_t LOW[3] = {0x55u, 0x33u, 0x0Fu};
+    uint64_t code = 1u | (uint64_t)(vx__popc8(valid) - 1u) << 3;
+    for (int i = 0; i < 3; i++) {
+        code |= (uint64_t)!(valid & LOW[i]) << (18 + 5 * i);         /* min: 1 where no child is in the low half */
+        code |= (uint64_t)((valid & ~LOW[i] & 0xFFu) != 0) << (33 + 5 * i); /* max - 1: 1 where one is in the high half */
+    }
+    return code;
+}
+
+/* A node at level 1 (its children all leaves: most of a model's nodes)
+ * where the records are one channel's values (or there are none) and every
+ * channel's stream holds this node's values: as unp_visit's loop would read
+ * it, without a call or a branch per child and channel. The constant
+ * channels' values are only stepped over (each equals the first:
+ * vx__svo_split_constants). false where it does not apply (unp_visit then
+ * reads the node); true where it did, with u->leaves_failed set where it
+ * failed (out of memory). */
+static bool unp_leaves(unp* u, uint32_t valid, uint32_t* out) {
+    bld* b = u->b;
+    vx__svo_split_cur* cur = u->src->cur;
+    unsigned n = vx__popc8(valid);
+    for (unsigned c = 0; c < 5; c++) {
+        if (!(b->attrs >> c & 1u)) continue;
+        unsigned s = cur->cs[c];
+        if (!s || c == 2 || c == 4 || cur->vcount[s] - cur->pos[s] < n) return false; /* (normal and density have no stream) */
+    }
+    uint32_t ids[8] = {0};
+    if (b->attrs) {
+        unsigned c = (unsigned)__builtin_ctz(b->vattr), s = cur->cs[c];
+        const uint8_t* p = cur->data[s];
+        size_t at = cur->pos[s];
+        if (c == 1) /* RGBA8: 4 bytes a value, least significant first */
+            for (unsigned k = 0; k < n; k++)
+                ids[k] = (uint32_t)p[4 * (at + k)] | (uint32_t)p[4 * (at + k) + 1] << 8 | (uint32_t)p[4 * (at + k) + 2] << 16 |
+                         (uint32_t)p[4 * (at + k) + 3] << 24;
+        else if (c == 3) /* material */
+            for (unsigned k = 0; k < n; k++) ids[k] = (uint32_t)p[2 * (at + k)] | (uint32_t)p[2 * (at + k) + 1] << 8;
+        else /* palette */
+            for (unsigned k = 0; k < n; k++) ids[k] = p[at + k];
+        for (unsigned ch = 0; ch < 5; ch++)
+            if (b->attrs >> ch & 1u) cur->pos[cur->cs[ch]] += n;
+    }
+    uint32_t rep = b->attrs ? representative(b, ids, n) : 0, hdr = valid | valid << 8;
+    uint32_t id = NO_BLOCK; /* fused: the block, written when the node is laid out */
+    if (!u->fused && (id = pool_append(b, hdr, ids, n, rep)) == UINT32_MAX) return u->leaves_failed = true;
+    if (u->ndone >= u->capdone && !vx_grow(b->a, (void**)&u->done, &u->capdone, u->ndone + 1, sizeof *u->done))
+        return oom(b, "node list"), u->leaves_failed = true;
+    unp_node* dn = &u->done[u->ndone];
+    dn->id = id;
+    dn->rep = rep;
+    dn->xt = (u->want_xt ? xt_height1(valid) : 1u) | (uint64_t)hdr << 48;
+    if (u->fused) unp_push(u, hdr, u->ndone, ids, n, ids, ids, 0);
+    u->ndone++;
+    *out = id;
+    return true;
+}
+
 /* Reads one node (and, recursively, its new children) into the pool. */
 static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     bld* b = u->b;
@@ -2518,14 +2610,15 @@ static bool unp_visit(unp* u, unsigned level, uint32_t* out) {
     if (valid == 0 || valid > 0xFFu)
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a node at level %u has valid mask 0x%x",
                                    level, valid));
+    if (level == 1 && cur && (b->direct || !b->attrs) && unp_leaves(u, valid, out)) return !u->leaves_failed;
     if (level == 1) leaf = valid;
     else if (!(cur && cur_leaf(cur, level, valid, &leaf)) && !u->src->next(u->src->user, VX__SYM_LEAF, level | valid << 8, &leaf, err))
         return unp_fail(u, err ? err->code : VX_ERR_BAD_FORMAT);
     if (leaf & ~valid)
         return unp_fail(u, vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
                                    "svo: section NODE: leaf mask 0x%02x is not a subset of valid mask 0x%02x", leaf, valid));
-    uint32_t kids[8], ids[8];
-    uint32_t cdm[8]; /* fused: the non-leaf children's masks (kids: their indices in done[], in order) */
+    uint32_t kids[8] = {0}, ids[8] = {0}; /* (whole: unp_push copies all 8) */
+    uint32_t cdm[8] = {0}; /* fused: the non-leaf children's masks (kids: their indices in done[], in order) */
     unsigned nn = 0;
     xt_node cx[8]; /* the children's heights and extents (done[].xt) */
     unsigned n = 0, h = 1;

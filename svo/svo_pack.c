@@ -563,6 +563,34 @@ static void ext_add(ext* x, uint32_t i, uint32_t b, uint32_t done) {
     }
 }
 
+/* The values of channel c of records a .. a + n - 1 (a node's leaf
+ * children, in order) into the split sink, as ext_push would put them one
+ * by one: a loop per channel where a put (and rec_get's switch) per child
+ * and channel was. */
+static void ext_values(ext* x, unsigned c, uint32_t a, unsigned n) {
+    const vx_svo_model* m = x->m;
+    vx__svo_split_sink* k = x->sink;
+    if (k->capval[c] - k->nval[c] < n) { /* (no room: the put grows the array) */
+        for (unsigned r = 0; r < n; r++) ext_push(x, VX__SYM_VALUE, c, rec_get(m, c, a + r));
+        return;
+    }
+    uint32_t* q = k->val[c] + k->nval[c];
+    switch (c) {
+    case 0:
+        for (unsigned r = 0; r < n; r++) q[r] = m->palette[a + r];
+        break;
+    case 1: memcpy(q, m->rgba + a, n * sizeof *q); break;
+    case 2: memcpy(q, m->normal + a, n * sizeof *q); break;
+    case 3:
+        for (unsigned r = 0; r < n; r++) q[r] = m->material[a + r];
+        break;
+    default:
+        for (unsigned r = 0; r < n; r++) q[r] = rec_get(m, c, a + r);
+    }
+    k->nval[c] += n;
+    x->n += n;
+}
+
 /* A valid tree (or x->bad set): each node at most once with the DAG (and a
  * tree's nodes once without it), so no more completed nodes than words. */
 static void ext_visit(ext* x, uint32_t i, unsigned level) {
@@ -594,7 +622,13 @@ static void ext_visit(ext* x, uint32_t i, unsigned level) {
             __builtin_prefetch(&m->nodes[cb]);
         }
     }
-    for (unsigned o = 0; o < 8 && !x->bad; o++) {
+    /* every child a leaf (every node at level 1, most of a model's): each
+     * channel's values at once, where the sink keeps a stream per channel
+     * (without it the symbols are interleaved, child by child) */
+    if (x->sink && leaf == valid)
+        for (unsigned c = 0; c < 5; c++)
+            if (m->attrs >> c & 1u) ext_values(x, c, a, vx__popc8(valid));
+    for (unsigned o = 0; o < 8 && !x->bad && !(x->sink && leaf == valid); o++) {
         if (!(valid >> o & 1u)) continue;
         if (leaf >> o & 1u) {
             for (unsigned c = 0; c < 5; c++)
@@ -1475,11 +1509,13 @@ typedef struct pack_jobs {
     const uint8_t* trusted; /* the scene's (index first + i) */
     uint32_t first;
     const vx_svo_testing* t;
+    const uint32_t* order; /* job k codes model order[k] of the batch */
 } pack_jobs;
 
-static void pack_job(void* ctx, unsigned thread, uint32_t i) {
+static void pack_job(void* ctx, unsigned thread, uint32_t k) {
     (void)thread;
     pack_jobs* j = (pack_jobs*)ctx;
+    uint32_t i = j->order[k];
     const vx_svo_model* m = &j->s->models[i];
     j->ok[i] = vx__svo_pack_model(m, j->A, vx__svo_model_split(m, j->chunk_min, j->split_min) ? VX__CHUNK_SPLIT : VX__CHUNK_NONE, 1, j->t,
                                   j->trusted && j->trusted[j->first + i], &j->bufs[i]);
@@ -1534,7 +1570,8 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     uint32_t batch = threads * 2;
     vx_buf* bufs = (vx_buf*)vx_calloc(A, batch, sizeof *bufs);
     bool* oks = (bool*)vx_calloc(A, batch, sizeof *oks);
-    bool ok = bufs && oks;
+    uint32_t* order = (uint32_t*)vx_calloc(A, batch, sizeof *order);
+    bool ok = bufs && oks && order;
     for (uint32_t first = 0, n = 0; ok && first < s->model_count; first += n) {
         if ((n = chunked_run(s, first, chunk_min)) > 0) {
             ok = pack_chunked_run(out, s->models + first, n, A, mode, cpus, sink);
@@ -1548,7 +1585,16 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
             memset(&bufs[i], 0, sizeof bufs[i]);
             bufs[i].alloc = A;
         }
-        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first, t};
+        /* the batch's models largest first (ties in model order), so that
+         * its threads finish together: in model order a large model taken
+         * last kept one thread busy alone (the 4096^3 helmet's models 6 and
+         * 7); each stream still goes out in model order */
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t k = i;
+            for (; k > 0 && part.models[order[k - 1]].node_count < part.models[i].node_count; k--) order[k] = order[k - 1];
+            order[k] = i;
+        }
+        pack_jobs j = {&part, A, bufs, oks, chunk_min, split_min, trusted, first, t, order};
         run_jobs(threads < n ? threads : n, n, pack_job, &j);
         for (uint32_t i = 0; i < n; i++) {
             ok = ok && oks[i] && put_var(out, bufs[i].size) && vx_buf_append(out, bufs[i].data, bufs[i].size);
@@ -1558,6 +1604,7 @@ bool vx__svo_pack_write(vx_buf* out, const vx_svo_scene* s, const vx_allocator* 
     }
     vx_free(A, bufs);
     vx_free(A, oks);
+    vx_free(A, order);
     return ok && !out->failed;
 }
 

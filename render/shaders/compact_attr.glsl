@@ -31,7 +31,9 @@
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
 // value: the colour of every cell where flags has 4 (a model of one value), else 0
-struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value; };
+// rec3: the whole layout: level-3 slot s's record (vx__compact_level3_records)
+// is slot rec3 + s of the geometry, 0 none (cell_index_path)
+struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value, rec3; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
 uint bytes_set(uint w) {
@@ -209,6 +211,40 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
     return base + below;
 }
 
+// The start table's entry of cell c's level-K cube (CModel.tab_k) and the
+// levels K..5 below it (cell_index_table, cell_index_path): true where that
+// gives the index (base: in a full leaf cube, or a uniform cube's value, its
+// attr_base set), else false, n the level-4 node's slot (the level-3 node's
+// for K = 3) and base the cells before it.
+bool table_to_level4(CModel m, uvec3 c, out uint n, out uint base, inout uint attr_base) {
+    uint K = m.tab_k, D = m.depth - K;
+    uvec3 r = c >> K;
+    uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
+    n = CA_ATTR(e);
+    base = CA_ATTR(e + 1u);
+    if (n == CA_TAB_FULL) {
+        base += morton(c & ((1u << K) - 1u));
+        return true;
+    }
+    if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
+        attr_base = CA_UNIFORM | (n & 0xFFu);
+        return true;
+    }
+    for (int L = int(K); L >= 5; L--) {
+        uvec2 nd = CA_SLOT(n);
+        uint s = uint(L - 1);
+        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
+        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
+        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
+        if ((nd.x & cbit) != 0u) {
+            base += morton(c & ((1u << s) - 1u));
+            return true;
+        }
+        n = nd.y + k;
+    }
+    return false;
+}
+
 // cell_index for the whole layout (no pages) where the model's start table
 // is of level K >= 4: the levels above 4 in a loop, levels 4 and 3 after it
 // in straight code (cell_index tests a step's level for their forms):
@@ -217,27 +253,9 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
 // (docs/PERFORMANCE.md issue 18, twelfth step). Other models: cell_index.
 uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
     attr_base = m.attr_base;
-    uint K = m.tab_k;
-    if (m.root == ROOT_LEAF || K < 4u) return cell_index(m, c, attr_base);
-    uint D = m.depth - K;
-    uvec3 r = c >> K;
-    uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
-    uint n = CA_ATTR(e);
-    uint base = CA_ATTR(e + 1u);
-    if (n == CA_TAB_FULL) return base + morton(c & ((1u << K) - 1u));
-    if (CA_UNI && (n & 0xFFFFFF00u) == CA_TAB_UNIFORM) {
-        attr_base = CA_UNIFORM | (n & 0xFFu);
-        return base;
-    }
-    for (int L = int(K); L >= 5; L--) {
-        uvec2 nd = CA_SLOT(n);
-        uint s = uint(L - 1);
-        uint o = ((c.x >> s) & 1u) | (((c.y >> s) & 1u) << 1) | (((c.z >> s) & 1u) << 2);
-        uint cbit = 1u << o, k = uint(bitCount((nd.x >> 8) & ~nd.x & (cbit - 1u)));
-        base += cells_before(m.rank_base, L, nd.x, nd.y, k, cbit);
-        if ((nd.x & cbit) != 0u) return base + morton(c & ((1u << s) - 1u));
-        n = nd.y + k;
-    }
+    if (m.root == ROOT_LEAF || m.tab_k < 4u) return cell_index(m, c, attr_base);
+    uint n, base;
+    if (table_to_level4(m, c, n, base, attr_base)) return base;
     // level 4: the rank of the level-3 node's previous slot kept
     uvec2 nd = CA_SLOT(n);
     uint o = ((c.x >> 3u) & 1u) | (((c.y >> 3u) & 1u) << 1) | (((c.z >> 3u) & 1u) << 2);
@@ -262,6 +280,39 @@ uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
     uint below = bit < 32u ? uint(bitCount(b.x & ((1u << bit) - 1u)))
                            : uint(bitCount(b.x)) + uint(bitCount(b.y & ((1u << (bit - 32u)) - 1u)));
     return base + below;
+}
+
+// The attribute index of cell c of a model with level-3 records (CModel.rec3)
+// and a start table of level K >= 3, where the walk hit it inside brick brk
+// below level-3 node n3 and level-4 node n4 (the walk's stack): the table's
+// entry, the levels K..5 as cell_index_table's, then in loads that wait on
+// none of those nor on each other: n3's record (its cells before the brick's
+// octant), n4's slot (its leaf cubes before n3's octant, its children's
+// block) and the slot before n3 (the cells of n4's children before n3: its
+// rank, where n3 is not the block's first). cell_index_table's descent below
+// the table is a chain of dependent loads (level 4's slot, then level 3's and
+// the rank, then the bricks before): the helmet's close-up at 512 0.857 ->
+// 0.886 of trace.comp's albedo rays/s on the H200 with its table of level 3
+// (docs/PERFORMANCE.md issue 18, branch ck11).
+uint cell_index_path(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, out uint attr_base) {
+    attr_base = m.attr_base;
+    // (a table of level 3 holds level 4's cells in its entry: no level-4 loads)
+    bool k4 = m.tab_k >= 4u;
+    uvec2 rec = CA_SLOT(m.rec3 + n3), s4 = k4 ? CA_SLOT(n4) : uvec2(0u), sp = k4 ? CA_SLOT(max(n3, 1u) - 1u) : uvec2(0u);
+    uint n, base;
+    if (table_to_level4(m, c, n, base, attr_base)) return base; // (a uniform cube)
+    if (k4) {
+        uint o4 = ((c.x >> 3u) & 1u) | (((c.y >> 3u) & 1u) << 1) | (((c.z >> 3u) & 1u) << 2);
+        base += (uint(bitCount(s4.x & 0xFFu & ((1u << o4) - 1u))) << 9) + (n3 != s4.y ? (sp.x >> 16) & 0x7FFFu : 0u);
+    }
+    // the record's 9-bit field o3 - 1 of its 64 bits
+    uint o3 = ((c.x >> 2u) & 1u) | (((c.y >> 2u) & 1u) << 1) | (((c.z >> 2u) & 1u) << 2), p = 9u * (o3 - 1u);
+    uint f = p < 32u ? (rec.x >> p) | (p > 23u ? rec.y << (32u - p) : 0u) : rec.y >> (p - 32u);
+    uint before3 = o3 == 0u ? 0u : f & 0x1FFu;
+    uint bit = morton2(c);
+    uint below = bit < 32u ? uint(bitCount(brk.x & ((1u << bit) - 1u)))
+                           : uint(bitCount(brk.x)) + uint(bitCount(brk.y & ((1u << (bit - 32u)) - 1u)));
+    return base + before3 + below;
 }
 
 uint recorrelate(uint v) {

@@ -46,7 +46,7 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
     h.attr = NO_HIT;
     bool hit = trace_scene(o, d, 0.0, false, h);
     if (hit) {
-        vec3 p = o + d * h.t;
+        WPREC vec3 p = o + d * h.t; // (WALK_PRECISE kernels: as the walk, not contracted)
         float depth = float(t_off + h.t);
         g0 = uvec4(floatBitsToUint(p.x), floatBitsToUint(p.y), floatBitsToUint(p.z), floatBitsToUint(depth));
         uint face = uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u);

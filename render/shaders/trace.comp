@@ -66,7 +66,7 @@ layout(std430, binding = 10) readonly buffer Beam { float beam_s[]; };
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
-    // the lean depth kernel (LEAN) holds one register across the walk for it, not px's two
+    // the lean kernels (LEAN) hold one register across the walk for it, not px's two
     uint pix_i = LEAN ? px.y * W + px.x : 0u;
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace_compact.comp computes them with the same expressions and

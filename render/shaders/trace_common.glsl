@@ -226,27 +226,36 @@ uint g_path = 0xFFFFu;
 // pixels/s on the H200 (issue 21); its advance then compares the crossing
 // times as !(tc > tc_max), so that a NaN time steps every axis and the ray
 // still leaves the root. Other kernels that include this file keep both.
-// The lean walk (trace.comp's primary depth kernel of one instance, GPU
-// form; TRACE_LEAN): its loop fits 32 registers on the H200 (64 warps per
-// SM) where main's took 39 (50 warps), 2-3% more primary rays/s (issue 21,
-// twentieth sitting): no iteration guard (GUARD below), scale_exp2 taken from
-// scale at the loop's top rather than carried around it, no test of the
-// ray's end at a push (the model's box holds every cell, so a push past the
-// box's exit finds none; t1 is h.t's initial 3e38 with one instance; only a
-// ray leaving the box within rounding of a cell edge on its face, a tie,
-// might be decided otherwise than main's walk decides it),
-// every push storing its parent (no hh), and the pixel's index formed
-// before the walk (trace.comp). Each alone kept 36-39 registers and cost
-// 1-6%; the cells and depths are main's (render_bench: 0 px differ).
+// The lean walk (TRACE_LEAN: trace.comp's kernels and the pass pipeline's
+// G-buffer, gbuffer.comp and frame.comp; GPU form, one instance, no hits or
+// ids, no LOD, DEEP 0 or 1): the primary depth kernel's loop fits 32
+// registers on the H200 (64 warps per SM) where main's took 39 (50 warps),
+// 2-3% more primary rays/s (issue 21, twentieth sitting); the colour kernel
+// (primary and shadow rays) went from 45 (DEEP 0; 46 DEEP 1) to 40
+// registers (42 to 50 warps), 2.6-6% more pixels/s, gbuffer.comp from 48 to
+// 40, frame.comp stayed at 40 with 4-6% less time (lean2, twenty-first
+// sitting). Its parts: no iteration guard (GUARD below), scale_exp2 taken
+// from scale at the loop's top rather than carried around it, every push
+// storing its parent (no hh); and in a primary walk (not any_hit) no test of
+// the ray's end at a push (the model's box holds every cell, so a push past
+// the box's exit finds none; t1 is h.t's initial 3e38 with one instance;
+// only a ray leaving the box within rounding of a cell edge on its face, a
+// tie, might be decided otherwise than main's walk decides it); trace.comp
+// forms the pixel's index before the walk. Each alone kept the depth kernel
+// at 36-39 registers and cost 1-6%; the cells, depths and colours are main's
+// (render_bench: 0 px differ; svo_render's images byte for byte). Not in the
+// BVH kernels (several instances): there its registers stayed at 48 (depth)
+// and 64 (colour). DEEP 1 (exact models): the same loop; the hit's t comes
+// from its cube's entry planes after it, as before.
 #if defined(TRACE_LEAN) && !defined(PRECISE)
-const bool LEAN = MODE == MODE_DEPTH && !WRITE_HITS && !USE_BVH && !LOD && DEEP == 0 && !COMPACT && !NODES_FILE;
+const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && !LOD && DEEP <= 1 && !COMPACT && !NODES_FILE;
 #else
 const bool LEAN = false;
 #endif
 #ifdef TRACE_NOGUARD
 const bool GUARD = (MODE != MODE_COLOR || WRITE_HITS) && !LEAN;
 #else
-const bool GUARD = true;
+const bool GUARD = !LEAN; // (the iteration count is the hits' and ids', which LEAN excludes)
 #endif
 
 #ifdef TRACE_BEAM
@@ -279,9 +288,10 @@ bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #endif
 
-// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE): every float operation of the walk precise
-// (no contraction into fused multiply-adds: the NVIDIA compiler contracted the walk's crossing times
-// differently in two variants of that kernel, issue 21); elsewhere the walk is as it was
+// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE; gbuffer.comp, frame.comp and the cones' kernels):
+// every float operation of the walk precise (no contraction into fused multiply-adds: the NVIDIA compiler
+// contracted the walk's crossing times differently in two variants of that kernel, issue 21, and in the
+// plain and the compact layout's pipelines of one kernel, issue 18); elsewhere the walk is as it was
 #ifdef WALK_PRECISE
 #define WPREC precise
 #else

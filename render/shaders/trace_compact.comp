@@ -57,6 +57,9 @@ layout(constant_id = 11) const bool MISS_PASS = false;
 // vx__render_scene_paths over compact_gpu.c's listed tops), as trace.comp's
 // (trace_model below); off on CPU devices (lavapipe), as trace.comp's
 layout(constant_id = 12) const bool PATH_START = false;
+// some model has level-3 records (CModel.rec3; compact_gpu.c records_on):
+// the colour of a hit inside a brick from the walk's path (PATH_COLOR)
+layout(constant_id = 3) const bool RECORDS = false;
 // Set by gpu_pipeline.c for every pipeline (VX__SPEC_NODES_FILE): the device
 // is a CPU (lavapipe), where the walk's stack is a ladder of selects (LADDER).
 layout(constant_id = 100) const bool NODES_FILE = false;
@@ -108,6 +111,11 @@ const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 const bool PUSH_BRICK = DEEP == 0;
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
+// The colour of a hit inside a brick from the walk's path (the whole layout,
+// no rebasing: compact_attr.glsl cell_index_path, the model's level-3
+// records), where a colour is made (a macro: glslang makes a const bool of
+// && between specialization constants a value that does not dominate its uses)
+#define PATH_COLOR (RECORDS && PAGES == 0u && !REBASE && HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO))
 const int S_MAX = 23;
 const uint ROOT_EMPTY = 0xFFFFFFFFu, ROOT_LEAF = 0xFFFFFFFEu, NO_HIT = 0xFFFFFFFFu;
 const uint MAX_ITER = 100000u;
@@ -205,6 +213,10 @@ struct Hit {
     float nsign;
     uint color;
     uint page; // a page not resident whose cube was hit (coarse), else NO_HIT
+    // PATH_COLOR: a hit inside a brick of a model with level-3 records: its
+    // level-3 and level-4 ancestors (NO_HIT: none) and the brick
+    uint n3, n4;
+    uvec2 brick;
 };
 
 // The ray needs page p (not resident): its bit in the frame's requests, and
@@ -336,6 +348,8 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     bool hit = false;
     uint coarse = NO_HIT;
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
+    uint hit_n3 = NO_HIT, hit_n4 = NO_HIT; // PATH_COLOR (below)
+    uvec2 hit_brick = uvec2(0u);
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -631,6 +645,20 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             loaded = false; if (SENT) desc = 0u;
         }
         if (scale >= S_MAX || (GUARD && g_iter > MAX_ITER)) hit = false;
+        // a hit inside a brick (below level 2: nd is the brick) of a model
+        // with level-3 records: every push wrote its stack entry, so the
+        // entries of levels 3 and 4 are the hit's ancestors
+        if (PATH_COLOR && hit && scale < s2 && m.rec3 != 0u) {
+            uint a3 = 0u, a4 = 0u;
+            if (LADDER) {
+                STK_GET(s3, a3)
+                STK_GET(s3 + 1, a4)
+            } else {
+                a3 = uint(stk_node[s3]);
+                a4 = uint(stk_node[s3 + 1]);
+            }
+            hit_n3 = a3, hit_n4 = a4, hit_brick = nd;
+        }
     }
     if (!hit) return false;
     if (UNIFORM && !NEED_T && MODE == MODE_ALBEDO && (m.flags & 4u) != 0u) {
@@ -701,6 +729,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.page = coarse;
+    h.n3 = hit_n3, h.n4 = hit_n4, h.brick = hit_brick;
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -861,7 +890,9 @@ void shade(uvec2 px) {
                 h.color = m.value; // a model of one value: no descent, no decode
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
-                uint i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
+                uint i;
+                if (PATH_COLOR && h.n3 != NO_HIT) i = cell_index_path(m, h.cell, h.n3, h.n4, h.brick, ab);
+                else i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
                 h.color = decode_color(m, ab, i);
             }
         }

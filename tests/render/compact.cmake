@@ -42,8 +42,13 @@ endif()
 if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   vx_add_test(test_compact_passes SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_compact_passes.c
               LIBS vx_photons vx_cones vx_probes vx_render vx_trace vx_convert vx_formats vx_svo)
+  # two ctest entries of the one binary (VX_TEST_ONLY): the scenes' frames, and their probe bakes with the GI
+  # methods that read them, each within its timeout under the sanitizers on a loaded machine
   set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 900 ENVIRONMENT
-                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_frames")
+  add_test(NAME test_compact_passes_bakes COMMAND test_compact_passes)
+  set_tests_properties(test_compact_passes_bakes PROPERTIES TIMEOUT 900 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_bakes")
 endif()
 # The compact layout built model by model from a file (vx_compact_build_reader,
 # svo/svo.h's model reader): the whole-scene build's words, damaged models. CPU only.

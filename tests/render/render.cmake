@@ -46,6 +46,12 @@ if(VX_WITH_VULKAN AND EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_spirv_precise.c)
     target_compile_definitions(test_spirv_precise PRIVATE VX_TEST_PROBES=1)
     add_dependencies(test_spirv_precise vx_probes)
   endif()
+  if(TARGET vx_cones)
+    # the cones' kernels (cones/shaders: their walks WALK_PRECISE)
+    target_include_directories(test_spirv_precise PRIVATE ${CMAKE_BINARY_DIR}/cones/spv)
+    target_compile_definitions(test_spirv_precise PRIVATE VX_TEST_CONES=1)
+    add_dependencies(test_spirv_precise vx_cones)
+  endif()
 endif()
 # The same tests with the descriptors' GPU form forced (issue 21: CPU devices
 # such as lavapipe keep the file's form in the node buffer, GPUs the GPU form;

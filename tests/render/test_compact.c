@@ -39,15 +39,57 @@ static bool check_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
     return true;
 }
 
-/* position of key in the sorted keys, or -1 */
-static int64_t find_key(const uint64_t* keys, uint32_t n, uint64_t k) {
+/* The cells among the sorted keys below key k. */
+static uint32_t keys_below(const uint64_t* keys, uint32_t n, uint64_t k) {
     uint32_t lo = 0, hi = n;
     while (lo < hi) {
         uint32_t mid = lo + (hi - lo) / 2;
         if (keys[mid] < k) lo = mid + 1;
         else hi = mid;
     }
+    return lo;
+}
+
+/* position of key in the sorted keys, or -1 */
+static int64_t find_key(const uint64_t* keys, uint32_t n, uint64_t k) {
+    uint32_t lo = keys_below(keys, n, k);
     return lo < n && keys[lo] == k ? (int64_t)lo : -1;
+}
+
+/* The level-3 records (vx__compact_level3_records) against the cells: field
+ * o - 1 of a level-3 node's record is the cells from the node's first to its
+ * octant o's first in Morton order (an aligned cube's cells are contiguous
+ * there), counted in the model's decoded keys, not in the layout. */
+typedef struct rec_check {
+    const vx_compact_scene* c;
+    const uint32_t* rec;
+    uint32_t first, count, n;
+    const uint64_t* keys;
+    uint32_t checked, wrong;
+} rec_check;
+static void rec_node(rec_check* rc, uint32_t slot, uint32_t L, uint32_t x, uint32_t y, uint32_t z) {
+    const uint32_t* sl = rc->c->geom + 2 * (size_t)slot;
+    uint32_t leaf = sl[0] & 0xFFu, inner = (sl[0] >> 8) & ~leaf & 0xFFu;
+    if (L == 3) {
+        rc->checked++;
+        if (slot < rc->first || slot - rc->first >= rc->count) {
+            rc->wrong++;
+            return;
+        }
+        uint64_t v = rc->rec[2 * (size_t)(slot - rc->first)] | (uint64_t)rc->rec[2 * (size_t)(slot - rc->first) + 1] << 32;
+        uint64_t base = vx_svo_morton(x, y, z);
+        uint32_t b0 = keys_below(rc->keys, rc->n, base), bad = 0;
+        for (uint32_t o = 1; o < 8; o++)
+            bad += ((v >> (9 * (o - 1))) & 0x1FFu) != keys_below(rc->keys, rc->n, base + 64ull * o) - b0;
+        rc->wrong += bad != 0;
+        return;
+    }
+    for (uint32_t o = 0, k = 0; o < 8; o++) {
+        if (!((inner >> o) & 1u)) continue;
+        uint32_t s = L - 1;
+        rec_node(rc, vx__compact_child(rc->c, L, sl[1], k++), s, x + ((o & 1u) << s), y + (((o >> 1) & 1u) << s),
+                 z + (((o >> 2) & 1u) << s));
+    }
 }
 
 /* Every cell of every model, and cells around them and at random, with the
@@ -70,6 +112,10 @@ static void check_scene_bricks(const vx_svo_scene* s, const char* name, uint32_t
     if (r) return;
     uint64_t voxels = 0;
     uint32_t bad_total = 0, rng = 12345;
+    rec_check rc = {.c = &c};
+    uint32_t* rec = NULL;
+    CHECKF(vx__compact_level3_records(&c, NULL, &rec, &rc.first, &rc.count, &err) == VX_OK, "%s: %s", name, err.msg);
+    rc.rec = rec;
     for (uint32_t mi = 0; mi < s->model_count; mi++) {
         const vx_svo_model* m = &s->models[mi];
         voxels += m->voxel_count;
@@ -100,12 +146,20 @@ static void check_scene_bricks(const vx_svo_scene* s, const char* name, uint32_t
             if (found != (at >= 0) || (found && idx != (uint64_t)at)) wrong++;
         }
         CHECKF(wrong == 0, "%s model %u: %u sampled cells looked up wrong", name, mi, wrong);
+        if (c.models[mi].root < VX_SVO_ROOT_LEAF && c.models[mi].depth >= 3 && (rec || !rc.count)) {
+            rc.keys = w.keys, rc.n = w.next;
+            uint32_t before = rc.wrong;
+            rec_node(&rc, c.models[mi].root, c.models[mi].depth, 0, 0, 0);
+            CHECKF(rc.wrong == before, "%s model %u: %u level-3 records wrong", name, mi, rc.wrong - before);
+        }
         free(w.keys);
     }
     printf("  %-32s block %4u%s: %10llu voxels, geometry %.3f + attributes %.3f bytes/voxel (%llu nodes)%s\n", name,
            block, bricks ? ", dictionary" : "", (unsigned long long)voxels, voxels ? 4.0 * c.geom_words / (double)voxels : 0.0,
            voxels ? 4.0 * c.attr_words / (double)voxels : 0.0, (unsigned long long)c.stats.nodes,
            bad_total ? " WRONG" : "");
+    CHECKF(rc.checked > 0 || !c.slot_count || c.brick_count == c.slot_count, "%s: no level-3 record checked", name);
+    vx_free(NULL, rec);
     if (keep) *keep = c;
     else vx_compact_free(&c);
 }

@@ -9,6 +9,7 @@
  * full-cube leaf model), a room with an emissive block, a glass block and a
  * metal floor (the per-record tables, per palette index in a compact scene),
  * and corpus .vox scenes (lavapipe in CI). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,17 +54,18 @@ static void side_close(side* o) {
     vx_render_scene_destroy(o->rs);
 }
 
-static bool render(side* o, const char* list, const vx_gi_method* gm, vx_render_desc base, vx_render_image* out) {
+static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
+                   vx_render_image* out) {
     vx_pass_list L;
     vx_error err = {0};
     if (vx_pass_list_parse(list, &L, &err)) {
         fprintf(stderr, "  parse '%s': %s\n", list, err.msg);
         return false;
     }
-    vx_frame_desc d = vx_frame_desc_defaults();
-    d.base = base;
+    vx_frame_desc d = *t;
     d.passes = &L;
     d.gi = gm;
+    d.show = show;
     d.separate_passes = true; /* each pass its own dispatch: every kernel runs */
     vx_frame_result res;
     if (vx_frame_render(o->fr, &d, &res, &err)) {
@@ -86,19 +88,87 @@ static size_t differ(const vx_render_image* a, const vx_render_image* b, size_t*
     return diff;
 }
 
-static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
-                    const vx_gi_method* gc, vx_render_desc base) {
+/* The first few pixels where b differs from a (same size), both values. */
+static void list_pixels(const vx_render_image* a, const vx_render_image* b) {
+    int shown = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height && shown < 4; i++) {
+        const float *x = &a->pixels[4 * i], *y = &b->pixels[4 * i];
+        if (!memcmp(x, y, 16)) continue;
+        printf("      pixel (%zu, %zu): plain %.9g %.9g %.9g %.9g, compact %.9g %.9g %.9g %.9g\n", i % a->width,
+               i / a->width, x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]);
+        shown++;
+    }
+}
+
+/* Where a frame differs between the layouts: each intermediate image (--show) of both, so that the pass whose
+ * kernel makes the difference is named (the G-buffer's albedo, normal, depth and instance; direct; gi; ao), with
+ * the first differing pixels. */
+static void report(side* p, side* c, const char* list, const vx_gi_method* gp, const vx_gi_method* gc,
+                   const vx_frame_desc* t) {
+    for (int sh = VX_SHOW_ALBEDO; sh < VX_SHOW_COUNT; sh++) {
+        if (sh == VX_SHOW_MATERIAL) continue; /* the record numbers are each layout's own (compact: palette indices) */
+        vx_render_image a = {0}, b = {0};
+        if (render(p, list, gp, t, (vx_show)sh, &a) && render(c, list, gc, t, (vx_show)sh, &b)) {
+            size_t hits = 0, diff = differ(&a, &b, &hits);
+            printf("    show %-9s %zu floats differ\n", vx_show_name((vx_show)sh), diff);
+            if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b);
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+}
+
+static void compare_show(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
+                         const vx_gi_method* gc, const vx_frame_desc* t, vx_show show) {
     vx_render_image a = {0}, b = {0};
-    bool ok = render(p, list, gp, base, &a) && render(c, list, gc, base, &b);
+    bool ok = render(p, list, gp, t, show, &a) && render(c, list, gc, t, show, &b);
     CHECKF(ok, "%s '%s': rendered", name, list);
     if (ok) {
         size_t hits = 0, diff = differ(&a, &b, &hits);
-        printf("  %-28s %-36s %ux%u: %zu pixels hit, %zu floats differ\n", name, list, a.width, a.height, hits, diff);
+        printf("  %-28s %-36s %ux%u: %zu pixels hit, %zu floats differ%s%s%s\n", name, list, a.width, a.height, hits,
+               diff, t->light_count ? " (frame lights)" : "", show ? ", show " : "", show ? vx_show_name(show) : "");
         CHECKF(diff == 0, "%s '%s': %zu floats differ", name, list, diff);
         CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
+        if (diff && a.width == b.width && a.height == b.height) {
+            list_pixels(&a, &b);
+            if (show == VX_SHOW_FINAL) report(p, c, list, gp, gc, t);
+        }
     }
     vx_render_image_free(&a);
     vx_render_image_free(&b);
+}
+
+static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
+                    const vx_gi_method* gc, const vx_frame_desc* t) {
+    compare_show(name, list, p, c, gp, gc, t, VX_SHOW_FINAL);
+}
+
+/* The two layouts' radiance volumes, level by level: the same halfs (voxelize.comp's opacity, inject.comp's
+ * radiance, filter.comp's levels above), so that a difference in the gi image is placed in the volume's kernels
+ * or in cone.comp's own rays. */
+static void compare_volumes(const char* name, const char* what, vx_cone_gi* a, vx_cone_gi* b) {
+    vx_cone_info ia, ib;
+    vx_cone_gi_info(a, &ia);
+    vx_cone_gi_info(b, &ib);
+    bool same_shape = ia.levels == ib.levels && ia.entries == ib.entries && !memcmp(ia.dims, ib.dims, sizeof ia.dims);
+    CHECKF(same_shape, "%s %s: the volumes' shapes differ", name, what);
+    CHECKF(ia.surface_voxels == ib.surface_voxels, "%s %s: %u and %u surface voxels", name, what, ia.surface_voxels,
+           ib.surface_voxels);
+    if (!same_shape) return;
+    size_t rgb = 0, alpha = 0, level0 = 0;
+    for (uint32_t l = 0; l < ia.levels; l++) {
+        size_t n = (size_t)ia.dims[l][0] * ia.dims[l][1] * ia.dims[l][2] * ia.entries * 4;
+        float *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y);
+        vx_error err = {0};
+        bool ok = x && y && !vx_cone_gi_read_level(a, l, x, n, &err) && !vx_cone_gi_read_level(b, l, y, n, &err);
+        CHECKF(ok, "%s %s: level %u read: %s", name, what, l, err.msg);
+        for (size_t i = 0; ok && i < n; i++)
+            if (memcmp(&x[i], &y[i], sizeof *x)) (i % 4 == 3 ? alpha++ : rgb++), level0 += l == 0;
+        free(x), free(y);
+    }
+    printf("  %-28s %-36s %u levels, %u surface voxels: %zu radiance and %zu opacity floats differ (%zu at level 0)\n",
+           name, what, ia.levels, ia.surface_voxels, rgb, alpha, level0);
+    CHECKF(rgb + alpha == 0, "%s %s: the volumes differ in %zu radiance and %zu opacity floats", name, what, rgb, alpha);
 }
 
 static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
@@ -111,11 +181,133 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
+/* The frames: passes, frame lights, gi=cones (its volume too) and gi=photons, both layouts bit for bit. */
+static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    vx_error err = {0};
+    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
+     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
+     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
+    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
+    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
+        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
+    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
+    vx_frame_desc two = base;
+    two.base.spp = 2;
+    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
+    /* frame lights (their shadow rays): a point light above the scene's middle, a spot light from a corner */
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(s, lo, hi);
+    vx_light lights[2] = {{.type = VX_LIGHT_POINT, .color = {1, 0.9, 0.8}},
+                          {.type = VX_LIGHT_SPOT, .color = {0.5, 0.7, 1}, .inner_cone = 0.3, .outer_cone = 0.6}};
+    double ext = 0;
+    for (int k = 0; k < 3; k++) {
+        ext = fmax(ext, hi[k] - lo[k]);
+        lights[0].position[k] = 0.5 * (lo[k] + hi[k]) + (k == 2 ? 0.3 * (hi[k] - lo[k]) : 0.0);
+        lights[1].position[k] = k == 2 ? hi[k] : lo[k] + 0.1 * (hi[k] - lo[k]);
+        lights[1].direction[k] = 0.5 * (lo[k] + hi[k]) - lights[1].position[k];
+    }
+    double dl = sqrt(lights[1].direction[0] * lights[1].direction[0] + lights[1].direction[1] * lights[1].direction[1] +
+                     lights[1].direction[2] * lights[1].direction[2]);
+    for (int k = 0; k < 3; k++) lights[1].direction[k] /= dl;
+    lights[0].intensity = lights[1].intensity = 0.5 * ext * ext;
+    vx_frame_desc lit = base;
+    lit.lights = lights, lit.light_count = 2;
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &lit);
+
+    /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
+     * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
+     * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
+    for (int k = 0; k < 2; k++) {
+        vx_gi_method gp, gc;
+        vx_cone_gi *cp = NULL, *cc = NULL;
+        vx_cone_desc cd = {.res = 32};
+        if (k == 1) cd.lights = lights, cd.light_count = 2, cd.shadows = true;
+        vx_result q = vx_cone_gi_create(p->rs, s, &cd, &gp, &cp, &err);
+        if (!q) q = vx_cone_gi_create(c->rs, s, &cd, &gc, &cc, &err);
+        CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
+        if (!q) {
+            compare_volumes(name, k ? "cone volume (lights)" : "cone volume", cp, cc);
+            compare(name, k ? "gbuffer,gi=cones" : "gbuffer,direct,gi=cones", p, c, &gp, &gc, k ? &lit : &base);
+        }
+        vx_cone_gi_destroy(cp);
+        vx_cone_gi_destroy(cc);
+    }
+    /* gi=photons */
+    {
+        vx_gi_method gp, gc;
+        vx_photon_gi *pp = NULL, *pc = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
+        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
+        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
+        vx_photon_gi_destroy(pp);
+        vx_photon_gi_destroy(pc);
+    }
+}
+
+/* The probe bakes (the same bytes) and the GI methods that read them (gi=probes, gi=pathtrace). */
+static void check_bakes(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    vx_error err = {0};
+    /* the probe bake: the same bytes from both layouts; a 3x3x3 grid at R=32 too, whose texel centre rays
+     * meet solid cubes at their edges, where a cube of one colour (one leaf in the plain layout, cells in the
+     * compact one) gave other cells, faces or distances before the bake's cell walk (probe.comp CELL_HITS:
+     * eph_monu1's differed on lavapipe, the Cornell box's on the H200; issue 18, branch bakex) */
+    {
+        vx_probe_bake_desc be = {.grid = {3, 3, 3}, .res = 32, .spp = 1, .bounces = 1, .seed = 5};
+        vx_probe_set ep = {0}, ec = {0};
+        bool ok = vx_probe_bake_gpu(p->rs, s, &be, &ep, &err) == VX_OK && vx_probe_bake_gpu(c->rs, s, &be, &ec, &err) == VX_OK;
+        CHECKF(ok, "%s: edge bake: %s", name, err.msg);
+        if (ok) {
+            bool same = probe_sets_equal(&ep, &ec);
+            printf("  %-28s probe bake (%u probes at %u, edge rays): %s\n", name, ep.probe_count, ep.res,
+                   same ? "same bytes" : "DIFFER");
+            CHECKF(same, "%s: the probe sets at R=32 differ", name);
+        }
+        vx_probe_set_free(&ep), vx_probe_set_free(&ec);
+    }
+    vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 5};
+    vx_probe_set psp = {0}, psc = {0};
+    vx_result r1 = vx_probe_bake_gpu(p->rs, s, &bd, &psp, &err);
+    CHECKF(r1 == VX_OK, "%s: plain bake: %s", name, err.msg);
+    vx_result r2 = vx_probe_bake_gpu(c->rs, s, &bd, &psc, &err);
+    CHECKF(r2 == VX_OK, "%s: compact bake: %s", name, err.msg);
+    if (!r1 && !r2) {
+        bool same = probe_sets_equal(&psp, &psc);
+        printf("  %-28s probe bake (%u probes at %u): %s\n", name, psp.probe_count, psp.res, same ? "same bytes" : "DIFFER");
+        CHECKF(same, "%s: the probe sets differ", name);
+        /* gi=probes and gi=pathtrace (the probes' light) */
+        static const char* const methods[] = {"probes", "pathtrace"};
+        for (int k = 0; k < 2; k++) {
+            vx_probe_render_desc pd = {.spp = 2, .bounces = 1, .seed = 3};
+            vx_gi_method gp, gc;
+            vx_probe_gi *pgp = NULL, *pgc = NULL;
+            vx_result q = vx_probe_gi_create(p->rs, s, &psp, methods[k], &pd, &gp, &pgp, &err);
+            if (!q) q = vx_probe_gi_create(c->rs, s, &psc, methods[k], &pd, &gc, &pgc, &err);
+            CHECKF(q == VX_OK, "%s: gi=%s: %s", name, methods[k], err.msg);
+            char list[64];
+            snprintf(list, sizeof list, "gbuffer,direct,gi=%s", methods[k]);
+            if (!q) compare(name, list, p, c, &gp, &gc, &base);
+            vx_probe_gi_destroy(pgp);
+            vx_probe_gi_destroy(pgc);
+        }
+    }
+    vx_probe_set_free(&psp);
+    vx_probe_set_free(&psc);
+}
+
 /* All scenes through the one device: its pipeline cache holds the pass, GI
- * and bake variants of both layouts of every scene (147 with the corpus
- * scenes), as a session that opens several scenes does.
+ * and bake variants of both layouts of every scene, as a session that opens
+ * several scenes does. Each scene's frames and bakes are separate tests
+ * (FRAMES, BAKES), so that VX_TEST_ONLY picks one: a fresh GPU machine
+ * compiles every pipeline cold.
  * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
-static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks) {
+enum { FRAMES = 1, BAKES = 2 };
+
+static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks, int parts) {
     side p, c;
     if (!side_open(s, VX_RENDER_LAYOUT_PLAIN, 0, &p)) {
         CHECKF(false, "%s: plain scene", name);
@@ -132,90 +324,17 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
                !vx__render_scene_compact(p.rs) && li.brick_dict == (bricks == VX_RENDER_BRICKS_DICT),
            "%s: layout %s, %u pages, brick dictionary %d", name, vx_render_layout_name(li.layout), li.pages,
            (int)li.brick_dict);
-    vx_render_desc base = {.width = w, .height = h};
-    compare(name, "gbuffer,direct", &p, &c, NULL, NULL, base);
-    compare(name, "gbuffer,direct,ao", &p, &c, NULL, NULL, base);
-    vx_render_desc two = base;
-    two.spp = 2;
-    compare(name, "gbuffer,direct,ao,aa,tonemap", &p, &c, NULL, NULL, two);
-
-    /* the probe bake: the same bytes from both layouts; a 3x3x3 grid at R=32 too, whose texel centre rays
-     * meet solid cubes at their edges, where a cube of one colour (one leaf in the plain layout, cells in the
-     * compact one) gave other cells, faces or distances before the bake's cell walk (probe.comp CELL_HITS:
-     * eph_monu1's differed on lavapipe, the Cornell box's on the H200; issue 18, branch bakex) */
-    vx_error err = {0};
-    {
-        vx_probe_bake_desc be = {.grid = {3, 3, 3}, .res = 32, .spp = 1, .bounces = 1, .seed = 5};
-        vx_probe_set ep = {0}, ec = {0};
-        bool ok = vx_probe_bake_gpu(p.rs, s, &be, &ep, &err) == VX_OK && vx_probe_bake_gpu(c.rs, s, &be, &ec, &err) == VX_OK;
-        CHECKF(ok, "%s: edge bake: %s", name, err.msg);
-        if (ok) {
-            bool same = probe_sets_equal(&ep, &ec);
-            printf("  %-28s probe bake (%u probes at %u, edge rays): %s\n", name, ep.probe_count, ep.res,
-                   same ? "same bytes" : "DIFFER");
-            CHECKF(same, "%s: the probe sets at R=32 differ", name);
-        }
-        vx_probe_set_free(&ep), vx_probe_set_free(&ec);
-    }
-    vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 5};
-    vx_probe_set psp = {0}, psc = {0};
-    vx_result r1 = vx_probe_bake_gpu(p.rs, s, &bd, &psp, &err);
-    CHECKF(r1 == VX_OK, "%s: plain bake: %s", name, err.msg);
-    vx_result r2 = vx_probe_bake_gpu(c.rs, s, &bd, &psc, &err);
-    CHECKF(r2 == VX_OK, "%s: compact bake: %s", name, err.msg);
-    if (!r1 && !r2) {
-        bool same = probe_sets_equal(&psp, &psc);
-        printf("  %-28s probe bake (%u probes at %u): %s\n", name, psp.probe_count, psp.res, same ? "same bytes" : "DIFFER");
-        CHECKF(same, "%s: the probe sets differ", name);
-        /* gi=probes and gi=pathtrace (the probes' light) */
-        static const char* const methods[] = {"probes", "pathtrace"};
-        for (int k = 0; k < 2; k++) {
-            vx_probe_render_desc pd = {.spp = 2, .bounces = 1, .seed = 3};
-            vx_gi_method gp, gc;
-            vx_probe_gi *pgp = NULL, *pgc = NULL;
-            vx_result q = vx_probe_gi_create(p.rs, s, &psp, methods[k], &pd, &gp, &pgp, &err);
-            if (!q) q = vx_probe_gi_create(c.rs, s, &psc, methods[k], &pd, &gc, &pgc, &err);
-            CHECKF(q == VX_OK, "%s: gi=%s: %s", name, methods[k], err.msg);
-            char list[64];
-            snprintf(list, sizeof list, "gbuffer,direct,gi=%s", methods[k]);
-            if (!q) compare(name, list, &p, &c, &gp, &gc, base);
-            vx_probe_gi_destroy(pgp);
-            vx_probe_gi_destroy(pgc);
-        }
-    }
-    vx_probe_set_free(&psp);
-    vx_probe_set_free(&psc);
-
-    /* gi=cones (its voxelization traces the scene) and gi=photons */
-    {
-        vx_gi_method gp, gc;
-        vx_cone_gi *cp = NULL, *cc = NULL;
-        vx_cone_desc cd = {.res = 32};
-        vx_result q = vx_cone_gi_create(p.rs, s, &cd, &gp, &cp, &err);
-        if (!q) q = vx_cone_gi_create(c.rs, s, &cd, &gc, &cc, &err);
-        CHECKF(q == VX_OK, "%s: gi=cones: %s", name, err.msg);
-        if (!q) compare(name, "gbuffer,direct,gi=cones", &p, &c, &gp, &gc, base);
-        vx_cone_gi_destroy(cp);
-        vx_cone_gi_destroy(cc);
-    }
-    {
-        vx_gi_method gp, gc;
-        vx_photon_gi *pp = NULL, *pc = NULL;
-        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
-        vx_result q = vx_photon_gi_create(p.rs, s, NULL, &phd, &gp, &pp, &err);
-        if (!q) q = vx_photon_gi_create(c.rs, s, NULL, &phd, &gc, &pc, &err);
-        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
-        if (!q) compare(name, "gbuffer,direct,gi=photons", &p, &c, &gp, &gc, base);
-        vx_photon_gi_destroy(pp);
-        vx_photon_gi_destroy(pc);
-    }
+    vx_frame_desc base = vx_frame_desc_defaults();
+    base.base = (vx_render_desc){.width = w, .height = h};
+    if (parts & FRAMES) check_frames(name, s, &p, &c, &base);
+    if (parts & BAKES) check_bakes(name, s, &p, &c, &base);
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     printf("  %-28s %u pipelines cached\n", name, gpu->pipeline_count);
     side_close(&c);
     side_close(&p);
 }
 
-static void test_generated(void) {
+static void generated_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     /* palette models (sparse, dense), an RGBA model with noise, a model of
      * full 8^3 leaf cubes (leaves above level 1) */
@@ -257,11 +376,11 @@ static void test_generated(void) {
     in[4] = ts_inst(2, rot, 20, 30, 25);
     vx_svo_scene s;
     ts_scene(&s, m, 4, in, 5);
-    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT);
+    check_scene("generated (5 instances)", &s, 64, 48, VX_RENDER_BRICKS_DICT, parts);
     vx_svo_scene_free(&s);
 }
 
-static void test_room(void) {
+static void room_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
     (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes (static there) */
@@ -273,11 +392,11 @@ static void test_room(void) {
     add_material(&s, 4, glass, 3);
     add_material(&s, 3, metal, 3);
     add_material(&s, 9, emit, 2);
-    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE);
+    check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE, parts);
     vx_svo_scene_free(&s);
 }
 
-static void test_corpus(void) {
+static void corpus_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const char* files[] = {"eph_monu1.vox", "ogt_chr_knight.vox"};
     int done = 0;
@@ -288,19 +407,29 @@ static void test_corpus(void) {
         done++; /* found: a file that fails to load fails the test, not skips it */
         CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
         if (st != VX_TEST_VOX_OK) continue;
-        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT);
+        check_scene(files[i], &s, 64, 48, i % 2 ? VX_RENDER_BRICKS_INLINE : VX_RENDER_BRICKS_DICT, parts);
         vx_svo_scene_free(&s);
     }
     if (!done) SKIP("no corpus .vox files");
 }
 
+static void test_generated_frames(void) { generated_scenes(FRAMES); }
+static void test_generated_bakes(void) { generated_scenes(BAKES); }
+static void test_room_frames(void) { room_scenes(FRAMES); }
+static void test_room_bakes(void) { room_scenes(BAKES); }
+static void test_corpus_frames(void) { corpus_scenes(FRAMES); }
+static void test_corpus_bakes(void) { corpus_scenes(BAKES); }
+
 int main(void) {
     int logged = 0;
     vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
-    RUN(test_generated);
-    RUN(test_room);
-    RUN(test_corpus);
+    RUN(test_generated_frames);
+    RUN(test_generated_bakes);
+    RUN(test_room_frames);
+    RUN(test_room_bakes);
+    RUN(test_corpus_frames);
+    RUN(test_corpus_bakes);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

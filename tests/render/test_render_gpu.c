@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "render/gpu.h" /* vx__render_scene_far */
+#include "render/pipeline.h"
 #include "render/testing.h" /* vx__render_scene_force_precise */
 #include "svo/edit.h"
 #include "tests/render/scenes.h"
@@ -151,6 +152,61 @@ static void check_lean(const char* name, vx_render_scene* rs, vx_render_desc d, 
     vx_render_image_free(&li);
 }
 
+/* Pixels of two images of one size whose values differ (any bit of the four floats). */
+static size_t pixels_differ(const vx_render_image* a, const vx_render_image* b) {
+    size_t n = (size_t)a->width * a->height, diff = 0;
+    for (size_t i = 0; i < n; i++) diff += memcmp(&a->pixels[4 * i], &b->pixels[4 * i], 4 * sizeof(float)) != 0;
+    return diff;
+}
+
+/* The lean walk in the kernels of the colour modes (trace.comp's colour, albedo and normal kernels, primary and
+ * shadow rays; the pass pipeline's G-buffer, merged with the direct pass and apart; issue 21, branch lean2): each
+ * frame without hits or ids (the lean walk, where it applies: one instance, GPU form) against the same frame with
+ * them (WRITE_HITS: main's walk, with the iteration guard, the ray-end test at a push and hh, the camera ray held
+ * across the walk rather than formed again), value for value. Equal on CPU devices (lavapipe: the same
+ * arithmetic); on GPUs at most 1% of the pixels apart, as check_lean allows (the two are different kernels and
+ * the NVIDIA compiler may contract their walks differently: a depth a float step apart moves a shadow ray's
+ * start). A wrong walk (a wrong scale_exp2) misses cells and gives other faces and shadows. */
+static void check_lean_colour(const char* name, vx_render_scene* rs, const vx_svo_scene* s, vx_render_desc d) {
+    static const vx_render_mode modes[] = {VX_RENDER_COLOR, VX_RENDER_ALBEDO, VX_RENDER_NORMAL};
+    static const char* const mname[] = {"colour", "albedo", "normal", "passes", "separate passes"};
+    size_t n = (size_t)d.width * d.height, allowed = vx_gpu_is_cpu(gpu) ? 0 : n / 100;
+    vx_frame_renderer* fr = NULL;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_precise(rs) ? VX_OK : vx_frame_renderer_create(rs, s, &fr, &err);
+    CHECKF(r == VX_OK, "%s: frame renderer: %s", name, err.msg);
+    /* the pass pipeline traces in float only (the float64 variant's scenes: the modes alone) */
+    int nm = vx_render_scene_precise(rs) ? 3 : 5;
+    for (int m = 0; m < nm && !r; m++) {
+        vx_render_image img[2] = {{0}, {0}};
+        for (int hits = 0; hits < 2 && !r; hits++) {
+            d.want_hits = hits;
+            if (m < 3) {
+                d.mode = modes[m];
+                r = vx_render_frame(rs, &d, &img[hits], &err);
+            } else {
+                vx_frame_desc fd = vx_frame_desc_defaults();
+                fd.base = d;
+                fd.base.mode = VX_RENDER_COLOR;
+                fd.base.want_hits = false;
+                fd.want_ids = hits;
+                fd.separate_passes = m == 4;
+                vx_frame_result res = {0};
+                r = vx_frame_render(fr, &fd, &res, &err);
+                img[hits] = res.image;
+            }
+            CHECKF(r == VX_OK, "%s %s: %s", name, mname[m], err.msg);
+        }
+        if (!r) {
+            size_t diff = pixels_differ(&img[0], &img[1]);
+            CHECKF(diff <= allowed, "%s: %zu %s pixels differ without hits (%zu allowed)", name, diff, mname[m], allowed);
+        }
+        vx_render_image_free(&img[0]);
+        vx_render_image_free(&img[1]);
+    }
+    vx_frame_renderer_destroy(fr);
+}
+
 /* Renders s on both paths and checks the 99.99% rule. min_hits guards
  * against a camera that sees nothing. With g_force == 0 (the float variant
  * forced, for comparison) it only reports. */
@@ -181,6 +237,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     if (!r && !rc) c = compare(name, &gi, &ci);
     if (!r) check_beam(name, rs, d, &gi);
     if (!r && d.mode == VX_RENDER_DEPTH) check_lean(name, rs, d, &gi);
+    if (!r && d.mode == VX_RENDER_DEPTH && g_force != 1) check_lean_colour(name, rs, s, d);
     if (!r && !rc && g_force != 0) {
         CHECKF(c.hits >= min_hits, "%s: %zu hits, expected at least %zu", name, c.hits, min_hits);
         CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",

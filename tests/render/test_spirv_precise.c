@@ -22,7 +22,18 @@
  * lights, sky, accumulation, and the octree walk: with the path alone precise
  * 45 values still differed) must carry NoContraction there, not only those
  * feeding some variables. `test_spirv_precise --path FILE.spv` checks a
- * kernel file that way (main's probe.comp before the fix: 475 fail). */
+ * kernel file that way (main's probe.comp before the fix: 475 fail).
+ *
+ * The kernels that trace the G-buffer's primary rays (gbuffer.comp, frame.comp
+ * and the cones' cone.comp, which traces them again) and the cones' own rays
+ * (voxelize.comp, inject.comp) are built with WALK_PRECISE: with main's, the
+ * NVIDIA compiler contracted the walk's crossing times differently in the
+ * plain and the compact layout's pipelines (the COMPACT constant), and 5 of
+ * test_compact_passes' room hits came out one float step apart in depth, its
+ * cone gi and its frame-lit direct light with them (issue 18, H200; lavapipe
+ * gave the same bits). So every float operation of their walk (trace_model,
+ * trace_instance, box_t, safe_inv) must carry NoContraction; trace.comp,
+ * built without it, must not (the control). */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,6 +45,11 @@
 #include "trace_compact.comp.h"
 #include "frame.comp.h"
 #include "gbuffer.comp.h"
+#ifdef VX_TEST_CONES
+#include "cone.comp.h"
+#include "inject.comp.h"
+#include "voxelize.comp.h"
+#endif
 #ifdef VX_TEST_PROBES
 #include "probe.comp.h"
 #include "probe_pt.comp.h"
@@ -244,25 +260,33 @@ static const char* const path_fns[] = {"render", "path", "surface", "bsdf_of", "
                                        "dielectric", "glass_walk", "nee", "area_hit", "emitter_point", "mis", "sky_eval",
                                        "direct", "trace_model", "trace_instance", "box_t", "safe_inv", NULL};
 
-/* quiet: count only (a kernel expected to fail) */
-static int check_path_kernel(const char* label, const uint32_t* w, size_t bytes, int quiet) {
+/* The octree walk's functions (trace_common.glsl), whose every float operation WALK_PRECISE makes precise. */
+static const char* const walk_fns[] = {"trace_model", "trace_instance", "box_t", "safe_inv", NULL};
+
+/* Every float operation of the functions fns must carry NoContraction; the count of those that do not.
+ * quiet: count only (a kernel expected to fail) */
+static int check_fns(const char* label, const uint32_t* w, size_t bytes, const char* const* fns, const char* what,
+                     int quiet) {
     spv m;
-    int ok = parse(&m, w, bytes / 4), total_bad = 0;
+    int ok = parse(&m, w, bytes / 4), total_bad = 0, nf = 0;
     CHECKF(ok, "%s: not SPIR-V", label);
     if (ok)
-        for (int f = 0; path_fns[f]; f++) {
-            int ops = 0, bad = check_whole_function(&m, path_fns[f], &ops, label, quiet);
+        for (int f = 0; fns[f]; f++, nf++) {
+            int ops = 0, bad = check_whole_function(&m, fns[f], &ops, label, quiet);
             /* the control (quiet: the bake's kernel) holds only its own entry's functions since each build of
              * probe.comp has one entry point (bake4): render() and what only it calls are not there */
-            CHECKF(quiet || bad >= 0, "%s: no function %s", label, path_fns[f]);
-            CHECKF(quiet || bad <= 0, "%s: %s: %d of %d float operations could be contracted", label, path_fns[f], bad, ops);
-            CHECKF(bad < 0 || ops > 0, "%s: %s has no float operation (renamed?)", label, path_fns[f]);
+            CHECKF(quiet || bad >= 0, "%s: no function %s", label, fns[f]);
+            CHECKF(quiet || bad <= 0, "%s: %s: %d of %d float operations could be contracted", label, fns[f], bad, ops);
+            CHECKF(bad < 0 || ops > 0, "%s: %s has no float operation (renamed?)", label, fns[f]);
             if (bad > 0) total_bad += bad;
         }
-    printf("%-24s path tracer: %d functions, %d operations without NoContraction\n", label,
-           (int)(sizeof path_fns / sizeof path_fns[0]) - 1, total_bad);
+    printf("%-24s %s: %d functions, %d operations without NoContraction\n", label, what, nf, total_bad);
     spv_free(&m);
     return total_bad;
+}
+
+static int check_path_kernel(const char* label, const uint32_t* w, size_t bytes, int quiet) {
+    return check_fns(label, w, bytes, path_fns, "path tracer", quiet);
 }
 
 /* Checks one kernel; need: the variables must be there (the float trace
@@ -292,6 +316,17 @@ static void test_embedded(void) {
     /* the pass pipeline's kernels trace through trace_common.glsl too */
     check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0);
     check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0);
+    /* the walks of the G-buffer's primary rays wholly precise (WALK_PRECISE); trace.comp's not (the control,
+     * as main's gbuffer.comp: the check sees what the define changes) */
+    check_fns("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, walk_fns, "walk", 0);
+    check_fns("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, walk_fns, "walk", 0);
+    int ctl = check_fns("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, walk_fns, "walk", 1);
+    CHECKF(ctl >= 50, "trace.comp's walk has only %d operations without NoContraction", ctl);
+#ifdef VX_TEST_CONES
+    check_fns("cone.comp", vx__cone_trace_spv_arr, sizeof vx__cone_trace_spv_arr, walk_fns, "walk", 0);
+    check_fns("voxelize.comp", vx__cone_voxelize_spv_arr, sizeof vx__cone_voxelize_spv_arr, walk_fns, "walk", 0);
+    check_fns("inject.comp", vx__cone_inject_spv_arr, sizeof vx__cone_inject_spv_arr, walk_fns, "walk", 0);
+#endif
 #ifdef VX_TEST_PROBES
     /* the render kernel's walk is trace_common.glsl's too */
     check_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 1);
