@@ -65,7 +65,7 @@
 #endif
 #ifdef VX_BENCH_HAVE_VULKAN
 #include "bench/bench_stats.h"
-#include "render/render_internal.h"
+#include "render/testing.h"
 
 static void print_stats(void* user, vx_log_level level, const char* id, const char* msg) {
     (void)user, (void)level;

@@ -6,7 +6,7 @@
  * world_from_grid (world cells are grid cells), like the dense baseline. */
 #ifndef VX_BENCH_ESVO_H
 #define VX_BENCH_ESVO_H
-#include "render/render_internal.h"
+#include "render/gpu.h" /* vx__buffer, vx__pipeline_get, vx__dispatch */
 
 /* The per-frame state of a baseline kernel: its Frame block (the camera,
  * the cube, two parameters) and its per-pixel output (depth bits, steps). */

@@ -37,7 +37,7 @@
 #include "bench/bench_stats.h"
 #include "bench/bench_view.h"
 #include "render/pipeline.h"
-#include "render/render_internal.h" /* vx__render_dispatch */
+#include "render/testing.h" /* vx__render_dispatch */
 
 
 /* "=" marks a list run with separate_passes (each pass its own dispatch); "!" one run with

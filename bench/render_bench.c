@@ -88,7 +88,8 @@
 #include "bench/esvo.h"
 #include "bench/tree64.h"
 #include "render/pipeline.h"
-#include "render/render_internal.h"
+#include "render/gpu.h" /* vx__render_scene_far */
+#include "render/testing.h"
 
 typedef struct view_result {
     double hit, enter_vx, enter_es, steps_vx, steps_es, sec_vx, sec_es, sec_shadow, sec_dense, agree;

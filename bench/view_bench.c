@@ -60,7 +60,7 @@
 #include "render/gpu.h" /* --loop: timestamps between a frame's stages */
 #include "render/pipeline.h"
 #include "render/render.h"
-#include "render/render_internal.h" /* vx__render_scene_rows_on_gpu */
+#include "render/testing.h" /* vx__render_scene_rows_on_gpu */
 #include "bench/bench_terrain.h"
 #include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"

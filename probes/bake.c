@@ -660,17 +660,14 @@ vx_result vx_probe_bake_more(const vx_svo_scene* scene, const vx_probe_bake_desc
                              uint32_t end, vx_error* err) {
     if (!scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
-    uint32_t begin = ps->first + ps->count;
-    if (end > ps->probe_count || end < begin)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
-    if (end == begin) return VX_OK;
+    uint32_t begin;
+    vx_result r = vx__probe_bake_begin(ps, end, &begin, err);
+    if (r || end == begin) return r;
     vx_render_caster* c = NULL;
-    vx_result r = vx_render_caster_create(scene, ps->alloc, &c, err);
-    if (r) return r;
+    if ((r = vx_render_caster_create(scene, ps->alloc, &c, err))) return r;
     vx__light L;
     vx__tables T = {0};
-    if ((r = vx__light_init(&L, c, scene, ps->light_dir, ps->sun, false, ps->sky, false, err))) goto done;
-    for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
+    if ((r = vx__probe_set_light(&L, c, scene, ps, err))) goto done;
     if (!vx__tables_make(&T, ps->res, ps->alloc) || !vx__probe_grow(ps, end - ps->first, true)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
         goto done;
@@ -697,18 +694,50 @@ done:
     return r;
 }
 
-vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err) {
-    if (!scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+/* ---- the bake's driver -------------------------------------------------------------- */
+
+vx_result vx__probe_bake_begin(const vx_probe_set* ps, uint32_t end, uint32_t* begin, vx_error* err) {
+    *begin = ps->first + ps->count;
+    if (end > ps->probe_count || end < *begin)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, *begin,
+                       ps->probe_count);
+    return VX_OK;
+}
+
+vx_result vx__probe_set_light(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const vx_probe_set* ps,
+                              vx_error* err) {
+    vx_result r = vx__light_init(L, c, s, ps->light_dir, ps->sun, false, ps->sky, false, err);
+    /* the set's resolved values (vx__light_init takes a zero sun or sky for the default) */
+    for (int k = 0; k < 3; k++) L->sun[k] = ps->sun[k], L->sky[k] = ps->sky[k];
+    return r;
+}
+
+vx_result vx__probe_bake_placed(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx__probe_bake_range bake,
+                                void* device, vx_probe_set* out, vx_error* err) {
     vx_probe_set ps;
+    double t0 = vx_time_now();
     vx_result r = vx_probe_place(scene, desc, &ps, err);
     if (r) return r;
+    double placed = vx_time_now() - t0;
     uint32_t end = desc && desc->count ? desc->first + desc->count : ps.probe_count;
-    if ((r = vx_probe_bake_more(scene, desc, &ps, end, err))) {
+    if ((r = bake(device, scene, desc, &ps, end, err))) {
         vx_probe_set_free(&ps);
         return r;
     }
+    if (desc && desc->stats) desc->stats->place = placed;
     *out = ps;
     return VX_OK;
+}
+
+static vx_result bake_range_cpu(void* device, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                vx_probe_set* ps, uint32_t end, vx_error* err) {
+    (void)device;
+    return vx_probe_bake_more(scene, desc, ps, end, err);
+}
+
+vx_result vx_probe_bake(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx_probe_set* out, vx_error* err) {
+    if (!scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    return vx__probe_bake_placed(scene, desc, bake_range_cpu, NULL, out, err);
 }
 
 /* ---- merging ------------------------------------------------------------------------ */

@@ -1028,6 +1028,15 @@ static uint32_t batch_of(const vx_probe_set* ps, uint32_t seg_log2, uint64_t cap
     return (uint32_t)batch;
 }
 
+/* The frame block of a bake: float coordinates relative to the scene's centre. */
+static vx_result bake_frame(const vx_svo_scene* scene, vx__frame* f, vx_error* err) {
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(scene, lo, hi);
+    vx_result r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, f, err);
+    for (int k = 0; k < 3; k++) f->ref[k] = 0.5 * (lo[k] + hi[k]);
+    return r;
+}
+
 /* A GPU bake kept across calls (probes.h): the context, the filter tables,
  * the pipelines and the two batch slots are made once. */
 struct vx_probe_baker {
@@ -1066,14 +1075,9 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     b->alloc = ps->alloc;
     b->res = ps->res, b->spp = ps->spp, b->bounces = ps->bounces, b->probe_count = ps->probe_count;
     b->seed = ps->seed, b->probes = ps->probes;
-    vx_result r = vx__light_init(&b->L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false, err);
+    vx_result r = vx__probe_set_light(&b->L, NULL, scene, ps, err);
     b->light = !r;
-    for (int k = 0; k < 3; k++) b->L.sun[k] = ps->sun[k], b->L.sky[k] = ps->sky[k];
-    /* float coordinates relative to the scene's centre */
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(scene, lo, hi);
-    if (!r) r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &b->f, err);
-    for (int k = 0; k < 3; k++) b->f.ref[k] = 0.5 * (lo[k] + hi[k]);
+    if (!r) r = bake_frame(scene, &b->f, err);
     vx__pipeline* pipe;
     if (!r) {
         r = ctx_init(&b->c, rs, scene, &b->f, ps, &b->L, err);
@@ -1140,10 +1144,9 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
     if (ps->res != b->res || ps->spp != b->spp || ps->bounces != b->bounces || ps->probe_count != b->probe_count ||
         ps->seed != b->seed || ps->probes != b->probes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "probe set of another bake than the baker's");
-    uint32_t begin = ps->first + ps->count;
-    if (end > ps->probe_count || end < begin)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
-    if (end == begin) return VX_OK;
+    uint32_t begin;
+    vx_result r = vx__probe_bake_begin(ps, end, &begin, err);
+    if (r || end == begin) return r;
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
     vx_probe_bake_stats st = {0};
     if (!b->setup_reported) {
@@ -1160,8 +1163,7 @@ vx_result vx_probe_baker_run(vx_probe_baker* b, const vx_probe_bake_desc* desc, 
     if (!vx__probe_grow(ps, end - ps->first, false))
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u probes at res %u", end - ps->first, ps->res);
     st.grow = vx_time_now() - tg;
-    vx_result r = bake_gpu_filtered(&b->B, ps, &b->L, &b->f, begin, end, &d.progress, &st, err);
-    if (r) return r;
+    if ((r = bake_gpu_filtered(&b->B, ps, &b->L, &b->f, begin, end, &d.progress, &st, err))) return r;
     ps->count = end - ps->first;
     if (d.stats) *d.stats = st;
     return VX_OK;
@@ -1171,13 +1173,12 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
                                  vx_probe_set* ps, uint32_t end, vx_error* err) {
     if (!rs || !scene || !ps) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
-    uint32_t begin = ps->first + ps->count;
-    if (end > ps->probe_count || end < begin)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "bake end %u outside %u..%u", end, begin, ps->probe_count);
-    if (end == begin) return VX_OK;
+    uint32_t begin;
+    vx_result r = vx__probe_bake_begin(ps, end, &begin, err);
+    if (r || end == begin) return r;
     if (!d.host_filter) {
         vx_probe_baker* b;
-        vx_result r = vx_probe_baker_create(rs, scene, &d, ps, &b, err);
+        r = vx_probe_baker_create(rs, scene, &d, ps, &b, err);
         if (!r) r = vx_probe_baker_run(b, &d, ps, end, err);
         vx_probe_baker_destroy(b);
         return r;
@@ -1185,18 +1186,13 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     vx_probe_bake_stats st = {0};
     double t0 = vx_time_now();
     vx__light L;
-    vx_result r = vx__light_init(&L, NULL, scene, ps->light_dir, ps->sun, false, ps->sky, false, err);
-    for (int k = 0; k < 3; k++) L.sun[k] = ps->sun[k], L.sky[k] = ps->sky[k];
-    /* float coordinates relative to the scene's centre */
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(scene, lo, hi);
     vx__frame f;
-    if (!r) r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, &f, err);
+    r = vx__probe_set_light(&L, NULL, scene, ps, err);
+    if (!r) r = bake_frame(scene, &f, err);
     if (r) {
         vx__light_free(&L);
         return r;
     }
-    for (int k = 0; k < 3; k++) f.ref[k] = 0.5 * (lo[k] + hi[k]);
     gctx c;
     vx__tables T = {0};
     float* raw = NULL;
@@ -1266,22 +1262,15 @@ done:
     return r;
 }
 
+static vx_result bake_range_gpu(void* device, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                vx_probe_set* ps, uint32_t end, vx_error* err) {
+    return vx_probe_bake_more_gpu(device, scene, desc, ps, end, err);
+}
+
 vx_result vx_probe_bake_gpu(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                             vx_probe_set* out, vx_error* err) {
     if (!rs || !scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    vx_probe_set ps;
-    double t0 = vx_time_now();
-    vx_result r = vx_probe_place(scene, desc, &ps, err);
-    if (r) return r;
-    double placed = vx_time_now() - t0;
-    uint32_t end = desc && desc->count ? desc->first + desc->count : ps.probe_count;
-    if ((r = vx_probe_bake_more_gpu(rs, scene, desc, &ps, end, err))) {
-        vx_probe_set_free(&ps);
-        return r;
-    }
-    if (desc && desc->stats) desc->stats->place = placed;
-    *out = ps;
-    return VX_OK;
+    return vx__probe_bake_placed(scene, desc, bake_range_gpu, rs, out, err);
 }
 
 /* ---- rendering ------------------------------------------------------------------------ */

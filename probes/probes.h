@@ -149,7 +149,7 @@ void vx_probe_set_free(vx_probe_set* ps);
  * times come from timestamps; busy is the share of the batch loop's wall time
  * in which the GPU ran the bake's work (trace, filtering, copies). */
 typedef struct vx_probe_bake_stats {
-    double place;       /* placing the probes (vx_probe_bake_gpu only; wall) */
+    double place;       /* placing the probes (vx_probe_bake and vx_probe_bake_gpu; wall) */
     double setup;       /* tables, buffers, uploads and pipelines before the first batch (wall) */
     double setup_ctx;   /* of setup: the lighting, the scene's bindings and the small uploads (wall) */
     double setup_pipes; /* of setup: the trace, beam and filter pipelines (wall; the driver's cache) */
@@ -210,7 +210,8 @@ typedef enum vx_probe_bake_kernel {
  *  host_filter: GPU bake only: filter each batch's radiance and distances
  *              on `threads` host threads (vx__probe_finish, the CPU bake's
  *              code: the reference) instead of on the GPU
- *  stats:      GPU bake only: optional out, where the time went
+ *  stats:      optional out, where the time went: the GPU bake's; the CPU
+ *              bake (vx_probe_bake) fills place only
  *  no_beam:    GPU bake only: the camera rays walk the octree from their probe
  *              rather than from their texel block's beam distance
  *              (probes/shaders/probe_beam.comp): the reference the beam is

@@ -49,6 +49,28 @@ bool vx__probe_grow(vx_probe_set* ps, uint32_t n, bool zero);
  * (dist_max for misses). Writes the radiance halfs, the borders, the
  * low-resolution minimum map, the irradiance and the distance moments. */
 void vx__probe_finish(vx_probe_set* ps, const vx__tables* T, uint32_t k, const double* L, const double* D);
+/* ---- the bake's driver (bake.c), one for the CPU and the GPU bakes ------------------ */
+
+/* The first probe a bake of ps up to end starts at (*begin: after the probes
+ * baked so far); VX_ERR_INVALID_ARG naming the range where end lies outside. */
+vx_result vx__probe_bake_begin(const vx_probe_set* ps, uint32_t end, uint32_t* begin, vx_error* err);
+/* The light a placed set records (its resolved light_dir, sun and sky: a sun
+ * or sky of zero stays zero), for a bake that continues the set; c may be
+ * NULL (the GPU bakes). L can be freed (vx__light_free) on failure too. */
+vx_result vx__probe_set_light(vx__light* L, const vx_render_caster* c, const vx_svo_scene* s, const vx_probe_set* ps,
+                              vx_error* err);
+/* A device's part of a bake: bakes [ps->first + ps->count, end) of a placed
+ * set (vx_probe_bake_more on the CPU, vx_probe_bake_more_gpu with device the
+ * vx_render_scene). */
+typedef vx_result (*vx__probe_bake_range)(void* device, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
+                                          vx_probe_set* ps, uint32_t end, vx_error* err);
+/* vx_probe_bake and vx_probe_bake_gpu: places the probes (vx_probe_place),
+ * bakes the desc's range with bake, records the placement's wall time in
+ * desc->stats->place; *out the set, untouched on failure. Why one driver:
+ * the two bakes differ only in the range's device part, and written twice
+ * they had drifted (only the GPU's reported the placement). */
+vx_result vx__probe_bake_placed(const vx_svo_scene* scene, const vx_probe_bake_desc* desc, vx__probe_bake_range bake,
+                                void* device, vx_probe_set* out, vx_error* err);
 /* Distance code of a hit at world distance t. */
 static inline uint16_t vx__dist_code(const vx_probe_set* ps, double t) {
     double q = nearbyint(t / ps->dist_step);

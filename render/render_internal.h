@@ -1,11 +1,14 @@
 /* render/render_internal.h - shared between the render/ sources (not public):
- * the GPU data layout of the trace shaders and the benchmarks' entry points.
+ * the GPU data layout of the trace shaders, the shadow map, the primary rays'
+ * starts below the root. The switches benchmarks and tests set are
+ * render/testing.h.
  * The layers other modules use are render/trace.h (plain C) and
  * render/gpu.h (Vulkan). */
 #ifndef VX_RENDER_INTERNAL_H
 #define VX_RENDER_INTERNAL_H
 
 #include "render/gpu.h"
+#include "render/testing.h"
 
 /* ---- GPU data layout (must match shaders/trace.comp) -------------------------------- */
 
@@ -162,35 +165,8 @@ vx_result vx__smap_build(vx_gpu* g, vx__smap* sm, const float light[3], const do
                          vx_error* err);
 void vx__smap_free(vx_gpu* g, vx__smap* sm);
 
-/* ---- benchmark entry points (render_scene.c) ---------------------------------------- */
+/* ---- the primary rays' starts below the root (render_scene.c) ------------------------ */
 
-/* Runs the trace `repeat` times in one submission; *seconds is the median. */
-vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, bool want_hits, uint32_t repeat,
-                              vx__frame* f, double* seconds, vx_error* err);
-/* Tests and benchmarks: 1 forces the float64 variant (fails at the next frame
- * without shaderFloat64), 0 forces the float one, -1 restores the choice by
- * model depth (VX_RENDER_PRECISE_DEPTH). */
-void vx__render_scene_force_precise(vx_render_scene* rs, int precise);
-/* Tests and benchmarks: 0 makes recorded frames write the instance rows
- * from the host (render_scene.c frame_tables), 1 has the GPU compute them
- * (shaders/inst_rows.comp; needs float64 shaders, else the host's), -1
- * restores the default (the GPU's where the device has float64). */
-void vx__render_scene_rows_on_gpu(vx_render_scene* rs, int on);
-/* Benchmarks: the float variant's trace kernel from other SPIR-V words (a
- * variant of shaders/trace.comp with the same bindings and constants; NULL
- * restores the built-in one), and likewise the beam pass's (shaders/beam.comp);
- * tag (nonzero) tells their pipelines apart. The words must outlive their use. */
-void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
-                                   size_t beam_bytes, uint32_t tag);
-/* Benchmarks and tests: the screen cull (-1 the default: on for the
- * built-in kernel, off for another; 0 off, 1 on), for the kernel set by
- * vx__render_scene_trace_kernel. */
-void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
-/* Benchmarks and tests: the primary rays' starts below the root
- * (trace.comp and trace_compact.comp, scenes of one instance; -1 the
- * default: on for GPUs, off for CPU devices; 0 off: every walk from the
- * root; 1 on). */
-void vx__render_scene_trace_path(vx_render_scene* rs, int path);
 /* The top of a model's octree on the host, for the primary rays' start
  * below the root (vx__render_scene_paths): its descriptors from the root
  * down, level by level, each inner child listed once per parent listed (a
@@ -238,17 +214,6 @@ uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, c
 /* Whether the trace kernels start primary rays below the root (their
  * PATH_START constants; vx__render_scene_trace_path). */
 bool vx__render_scene_path_on(const vx_render_scene* rs);
-/* Benchmarks: the last frame's traced pixels (the rest written as misses);
- * false where it traced the whole image (no cull). */
-bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);
-/* Benchmarks and tests: lists the shadow map's nodes again for a map of
- * side texels (1: no map); s is the scene the GPU scene was made from. */
-vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, vx_error* err);
-/* Dense occupancy grid of the scene (identity world_from_grid) for the baseline. */
-vx_result vx__dense_prepare(vx_render_scene* rs, const vx_svo_scene* s, uint64_t max_cells, vx_error* err);
-vx_result vx__dense_dispatch(vx_render_scene* rs, const vx_render_desc* desc, uint32_t repeat, double* seconds,
-                             float* depth_out, vx_error* err);
-
 /* compact_gpu.c: the whole compact layout's buffers for the COMPACT kernels
  * of trace_common.glsl, bindings 1-3 of bufs (geometry slots, attribute
  * words, the palette then the CModel records); false, bufs untouched, for a

@@ -236,10 +236,15 @@ static void test_determinism_shards(void) {
     d.threads = 1;
     vx_probe_set sh[3];
     uint32_t cuts[4] = {0, 3, 5, 8};
+    vx_probe_bake_stats st = {.batches = 7};
     for (int i = 0; i < 3; i++) {
         d.first = cuts[i], d.count = cuts[i + 1] - cuts[i];
+        d.stats = i == 1 ? &st : NULL;
         REQUIRE(vx_probe_bake(&s, &d, &sh[i], &err) == VX_OK);
     }
+    d.stats = NULL;
+    /* the CPU bake reports the placement's time (the bake's driver, as the GPU bake) and nothing else */
+    CHECK(st.place > 0 && st.batches == 7 && st.loop == 0);
     /* resume: shard 0 baked in two steps (through a file, as svo_bake does) */
     vx_probe_set part, resumed;
     d.first = 0, d.count = 3;

@@ -18,7 +18,7 @@
 
 #include "convert/convert.h"
 #include "render/compact.h"
-#include "render/render_internal.h"
+#include "render/render_internal.h" /* white-box: the frame block's start records (vx__gpu_frame, vx__render_scene_paths) */
 #include "tests/gpu_test.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"

@@ -23,29 +23,13 @@
 #include <string.h>
 
 #include "render/compact.h"
-#include "render/render_internal.h"
 #include "tests/gpu_test.h"
+#include "tests/render/page_scenes.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
-
-static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const char* what) {
-    uint32_t wrong = 0;
-    for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
-        const vx_render_hit *x = &a->hits[i], *y = &b->hits[i];
-        bool same = x->instance == y->instance && !memcmp(&a->pixels[4 * i], &b->pixels[4 * i], 16) &&
-                    x->flags == y->flags;
-        if (x->instance != VX_RENDER_NO_HIT)
-            same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
-        if (!same && wrong++ < 3)
-            fprintf(stderr, "  %s pixel %zu: instance %u cell (%u %u %u) rgb %.4f; paged %u (%u %u %u) rgb %.4f flags %u\n",
-                    what, i, x->instance, x->cell[0], x->cell[1], x->cell[2], a->pixels[4 * i], y->instance, y->cell[0],
-                    y->cell[1], y->cell[2], b->pixels[4 * i], y->flags);
-    }
-    return wrong;
-}
 
 /* A frame's pixels against the layout on the host: coarse ones in pages not
  * resident, the others set cells with their colours. Returns coarse pixels. */
@@ -92,19 +76,6 @@ static uint32_t check_frame(const vx_svo_scene* s, const vx_compact_scene* c, vx
     return coarse;
 }
 
-static vx_render_desc view(const double lo[3], const double hi[3], double u, bool close) {
-    vx_render_desc d = {.width = 96, .height = 64, .mode = VX_RENDER_ALBEDO, .want_hits = true};
-    d.camera.set = true;
-    d.camera.fov = close ? 40 : 60;
-    for (int k = 0; k < 3; k++) {
-        double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
-        double a = 6.2831853 * u + k;
-        d.camera.target[k] = mid + (close ? 0.1 * ext * cos(a) : 0.0);
-        d.camera.eye[k] = mid + (close ? 0.35 : 1.2) * ext * (k == 1 ? 0.6 : cos(a + 1.3 * k));
-    }
-    return d;
-}
-
 static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, const char* name) {
     vx_error err = {0};
     vx_render_scene* rs = NULL;
@@ -137,7 +108,7 @@ static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, c
     /* the fly-through: overviews and close-ups around the scene */
     uint32_t coarse_total = 0, refused_total = 0, loaded_total = 0, evicted_total = 0;
     for (int f = 0; f < 16; f++) {
-        vx_render_desc d = view(lo, hi, f / 16.0, f % 4 != 0);
+        vx_render_desc d = tp_view(lo, hi, f / 16.0, f % 4 != 0);
         vx_render_image img = {0};
         r = vx_compact_gpu_frame(cg, &d, &img, &err);
         CHECKF(r == VX_OK, "%s frame %d: %s", name, f, err.msg);
@@ -153,7 +124,7 @@ static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, c
            evicted_total, refused_total);
     CHECKF(coarse_total > 0 && loaded_total > 0, "%s: the fly-through loaded nothing", name);
     /* still: a close-up converges to the whole layout's image and trace.comp's */
-    vx_render_desc d = view(lo, hi, 0.3, true);
+    vx_render_desc d = tp_view(lo, hi, 0.3, true);
     d.width = 48, d.height = 32, d.camera.fov = 16;
     vx_render_image ref = {0}, ref2 = {0}, img = {0};
     REQUIRE(vx_compact_gpu_frame(full, &d, &ref, &err) == VX_OK);
@@ -171,7 +142,7 @@ static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, c
         CHECKF(r == VX_OK, "%s: %s", name, err.msg);
         CHECKF(st.coarse == 0 && st.refused == 0, "%s round %d: after %d frames still %u pages coarse, %u refused", name,
                round, f, st.coarse, st.refused);
-        uint32_t w1 = differ(&ref, &img, "whole layout"), w2 = differ(&ref2, &img, "trace.comp");
+        uint32_t w1 = tp_differ(&ref, &img, "whole layout", "paged"), w2 = tp_differ(&ref2, &img, "trace.comp", "paged");
         CHECKF(w1 == 0 && w2 == 0, "%s round %d: %u and %u of %u pixels differ from the whole layout's and trace.comp's",
                name, round, w1, w2, d.width * d.height);
         printf("    still close-up, round %d: converged in %d frames, %u pages resident\n", round, f + 1, st.resident);
@@ -203,7 +174,7 @@ static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, c
     vx_render_image_free(&ref2);
     /* an overview that needs more than the pool: it says so */
     {
-        vx_render_desc o = view(lo, hi, 0.0, false);
+        vx_render_desc o = tp_view(lo, hi, 0.0, false);
         vx_compact_page_stats st = {0};
         uint32_t refused = 0;
         for (int f = 0; f < 6 && !r; f++) {
@@ -226,40 +197,13 @@ out:
     vx_render_scene_destroy(rs);
 }
 
-/* A sphere shell with RGBA colours (gradients and noise: delta blocks). */
-static vx_result shell_model(vx_svo_model* m, uint32_t n3, uint32_t seed) {
-    size_t n = 0, cap = (size_t)n3 * n3 * n3;
-    uint64_t* keys = malloc(cap * 8);
-    uint32_t* rgba = malloc(cap * 4);
-    vx_result r = VX_ERR_NOMEM;
-    if (keys && rgba) {
-        double c = n3 / 2.0, r0 = n3 * 0.45, r1 = n3 * 0.35;
-        for (uint32_t z = 0; z < n3; z++)
-            for (uint32_t y = 0; y < n3; y++)
-                for (uint32_t x = 0; x < n3; x++) {
-                    double q = (x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c);
-                    if (q < r0 * r0 && q > r1 * r1 && ts_rng(&seed) % 5) {
-                        keys[n] = vx_svo_morton(x, y, z);
-                        rgba[n++] = 0xFF000000u | (x * 4 & 0xFFu) | ((y * 4 & 0xFFu) << 8) | ((z * 4 & 0xFFu) << 16) |
-                                    (ts_rng(&seed) & 0x070707u);
-                    }
-                }
-        vx_error err = {0};
-        vx_svo_voxels v = {.size = {n3, n3, n3}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
-        r = vx_svo_build_model(NULL, &v, m, NULL, &err);
-    }
-    free(keys);
-    free(rgba);
-    return r;
-}
-
 /* The renderer's own choice: AUTO under a budget below the compact layout's
  * bytes pages it (vx_render_layout_info says so); vx_render_frame's frames
  * converge to the plain layout's image where the view's pages fit. */
 static void test_render_scene(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_model m;
-    REQUIRE(shell_model(&m, 64, 3) == VX_OK);
+    REQUIRE(tp_shell_model(&m, 64, 3) == VX_OK);
     vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, NULL, 70, 0, 0)};
     vx_svo_scene s;
     ts_scene(&s, &m, 1, in, 2);
@@ -298,7 +242,7 @@ static void test_render_scene(void) {
         }
         CHECKF(st.coarse == 0 && st.frames == (uint64_t)f + 1 && st.pages == lg.pages, "after %d frames %u pages coarse",
                f + 1, st.coarse);
-        CHECK(differ(&a, &b, "plain layout") == 0);
+        CHECK(tp_differ(&a, &b, "plain layout", "paged") == 0);
         printf("  render scene, budget %llu of the compact layout's %llu bytes: %u pages, converged in %d frames\n",
                (unsigned long long)budget, (unsigned long long)lc.compact_bytes, lg.pages, f + 1);
         vx_render_image_free(&a);
@@ -321,7 +265,7 @@ static void test_render_scene(void) {
 static void test_generated(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_model m[3];
-    REQUIRE(shell_model(&m[0], 64, 3) == VX_OK);
+    REQUIRE(tp_shell_model(&m[0], 64, 3) == VX_OK);
     REQUIRE(ts_random_model(&m[1], 48, 40, 44, 30, 2) == VX_OK);
     REQUIRE(ts_random_model(&m[2], 20, 20, 20, 50, 5) == VX_OK);
     static const double rot[9] = {0.36, -0.48, 0.8, 0.8, 0.6, 0, -0.48, 0.64, 0.6};

@@ -28,8 +28,8 @@
 #include <unistd.h>
 
 #include "render/compact.h"
-#include "render/render_internal.h"
 #include "tests/gpu_test.h"
+#include "tests/render/page_scenes.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 
@@ -37,67 +37,11 @@ static vx_gpu* gpu;
 static const char* gpu_skip;
 static char g_dir[64];
 
-static uint32_t differ(const vx_render_image* a, const vx_render_image* b, const char* what) {
-    uint32_t wrong = 0;
-    for (size_t i = 0; i < (size_t)a->width * a->height; i++) {
-        const vx_render_hit *x = &a->hits[i], *y = &b->hits[i];
-        bool same = x->instance == y->instance && !memcmp(&a->pixels[4 * i], &b->pixels[4 * i], 16) &&
-                    x->flags == y->flags;
-        if (x->instance != VX_RENDER_NO_HIT)
-            same = same && !memcmp(x->cell, y->cell, sizeof x->cell) && !memcmp(&x->t, &y->t, sizeof x->t);
-        if (!same && wrong++ < 3)
-            fprintf(stderr, "  %s pixel %zu: instance %u cell (%u %u %u) rgb %.4f flags %u; file %u (%u %u %u) rgb %.4f flags %u\n",
-                    what, i, x->instance, x->cell[0], x->cell[1], x->cell[2], a->pixels[4 * i], x->flags, y->instance,
-                    y->cell[0], y->cell[1], y->cell[2], b->pixels[4 * i], y->flags);
-    }
-    return wrong;
-}
-
-static vx_render_desc view(const double lo[3], const double hi[3], double u, bool close) {
-    vx_render_desc d = {.width = 96, .height = 64, .mode = VX_RENDER_ALBEDO, .want_hits = true};
-    d.camera.set = true;
-    d.camera.fov = close ? 40 : 60;
-    for (int k = 0; k < 3; k++) {
-        double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
-        double a = 6.2831853 * u + k;
-        d.camera.target[k] = mid + (close ? 0.1 * ext * cos(a) : 0.0);
-        d.camera.eye[k] = mid + (close ? 0.35 : 1.2) * ext * (k == 1 ? 0.6 : cos(a + 1.3 * k));
-    }
-    return d;
-}
-
-/* A sphere shell with RGBA colours (gradients and noise: delta blocks). */
-static vx_result shell_model(vx_svo_model* m, uint32_t n3, uint32_t seed) {
-    size_t n = 0, cap = (size_t)n3 * n3 * n3;
-    uint64_t* keys = malloc(cap * 8);
-    uint32_t* rgba = malloc(cap * 4);
-    vx_result r = VX_ERR_NOMEM;
-    if (keys && rgba) {
-        double c = n3 / 2.0, r0 = n3 * 0.45, r1 = n3 * 0.35;
-        for (uint32_t z = 0; z < n3; z++)
-            for (uint32_t y = 0; y < n3; y++)
-                for (uint32_t x = 0; x < n3; x++) {
-                    double q = (x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c);
-                    if (q < r0 * r0 && q > r1 * r1 && ts_rng(&seed) % 5) {
-                        keys[n] = vx_svo_morton(x, y, z);
-                        rgba[n++] = 0xFF000000u | (x * 4 & 0xFFu) | ((y * 4 & 0xFFu) << 8) | ((z * 4 & 0xFFu) << 16) |
-                                    (ts_rng(&seed) & 0x070707u);
-                    }
-                }
-        vx_error err = {0};
-        vx_svo_voxels v = {.size = {n3, n3, n3}, .count = n, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
-        r = vx_svo_build_model(NULL, &v, m, NULL, &err);
-    }
-    free(keys);
-    free(rgba);
-    return r;
-}
-
 /* Four models (an RGBA shell, random palette models, one small enough to
  * stay in the top at level 4), five instances, two rotated. */
 static void make_scene(vx_svo_scene* s) {
     vx_svo_model m[4];
-    REQUIRE(shell_model(&m[0], 64, 3) == VX_OK);
+    REQUIRE(tp_shell_model(&m[0], 64, 3) == VX_OK);
     REQUIRE(ts_random_model(&m[1], 48, 40, 44, 30, 2) == VX_OK);
     REQUIRE(ts_random_model(&m[2], 20, 20, 20, 50, 5) == VX_OK);
     REQUIRE(ts_random_model(&m[3], 12, 9, 14, 40, 8) == VX_OK);
@@ -260,7 +204,7 @@ static void test_fly(void) {
     uint32_t wrong = 0, stats_differ = 0, coarse = 0;
     vx_result r = VX_OK;
     for (int f = 0; f < 16 && !r; f++) {
-        vx_render_desc d = view(lo, hi, f / 16.0, f % 4 != 0);
+        vx_render_desc d = tp_view(lo, hi, f / 16.0, f % 4 != 0);
         vx_render_image a = {0}, b = {0};
         r = vx_compact_gpu_frame(cm, &d, &a, &err);
         if (!r) r = vx_compact_gpu_frame(cf, &d, &b, &err);
@@ -268,7 +212,7 @@ static void test_fly(void) {
         if (!r) {
             char what[32];
             snprintf(what, sizeof what, "frame %d", f);
-            wrong += differ(&a, &b, what);
+            wrong += tp_differ(&a, &b, what, "file");
             vx_compact_page_stats sa, sb;
             vx_compact_gpu_page_stats(cm, &sa);
             vx_compact_gpu_page_stats(cf, &sb);
@@ -292,7 +236,7 @@ static void test_fly(void) {
            (unsigned long long)sf.file_models, (unsigned long long)sf.host_hits, (unsigned long long)sf.host_evictions,
            sf.host_peak_bytes / 1e3);
     /* still: both converge to the whole layout's image; then every resident page out, back to the same image */
-    vx_render_desc d = view(lo, hi, 0.3, true);
+    vx_render_desc d = tp_view(lo, hi, 0.3, true);
     d.width = 48, d.height = 32, d.camera.fov = 16;
     vx_render_image ref = {0}, img = {0};
     REQUIRE(vx_compact_gpu_frame(full, &d, &ref, &err) == VX_OK);
@@ -306,7 +250,7 @@ static void test_fly(void) {
             if (st.coarse == 0 && st.loaded == 0) break;
         }
         CHECKF(r == VX_OK, "%s", err.msg);
-        uint32_t w = differ(&ref, &img, "whole layout");
+        uint32_t w = tp_differ(&ref, &img, "whole layout", "file");
         CHECKF(st.coarse == 0 && w == 0, "round %d: after %d frames %u coarse, %u pixels differ from the whole layout's", round,
                f + 1, st.coarse, w);
         printf("  still close-up, round %d: converged in %d frames, %u resident; %llu cut from the file, %llu from the cache\n",
@@ -365,7 +309,7 @@ static void test_render_scene(void) {
     uint32_t wrong = 0;
     vx_render_page_stats sm = {0}, sf = {0};
     for (int f = 0; f < 12 && !r; f++) {
-        vx_render_desc d = view(lo, hi, f / 12.0, f % 3 != 0);
+        vx_render_desc d = tp_view(lo, hi, f / 12.0, f % 3 != 0);
         vx_render_image a = {0}, b = {0};
         r = vx_render_frame(rm, &d, &a, &err);
         if (!r) r = vx_render_frame(rf, &d, &b, &err);
@@ -373,7 +317,7 @@ static void test_render_scene(void) {
         if (!r) {
             char what[32];
             snprintf(what, sizeof what, "render scene frame %d", f);
-            wrong += differ(&a, &b, what);
+            wrong += tp_differ(&a, &b, what, "file");
             vx_render_scene_page_stats(rm, &sm);
             vx_render_scene_page_stats(rf, &sf);
             CHECK(sm.coarse == sf.coarse && sm.resident == sf.resident && sf.from_file && !sm.from_file);
@@ -392,7 +336,7 @@ static void test_render_scene(void) {
         REQUIRE(stat(path, &st) == 0 && truncate(path, 64) == 0);
         int failed = 0;
         for (int f = 0; f < 24 && failed < 2; f++) {
-            vx_render_desc d = view(lo, hi, 0.05 + f / 24.0, f % 2);
+            vx_render_desc d = tp_view(lo, hi, 0.05 + f / 24.0, f % 2);
             vx_render_image b = {0};
             vx_result fr = vx_render_frame(rf, &d, &b, &err);
             if (fr) {

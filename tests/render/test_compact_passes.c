@@ -18,7 +18,7 @@
 #include "photons/photons.h"
 #include "probes/probes.h"
 #include "render/pipeline.h"
-#include "render/render_internal.h"
+#include "render/gpu.h" /* vx__render_scene_compact */
 #include "tests/gpu_test.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/render/scenes.h"

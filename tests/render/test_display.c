@@ -22,7 +22,7 @@
 
 #include "render/display.h"
 #include "render/gpu.h" /* has_float64 */
-#include "render/render_internal.h" /* vx__render_scene_rows_on_gpu */
+#include "render/testing.h" /* vx__render_scene_rows_on_gpu */
 #include "render/pipeline.h"
 #include "tests/render/scenes.h"
 #include "tests/gpu_test.h"

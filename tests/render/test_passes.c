@@ -9,7 +9,7 @@
 #include <stdio.h>
 
 #include "render/pipeline.h"
-#include "render/render_internal.h" /* vx__buffer, for the fake gi method */
+#include "render/gpu.h" /* vx__buffer, for the fake gi method */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"

@@ -22,7 +22,7 @@
 #include "probes/probes.h"
 #include "render/display.h"
 #include "render/pipeline.h"
-#include "render/render_internal.h"
+#include "render/gpu.h" /* vx__pipeline_get, vx__pipeline_ahead, vx__dispatch */
 #include "tests/gpu_test.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/render/scenes.h"

@@ -33,7 +33,8 @@
 #include "render/render.h"
 #include "svo/svo.h"
 #include "tests/render/scenes.h"
-#include "render/render_internal.h" /* vx__render_scene_far */
+#include "render/gpu.h" /* vx__render_scene_far */
+#include "render/testing.h" /* vx__render_scene_trace_path */
 #include "tests/test.h"
 #include "tests/gpu_test.h"
 

@@ -9,8 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/gpu.h" /* vx__render_scene_far */
 #include "render/pipeline.h"
-#include "render/render_internal.h" /* vx__render_scene_force_precise, vx__render_scene_far */
+#include "render/testing.h" /* vx__render_scene_force_precise */
 #include "svo/edit.h"
 #include "tests/render/scenes.h"
 #include "tests/test.h"

@@ -19,61 +19,11 @@
 #include <unistd.h>
 
 #include "svo/svo.h"
+#include "tests/svo/reader_scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"
 
 static char g_dir[64];
-
-static uint32_t rng(uint32_t* s) {
-    *s ^= *s << 13;
-    *s ^= *s >> 17;
-    *s ^= *s << 5;
-    return *s;
-}
-
-/* nm models of random cells (palette, or RGBA with normals when rgba); model
- * `bump`'s attribute `at` (if any) one palette index further */
-static void make_scene(vx_svo_scene* s, uint32_t nm, bool rgba, uint32_t bump, uint32_t at) {
-    vx_svo_scene_init(s, NULL);
-    s->models = calloc(nm, sizeof *s->models);
-    s->instances = calloc(nm, sizeof *s->instances);
-    s->model_count = s->instance_count = nm;
-    for (uint32_t k = 0; k < 256; k++) s->palette[k] = 0xFF000000u | (k * 0x010305u);
-    s->has_palette = !rgba;
-    for (uint32_t i = 0; i < nm; i++) {
-        uint32_t side = 5 + (i * 7) % 23, seed = 77 + i, n = 0;
-        if (i == nm - 1) side = 60; /* one large model: the chunked and split forms take it with small thresholds */
-        size_t cap = (size_t)side * side * side;
-        uint64_t* keys = malloc(cap * sizeof *keys);
-        uint8_t* pal = malloc(cap);
-        uint32_t* col = malloc(cap * 4);
-        for (uint32_t z = 0; z < side; z++)
-            for (uint32_t y = 0; y < side; y++)
-                for (uint32_t x = 0; x < side; x++)
-                    if (rng(&seed) % 100 < 30) {
-                        keys[n] = vx_svo_morton(x, y, z);
-                        pal[n] = (uint8_t)(1 + rng(&seed) % 200);
-                        col[n] = 0xFF000000u | (rng(&seed) & 0x00F0F0F0u);
-                        if (i == bump && n == at) pal[n]++, col[n] ^= 0x10u;
-                        n++;
-                    }
-        vx_svo_voxels v = {.size = {side, side, side}, .count = n, .keys = keys};
-        if (rgba) v.attrs = VX_ATTR_RGBA8, v.rgba = col;
-        else v.attrs = VX_ATTR_PALETTE, v.palette = pal;
-        vx_error err = {0};
-        if (vx_svo_build_model(NULL, &v, &s->models[i], NULL, &err)) fprintf(stderr, "build: %s\n", err.msg);
-        free(keys);
-        free(pal);
-        free(col);
-        vx_svo_instance* in = &s->instances[i];
-        memset(in, 0, sizeof *in);
-        in->model = i;
-        in->layer = UINT32_MAX;
-        in->xform[0] = in->xform[5] = in->xform[10] = 1;
-        in->xform[3] = 64.0 * i;
-    }
-    vx_svo_scene_update_bounds(s);
-}
 
 /* a and b the same model: words, records of every channel, fields, check */
 static bool same_model(const vx_svo_model* a, const vx_svo_model* b) {
@@ -118,7 +68,7 @@ static void* reads_at_random(void* arg) {
     job* j = (job*)arg;
     uint32_t nm = j->whole->model_count;
     for (uint32_t k = 0; k < j->reads; k++) {
-        uint32_t i = rng(&j->seed) % nm;
+        uint32_t i = tr_rng(&j->seed) % nm;
         vx_svo_model m;
         vx_error err = {0};
         if (vx_svo_reader_model(j->rd, i, &m, &err) != VX_OK) {
@@ -162,7 +112,7 @@ static void check_file(const char* path, const char* what) {
     uint32_t seed = 12345u + nm, differ = 0, failed = 0;
     for (uint32_t k = 0; k < nm; k++) order[k] = k;
     for (uint32_t k = nm; k > 1; k--) {
-        uint32_t j = rng(&seed) % k, t = order[k - 1];
+        uint32_t j = tr_rng(&seed) % k, t = order[k - 1];
         order[k - 1] = order[j], order[j] = t;
     }
     for (uint32_t k = 0; k < nm; k++) {
@@ -208,7 +158,7 @@ static const struct {
 static void test_generated(void) {
     for (int rgba = 0; rgba < 2; rgba++) {
         vx_svo_scene s;
-        make_scene(&s, 9, rgba, UINT32_MAX, 0);
+        tr_make_scene(&s, &(tr_scene_desc){.models = 9, .rgba = rgba, .large_last = true, .spacing = 64, .bump = UINT32_MAX});
         for (size_t f = 0; f < sizeof g_forms / sizeof g_forms[0]; f++) {
             char path[128], what[64];
             snprintf(path, sizeof path, "%s/g%d_%zu.svo", g_dir, rgba, f);
@@ -255,18 +205,6 @@ static void test_corpus(void) {
     if (!done) SKIP("no corpus .vox files");
 }
 
-static uint8_t* slurp(const char* path, size_t* n) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    *n = (size_t)ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t* b = malloc(*n ? *n : 1);
-    if (b && fread(b, 1, *n, f) != *n) free(b), b = NULL;
-    fclose(f);
-    return b;
-}
-
 /* A file changed in place after the pass (model 3 with one colour moved, the
  * same length): model 3 fails naming the file and the model, the others
  * still read; the error does not stop the reader. Then cut short: the
@@ -274,25 +212,14 @@ static uint8_t* slurp(const char* path, size_t* n) {
 static void test_changed_and_cut(void) {
     enum { NM = 6, BUMP = 3 };
     vx_svo_scene a;
-    make_scene(&a, NM, false, UINT32_MAX, 0);
     vx_error err = {0};
     char pa[128], pb[128];
     snprintf(pa, sizeof pa, "%s/a.svo", g_dir);
     snprintf(pb, sizeof pb, "%s/b.svo", g_dir);
-    REQUIRE(vx_svo_write_file(NULL, &a, pa, &err) == VX_OK);
     size_t na = 0, nb = 0;
-    uint8_t* fa = slurp(pa, &na);
-    uint8_t* fb = NULL;
-    REQUIRE(fa);
-    for (uint32_t at = 0; at < a.models[BUMP].voxel_count && !fb; at++) {
-        vx_svo_scene b;
-        make_scene(&b, NM, false, BUMP, at);
-        REQUIRE(vx_svo_write_file(NULL, &b, pb, &err) == VX_OK);
-        vx_svo_scene_free(&b);
-        fb = slurp(pb, &nb);
-        if (fb && (nb != na || !memcmp(fa, fb, na))) free(fb), fb = NULL;
-    }
-    REQUIRE(fb);
+    uint8_t *fa, *fb;
+    tr_changed_files(&(tr_scene_desc){.models = NM, .large_last = true, .spacing = 64}, BUMP, pa, pb, &a, &fa, &na, &fb, &nb);
+    REQUIRE(fa && fb);
     vx_svo_model_reader* rd = NULL;
     REQUIRE(vx_svo_reader_open(NULL, pa, &rd, &err) == VX_OK);
     REQUIRE(pass(rd, &err) == VX_OK);
@@ -337,13 +264,10 @@ static void test_changed_and_cut(void) {
 }
 
 int main(void) {
-    snprintf(g_dir, sizeof g_dir, "/tmp/vx_rmodelXXXXXX");
-    if (!mkdtemp(g_dir)) return 1;
+    if (!tr_dir_make(g_dir, "rmodel")) return 1;
     RUN(test_generated);
     RUN(test_corpus);
     RUN(test_changed_and_cut);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);
-    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", g_dir);
+    tr_dir_remove(g_dir);
     return vx_test_finish();
 }

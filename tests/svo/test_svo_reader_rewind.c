@@ -15,53 +15,10 @@
 #include <unistd.h>
 
 #include "svo/svo.h"
+#include "tests/svo/reader_scenes.h"
 #include "tests/test.h"
 
 static char g_dir[64];
-
-static uint32_t rng(uint32_t* s) {
-    *s ^= *s << 13;
-    *s ^= *s >> 17;
-    *s ^= *s << 5;
-    return *s;
-}
-
-/* nm palette models of random cells; model `bump`'s attribute `at` (if any)
- * one palette index further */
-static void make_scene(vx_svo_scene* s, uint32_t nm, uint32_t bump, uint32_t at) {
-    vx_svo_scene_init(s, NULL);
-    s->models = calloc(nm, sizeof *s->models);
-    s->instances = calloc(nm, sizeof *s->instances);
-    s->model_count = s->instance_count = nm;
-    for (uint32_t k = 0; k < 256; k++) s->palette[k] = 0xFF000000u | (k * 0x010305u);
-    s->has_palette = true;
-    for (uint32_t i = 0; i < nm; i++) {
-        uint32_t side = 5 + (i * 7) % 23, seed = 77 + i, n = 0;
-        uint64_t* keys = malloc((size_t)side * side * side * sizeof *keys);
-        uint8_t* pal = malloc((size_t)side * side * side);
-        for (uint32_t z = 0; z < side; z++)
-            for (uint32_t y = 0; y < side; y++)
-                for (uint32_t x = 0; x < side; x++)
-                    if (rng(&seed) % 100 < 30) {
-                        keys[n] = vx_svo_morton(x, y, z);
-                        pal[n] = (uint8_t)(1 + rng(&seed) % 200);
-                        if (i == bump && n == at) pal[n]++;
-                        n++;
-                    }
-        vx_svo_voxels v = {.size = {side, side, side}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
-        vx_error err = {0};
-        if (vx_svo_build_model(NULL, &v, &s->models[i], NULL, &err)) fprintf(stderr, "build: %s\n", err.msg);
-        free(keys);
-        free(pal);
-        vx_svo_instance* in = &s->instances[i];
-        memset(in, 0, sizeof *in);
-        in->model = i;
-        in->layer = UINT32_MAX;
-        in->xform[0] = in->xform[5] = in->xform[10] = 1;
-        in->xform[3] = 32.0 * i;
-    }
-    vx_svo_scene_update_bounds(s);
-}
 
 typedef struct seen {
     uint32_t digest, min[3], max[3];
@@ -94,7 +51,7 @@ static vx_result pass(vx_svo_model_reader* rd, seen* got, uint32_t nm, uint32_t*
 static void test_passes(void) {
     vx_svo_scene s;
     enum { NM = 12 };
-    make_scene(&s, NM, UINT32_MAX, 0);
+    tr_make_scene(&s, &(tr_scene_desc){.models = NM, .spacing = 32, .bump = UINT32_MAX});
     vx_error err = {0};
     for (int form = 0; form < 2; form++) {
         char path[128];
@@ -135,41 +92,18 @@ static void test_passes(void) {
     vx_svo_scene_free(&s);
 }
 
-static uint8_t* slurp(const char* path, size_t* n) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    *n = (size_t)ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t* b = malloc(*n ? *n : 1);
-    if (b && fread(b, 1, *n, f) != *n) free(b), b = NULL;
-    fclose(f);
-    return b;
-}
-
 static void test_changed_between_passes(void) {
     enum { NM = 6, BUMP = 3 };
     vx_svo_scene a;
-    make_scene(&a, NM, UINT32_MAX, 0);
     vx_error err = {0};
     char pa[128], pb[128];
     snprintf(pa, sizeof pa, "%s/a.svo", g_dir);
     snprintf(pb, sizeof pb, "%s/b.svo", g_dir);
-    REQUIRE(vx_svo_write_file(NULL, &a, pa, &err) == VX_OK);
     size_t na = 0, nb = 0;
-    uint8_t* fa = slurp(pa, &na);
-    uint8_t* fb = NULL;
-    REQUIRE(fa);
+    uint8_t *fa, *fb;
     /* model 3 with one colour moved: the first such file of a's length (its other bytes shifted by nothing) */
-    for (uint32_t at = 0; at < a.models[BUMP].voxel_count && !fb; at++) {
-        vx_svo_scene b;
-        make_scene(&b, NM, BUMP, at);
-        REQUIRE(vx_svo_write_file(NULL, &b, pb, &err) == VX_OK);
-        vx_svo_scene_free(&b);
-        fb = slurp(pb, &nb);
-        if (fb && (nb != na || !memcmp(fa, fb, na))) free(fb), fb = NULL;
-    }
-    REQUIRE(fb);
+    tr_changed_files(&(tr_scene_desc){.models = NM, .spacing = 32}, BUMP, pa, pb, &a, &fa, &na, &fb, &nb);
+    REQUIRE(fa && fb);
     vx_svo_model_reader* rd = NULL;
     seen first[NM];
     uint32_t taken = 0;
@@ -196,12 +130,9 @@ static void test_changed_between_passes(void) {
 }
 
 int main(void) {
-    snprintf(g_dir, sizeof g_dir, "/tmp/vx_rewindXXXXXX");
-    if (!mkdtemp(g_dir)) return 1;
+    if (!tr_dir_make(g_dir, "rewind")) return 1;
     RUN(test_passes);
     RUN(test_changed_between_passes);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);
-    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", g_dir);
+    tr_dir_remove(g_dir);
     return vx_test_finish();
 }

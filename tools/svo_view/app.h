@@ -1,6 +1,9 @@
 /* tools/svo_view/app.h - svo_view's state and the actions its keys, script
- * commands and panels share (main.c implements them; panels.c draws the
- * panels with them). */
+ * commands and panels share (scene.c, probes.c, camera.c and frame.c
+ * implement them; panels.c draws the panels with them). The viewer's rooms:
+ * options.c (the command line), scene.c (actions on the scene), probes.c,
+ * camera.c, frame.c (a frame: render, overlay, present), input.c (keys and
+ * mouse), script.c (--script), main.c (set-up, the loop, teardown). */
 #ifndef VX_SVO_VIEW_APP_H
 #define VX_SVO_VIEW_APP_H
 
@@ -15,6 +18,7 @@
 #include "tools/common/conv.h"
 #include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
+#include "tools/svo_view/options.h"
 #include "tools/svo_view/present.h"
 #include "tools/svo_view/settings.h"
 #include "tools/svo_view/voxels.h"
@@ -22,33 +26,6 @@
 #define NO_SEL UINT32_MAX
 #define SV_HISTORY 120     /* frames the statistics panel keeps */
 #define SV_FPS_DEFAULT 24.0 /* an animation whose file has no frame rate */
-
-typedef struct options {
-    const char* in;
-    const char* screenshot;
-    const char* script;
-    const char* save;       /* Ctrl+S target (default: IN with .svo replaced by .edited.svo) */
-    uint32_t width, height; /* render size; 0 == the window's framebuffer */
-    uint32_t win_w, win_h;
-    vx_render_mode mode;
-    bool gi;            /* --mode gi|lightfield: a probe mode (needs probes) */
-    vx_probe_render_mode pmode;
-    const char* probes; /* light field probes from svo_bake */
-    const char* passes; /* the colour mode's pass list (render/pipeline.h) */
-    double fov;
-    const char* device;
-    bool validate, vsync, verbose, hidden;
-    uint32_t bench;
-    double fps;     /* playback rate of an animation; 0: the file's, else SV_FPS_DEFAULT */
-    bool no_panels; /* the text overlay instead of the panels */
-    bool gpu_panels; /* the panels drawn on the GPU (ImGui's Vulkan backend) where the swapchain allows */
-    const char* present;  /* --present auto|gpu|host */
-    uint32_t batch;      /* --batch K: frames in flight submitted K at a time (1: each alone; 0: auto, batch.h) */
-    double batch_latency; /* --batch-latency MS (0: SV_BATCH_LATENCY_MS) */
-    uint32_t undo_limit; /* --undo-limit, --undo-memory (0: editor.h's defaults) */
-    uint64_t undo_bytes;
-    vx_tool_conv conv; /* converter options, as vox2svo has them */
-} options;
 
 typedef struct app {
     options o;
@@ -189,6 +166,27 @@ typedef struct app {
     double mouse_x, mouse_y;
     bool rmb, lmb;
 } app;
+
+/* ---- between the viewer's own files (scene.c, probes.c) ------------------------------- */
+
+/* Reads a scene file with the command line's converter options. */
+vx_result sv_load_scene(const options* o, const char* path, vx_svo_scene* out, vx_error* err);
+/* Reads a complete probe set; the current one stays on failure. */
+vx_result sv_load_probes(app* a, const char* path, vx_error* err);
+/* A step of a running bake, between frames (nothing when none runs). */
+void sv_probe_bake_step(app* a);
+/* The gi methods (probes, cones, photons) destroyed: made again at the next frame that needs one. */
+void sv_drop_gi(app* a);
+/* The pipeline's objects bound to rs (and its gi method bound to the probes) destroyed. */
+void sv_drop_passes(app* a);
+/* After an edit of instances only: the render scene's instance tables again (scene.c). */
+void sv_update_instances(app* a);
+/* The selection moved n cells along axis (an undo step of its own). */
+void sv_edit_move(app* a, int axis, int32_t n);
+/* The animation's clock advanced by dt seconds while playing. */
+void sv_play_step(app* a, double dt);
+
+/* ---- the actions ------------------------------------------------------------------------ */
 
 void sv_message(app* a, bool error, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 const char* sv_mode_name(const app* a);
