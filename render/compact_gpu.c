@@ -28,6 +28,7 @@ typedef struct paging {
     uint32_t units;       /* pool units */
     uint32_t cursor;      /* next-fit start */
     uint32_t* owner;      /* per unit: page + 1, 0 free */
+    uint64_t* busy;       /* per unit a bit: owned (owner != 0), for pool_find's word-at-a-time scan */
     int64_t* slot;        /* per page: its pool slot P, -1 not resident */
     uint64_t* last_used;  /* per page: the last frame a ray entered it */
     uint32_t* pending;    /* pages the last frame requested */
@@ -38,6 +39,8 @@ typedef struct paging {
     uint32_t nevict;
     uint32_t* moved;       /* resident pages the service moved (loaded again from the host elsewhere) */
     uint32_t nmoved;
+    uint64_t* moved_bit;   /* per page a bit: in moved[] (the list's membership without a search) */
+    struct victim { uint64_t used; uint32_t page; } * victims; /* scratch: the service's eviction candidates */
     uint32_t free_units;
     vx_compact_page_stats st;
     vx_compact_page_cache* cache; /* the file source (p.reader): images cut from the file, a host cache */
@@ -115,6 +118,9 @@ static void paging_free(vx_gpu* g, paging* pg) {
     vx_free(&g->alloc, pg->state);
     vx_free(&g->alloc, pg->evict_patch);
     vx_free(&g->alloc, pg->moved);
+    vx_free(&g->alloc, pg->moved_bit);
+    vx_free(&g->alloc, pg->victims);
+    vx_free(&g->alloc, pg->busy);
     vx_free(&g->alloc, pg);
 }
 
@@ -555,16 +561,40 @@ static uint32_t page_units(const paging* pg, uint32_t page) {
     return (uint32_t)((slots + pg->unit - 1) / pg->unit);
 }
 
+/* Marks units [u0, u0 + n) owned by page + 1 (page UINT32_MAX: free), in
+ * owner and in the busy bits. */
+static void units_set(paging* pg, uint32_t u0, uint32_t n, uint32_t page) {
+    for (uint32_t u = u0; u < u0 + n; u++) {
+        pg->owner[u] = page + 1;
+        if (page == UINT32_MAX) pg->busy[u >> 6] &= ~(1ull << (u & 63));
+        else pg->busy[u >> 6] |= 1ull << (u & 63);
+    }
+}
+
 /* Next-fit over the pool's units: the first run of n free units from the
  * cursor on (so a page loaded again after its eviction lands elsewhere while
- * there is room); UINT32_MAX when none. */
+ * there is room); UINT32_MAX when none. The busy bits are read a word at a
+ * time: a unit at a time, a service that loaded hundreds of pages into a
+ * pool of 10^5-10^6 units scanned it once a page (0.2-0.6 s of a frame's
+ * service on the H200, docs/PERFORMANCE.md "Paging from files"). */
 static uint32_t pool_find(const paging* pg, uint32_t n) {
     for (uint32_t pass = 0; pass < 2; pass++) {
         uint32_t lo = pass ? 0 : pg->cursor, hi = pass ? pg->cursor : pg->units;
-        uint32_t run = 0;
-        for (uint32_t u = lo; u < hi; u++) {
-            run = pg->owner[u] ? 0 : run + 1;
-            if (run == n) return u + 1 - n;
+        uint32_t run = 0; /* free units just before u */
+        for (uint32_t u = lo; u < hi;) {
+            uint32_t avail = 64 - (u & 63);
+            if (avail > hi - u) avail = hi - u;
+            uint64_t w = pg->busy[u >> 6] >> (u & 63);
+            if (avail < 64) w &= (1ull << avail) - 1;
+            uint32_t z = w ? (uint32_t)__builtin_ctzll(w) : avail; /* free units from u on, in this word */
+            if (run + z >= n) return u - run;
+            if (!w) {
+                run += avail, u += avail;
+                continue;
+            }
+            uint64_t b = ~(w >> z); /* the busy run from u + z: its length is b's trailing zeros */
+            run = 0;
+            u += z + (b ? (uint32_t)__builtin_ctzll(b) : 64 - z);
         }
         if (pass == 0 && pg->cursor == 0) break;
     }
@@ -584,12 +614,15 @@ static void pool_compact(paging* pg, uint64_t frame) {
         }
         uint32_t page = pg->owner[u] - 1, n = page_units(pg, page);
         if (u != at) {
-            for (uint32_t k = 0; k < n; k++) pg->owner[at + k] = page + 1;
-            for (uint32_t k = at + n > u ? at + n : u; k < u + n; k++) pg->owner[k] = 0;
+            uint32_t from = at + n > u ? at + n : u;
+            units_set(pg, at, n, page);
+            units_set(pg, from, u + n - from, UINT32_MAX);
             pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)at * pg->unit;
-            bool listed = pg->last_used[page] == frame;
-            for (uint32_t i = 0; !listed && i < pg->nmoved; i++) listed = pg->moved[i] == page;
-            if (!listed) pg->moved[pg->nmoved++] = page;
+            bool listed = pg->last_used[page] == frame || ((pg->moved_bit[page >> 6] >> (page & 63)) & 1u);
+            if (!listed) {
+                pg->moved[pg->nmoved++] = page;
+                pg->moved_bit[page >> 6] |= 1ull << (page & 63);
+            }
         }
         at += n;
         u += n;
@@ -599,7 +632,7 @@ static void pool_compact(paging* pg, uint64_t frame) {
 
 static void page_drop(paging* pg, uint32_t page) {
     uint32_t u0 = (uint32_t)((pg->slot[page] - pg->words_base / 2) / pg->unit), n = page_units(pg, page);
-    for (uint32_t u = u0; u < u0 + n; u++) pg->owner[u] = 0;
+    units_set(pg, u0, n, UINT32_MAX);
     pg->free_units += n;
     pg->slot[page] = -1;
     pg->st.resident--;
@@ -630,11 +663,18 @@ void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* 
         out->from_file = true;
         out->host_budget = cs.budget, out->host_bytes = cs.bytes, out->host_peak_bytes = cs.peak_bytes;
         out->host_hits = cs.hits, out->file_pages = cs.file_pages, out->file_models = cs.models;
-        out->host_evictions = cs.evictions;
+        out->host_evictions = cs.evictions, out->file_prefetched = cs.prefetched;
     }
 }
 
 const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg) { return cg && cg->pg ? &cg->pg->p : NULL; }
+
+/* least recently entered first, ties by page (the order of the scan it replaced) */
+static int cmp_victim(const void* a, const void* b) {
+    const struct victim *x = a, *y = b;
+    if (x->used != y->used) return x->used < y->used ? -1 : 1;
+    return (x->page > y->page) - (x->page < y->page);
+}
 
 /* Between frames: loads the pages the last frame requested (evicting pages
  * the last frame did not enter, least recently entered first), marks the
@@ -648,10 +688,21 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     pg->st.refused_bytes = 0;
     uint32_t nload = 0;
     uint32_t* load = pg->pending; /* loaded pages are compacted to the front */
+    /* the eviction candidates: resident pages the last frame did not enter,
+     * least recently entered first (ties by page), sorted once: a scan of
+     * every page for each page evicted made the services that swap
+     * thousands of pages quadratic (pages loaded now are entered "now" and
+     * never candidates, so the order stays valid through the service) */
+    uint32_t nvict = 0, next_victim = 0;
+    for (uint32_t k = 0; k < pg->p.page_count; k++)
+        if (pg->slot[k] >= 0 && pg->last_used[k] + 1 < frame)
+            pg->victims[nvict++] = (struct victim){.used = pg->last_used[k], .page = k};
+    qsort(pg->victims, nvict, sizeof *pg->victims, cmp_victim);
     for (uint32_t i = 0; i < pg->npending; i++) {
         uint32_t page = pg->pending[i];
         if (page >= pg->p.page_count || pg->slot[page] >= 0) continue;
-        uint32_t n = page_units(pg, page), u = pool_find(pg, n);
+        /* fewer free units than the page needs: no run to look for */
+        uint32_t n = page_units(pg, page), u = pg->free_units >= n ? pool_find(pg, n) : UINT32_MAX;
         while (u == UINT32_MAX) {
             if (pg->free_units >= n) {
                 /* room enough, in holes: slide the pages together */
@@ -659,23 +710,18 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
                 u = pool_find(pg, n);
                 break;
             }
-            /* the least recently entered page that the last frame did not enter */
-            uint32_t best = UINT32_MAX;
-            for (uint32_t k = 0; k < pg->p.page_count; k++)
-                if (pg->slot[k] >= 0 && pg->last_used[k] + 1 < frame &&
-                    (best == UINT32_MAX || pg->last_used[k] < pg->last_used[best]))
-                    best = k;
-            if (best == UINT32_MAX) break;
-            page_drop(pg, best);
+            while (next_victim < nvict && pg->slot[pg->victims[next_victim].page] < 0) next_victim++;
+            if (next_victim == nvict) break;
+            page_drop(pg, pg->victims[next_victim++].page);
             pg->st.evicted++;
-            u = pool_find(pg, n);
+            u = pg->free_units >= n ? pool_find(pg, n) : UINT32_MAX;
         }
         if (u == UINT32_MAX) {
             pg->st.refused++;
             pg->st.refused_bytes += 4ull * pg->p.pages[page].words;
             continue;
         }
-        for (uint32_t k = u; k < u + n; k++) pg->owner[k] = page + 1;
+        units_set(pg, u, n, page);
         pg->free_units -= n;
         pg->cursor = u + n < pg->units ? u + n : 0;
         pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)u * pg->unit;
@@ -689,8 +735,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     /* staging: the state words, the loaded images (relocated), the top's patched words */
     /* the moved pages go up as loads too (after this service's, so that
      * they are found in one list) */
-    for (uint32_t i = 0; i < pg->nmoved; i++)
-        if (pg->slot[pg->moved[i]] >= 0) load[nload++] = pg->moved[i];
+    for (uint32_t i = 0; i < pg->nmoved; i++) {
+        uint32_t page = pg->moved[i];
+        pg->moved_bit[page >> 6] &= ~(1ull << (page & 63));
+        if (pg->slot[page] >= 0) load[nload++] = page;
+    }
     pg->nmoved = 0;
     uint64_t words = pg->state_words;
     for (uint32_t i = 0; i < nload; i++) words += pg->p.pages[load[i]].words;
@@ -838,6 +887,9 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
     pg->pending = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->evict_patch = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->moved = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->moved_bit = vx_calloc(&g->alloc, (P + 63) / 64 + 1, 8);
+    pg->victims = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->victims);
+    pg->busy = vx_calloc(&g->alloc, (pg->units + 63) / 64 + 1, 8);
     pg->dst = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->dst);
     pg->state = vx_calloc(&g->alloc, pg->state_words, 4);
     vx_error cerr = {0};
@@ -846,7 +898,8 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
         if (err) *err = cerr;
         return cerr.code;
     }
-    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst) {
+    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst ||
+        !pg->moved_bit || !pg->victims || !pg->busy) {
         paging_free(g, pg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", P);
     }
@@ -995,6 +1048,10 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
     if (!r) r = dispatch(cg, desc, want_hits, 1, &f, &sec, err);
     if (!r && cg->pg) r = page_readback(cg, err);
     if (r) return r;
+    /* the file source: the requested pages the host cache lacks cut from
+     * the file on threads while the image is read back and the caller works
+     * between frames; the next service takes them from there */
+    if (cg->pg && cg->pg->cache) vx_compact_page_cache_prefetch(cg->pg->cache, cg->pg->pending, cg->pg->npending);
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &cg->gpu->alloc};
     if ((r = vx__image_read(cg->gpu, &cg->pixels, want_hits ? &cg->hits : NULL, &img, err))) return r;
     img.gpu_seconds = sec;

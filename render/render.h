@@ -480,6 +480,7 @@ typedef struct vx_render_page_stats {
     uint64_t file_pages;      /* loads cut from the file */
     uint64_t file_models;     /* models read from the file for them */
     uint64_t host_evictions;  /* images the cache's bound pushed out */
+    uint64_t file_prefetched; /* of file_pages, those cut ahead (after the frame that requested them) */
 } vx_render_page_stats;
 /* Zeroes unless the scene is paged. */
 void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats* out);

@@ -457,9 +457,10 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
 /* -v: the file source's host cache (--host-budget) */
 static void print_host_cache(const vx_render_page_stats* ps) {
     printf("paging from the file: host cache %.3f MB of %.3f MB (peak %.3f MB); %llu pages cut from the file (%llu "
-           "model reads), %llu from the cache, %llu evicted from it\n",
+           "model reads), %llu of them cut ahead, %llu from the cache, %llu evicted from it\n",
            ps->host_bytes / 1e6, ps->host_budget / 1e6, ps->host_peak_bytes / 1e6, (unsigned long long)ps->file_pages,
-           (unsigned long long)ps->file_models, (unsigned long long)ps->host_hits, (unsigned long long)ps->host_evictions);
+           (unsigned long long)ps->file_models, (unsigned long long)ps->file_prefetched, (unsigned long long)ps->host_hits,
+           (unsigned long long)ps->host_evictions);
 }
 
 /* --fly N: frames of a camera around the scene's centre at three distances,
