@@ -56,6 +56,40 @@ static bool same_page(const vx_compact_page* a, const vx_compact_page* b) {
            a->rgba == b->rgba && a->slots == b->slots && a->n3 == b->n3 && a->words == b->words;
 }
 
+/* The scene of make_scene written to g_dir/name (the default form) */
+static bool scene_file(vx_svo_scene* s, const char* name, char path[128]) {
+    make_scene(s);
+    snprintf(path, 128, "%s/%s", g_dir, name);
+    vx_error err = {0};
+    vx_result r = vx_svo_write_file(NULL, s, path, &err);
+    CHECKF(r == VX_OK, "%s: %s", path, err.msg);
+    return r == VX_OK;
+}
+
+/* A frame of the in-memory pager cm and of the file source cf (what names
+ * it): the pixels that differ and whether the page counts do (added to
+ * *wrong, *stats_differ); their stats in sa, sb; cf's image kept in *b
+ * where b is not NULL. */
+static vx_result frame_pair(vx_compact_gpu* cm, vx_compact_gpu* cf, const vx_render_desc* d, const char* what, uint32_t* wrong,
+                            uint32_t* stats_differ, vx_compact_page_stats* sa, vx_compact_page_stats* sb, vx_render_image* b) {
+    vx_error err = {0};
+    vx_render_image x = {0}, y = {0};
+    vx_result r = vx_compact_gpu_frame(cm, d, &x, &err);
+    if (!r) r = vx_compact_gpu_frame(cf, d, &y, &err);
+    CHECKF(r == VX_OK, "%s: %s", what, err.msg);
+    if (!r) {
+        *wrong += tp_differ(&x, &y, what, "file");
+        vx_compact_gpu_page_stats(cm, sa);
+        vx_compact_gpu_page_stats(cf, sb);
+        *stats_differ += sa->coarse != sb->coarse || sa->loaded != sb->loaded || sa->evicted != sb->evicted ||
+                         sa->resident != sb->resident || sa->refused != sb->refused || sa->used_bytes != sb->used_bytes;
+    }
+    vx_render_image_free(&x);
+    if (b && !r) *b = y;
+    else vx_render_image_free(&y);
+    return r;
+}
+
 /* The file source's table and images against the in-memory cut, on the CPU. */
 static void check_images(const vx_svo_scene* s, const char* path, uint32_t lp, const char* what) {
     vx_error err = {0};
@@ -176,11 +210,9 @@ static void test_images(void) {
 static void test_fly(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_scene s;
-    make_scene(&s);
     char path[128];
-    snprintf(path, sizeof path, "%s/fly.svo", g_dir);
+    if (!scene_file(&s, "fly.svo", path)) return;
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
     const uint32_t lp = 4;
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
@@ -205,24 +237,14 @@ static void test_fly(void) {
     vx_result r = VX_OK;
     for (int f = 0; f < 16 && !r; f++) {
         vx_render_desc d = tp_view(lo, hi, f / 16.0, f % 4 != 0);
-        vx_render_image a = {0}, b = {0};
-        r = vx_compact_gpu_frame(cm, &d, &a, &err);
-        if (!r) r = vx_compact_gpu_frame(cf, &d, &b, &err);
-        CHECKF(r == VX_OK, "frame %d: %s", f, err.msg);
+        char what[32];
+        snprintf(what, sizeof what, "frame %d", f);
+        vx_compact_page_stats sa, sb;
+        r = frame_pair(cm, cf, &d, what, &wrong, &stats_differ, &sa, &sb, NULL);
         if (!r) {
-            char what[32];
-            snprintf(what, sizeof what, "frame %d", f);
-            wrong += tp_differ(&a, &b, what, "file");
-            vx_compact_page_stats sa, sb;
-            vx_compact_gpu_page_stats(cm, &sa);
-            vx_compact_gpu_page_stats(cf, &sb);
-            stats_differ += sa.coarse != sb.coarse || sa.loaded != sb.loaded || sa.evicted != sb.evicted ||
-                            sa.resident != sb.resident || sa.refused != sb.refused || sa.used_bytes != sb.used_bytes;
             coarse += sb.coarse;
             CHECK(!sa.from_file && sb.from_file && sb.host_bytes <= host && sb.host_peak_bytes <= host);
         }
-        vx_render_image_free(&a);
-        vx_render_image_free(&b);
     }
     vx_compact_page_stats sf;
     vx_compact_gpu_page_stats(cf, &sf);
@@ -278,11 +300,9 @@ static void test_fly(void) {
 static void test_render_scene(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_scene s;
-    make_scene(&s);
     char path[128];
-    snprintf(path, sizeof path, "%s/rs.svo", g_dir);
+    if (!scene_file(&s, "rs.svo", path)) return;
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
     vx_render_scene *rc = NULL, *rm = NULL, *rf = NULL;
     REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc, &err) ==
             VX_OK);
@@ -370,11 +390,9 @@ out:
  * and with a pool that holds them converges to the whole layout's image. */
 static void test_parallel(void) {
     vx_svo_scene s;
-    make_scene(&s);
     char path[128];
-    snprintf(path, sizeof path, "%s/par.svo", g_dir);
+    if (!scene_file(&s, "par.svo", path)) return;
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
     const uint32_t lp = 3;
     vx_compact_scene c;
     vx_compact_paged pm;
@@ -480,23 +498,14 @@ static void test_parallel(void) {
         vx_render_image b = {0};
         vx_result r = VX_OK;
         for (; f < 24 && !r; f++) {
-            vx_render_image a = {0};
+            char what[64];
+            snprintf(what, sizeof what, "parallel, pool %llu, frame %u", (unsigned long long)pool, f);
             vx_render_image_free(&b);
-            r = vx_compact_gpu_frame(cm, &d, &a, &err);
-            if (!r) r = vx_compact_gpu_frame(cf, &d, &b, &err);
-            CHECKF(r == VX_OK, "pool %llu, frame %u: %s", (unsigned long long)pool, f, err.msg);
+            r = frame_pair(cm, cf, &d, what, &wrong, &stats_differ, &sa, &sb, &b);
             if (!r) {
-                char what[48];
-                snprintf(what, sizeof what, "parallel, frame %u", f);
-                wrong += tp_differ(&a, &b, what, "file");
-                vx_compact_gpu_page_stats(cm, &sa);
-                vx_compact_gpu_page_stats(cf, &sb);
-                stats_differ += sa.coarse != sb.coarse || sa.loaded != sb.loaded || sa.evicted != sb.evicted ||
-                                sa.resident != sb.resident || sa.refused != sb.refused || sa.used_bytes != sb.used_bytes;
                 if (sb.loaded > most) most = sb.loaded;
                 refused += sb.refused;
             }
-            vx_render_image_free(&a);
             if (f > 2 && sb.loaded == 0) break; /* steady: nothing more fits, or all resident */
         }
         CHECKF(wrong == 0 && stats_differ == 0, "pool %llu: %u pixels and %u frames' page counts differ from the in-memory pager's",
