@@ -40,6 +40,7 @@ typedef struct paging {
     uint32_t* moved;       /* resident pages the service moved (loaded again from the host elsewhere) */
     uint32_t nmoved;
     uint64_t* moved_bit;   /* per page a bit: in moved[] (the list's membership without a search) */
+    int64_t* moved_from;   /* per page in moved[]: its slot before the service moved it (its words on the GPU) */
     struct victim { uint64_t used; uint32_t page; } * victims; /* scratch: the service's eviction candidates */
     uint32_t free_units;
     vx_compact_page_stats st;
@@ -119,6 +120,7 @@ static void paging_free(vx_gpu* g, paging* pg) {
     vx_free(&g->alloc, pg->evict_patch);
     vx_free(&g->alloc, pg->moved);
     vx_free(&g->alloc, pg->moved_bit);
+    vx_free(&g->alloc, pg->moved_from);
     vx_free(&g->alloc, pg->victims);
     vx_free(&g->alloc, pg->busy);
     vx_free(&g->alloc, pg);
@@ -617,12 +619,13 @@ static void pool_compact(paging* pg, uint64_t frame) {
             uint32_t from = at + n > u ? at + n : u;
             units_set(pg, at, n, page);
             units_set(pg, from, u + n - from, UINT32_MAX);
-            pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)at * pg->unit;
             bool listed = pg->last_used[page] == frame || ((pg->moved_bit[page >> 6] >> (page & 63)) & 1u);
-            if (!listed) {
+            if (!listed) { /* where its words are on the GPU until the service's upload */
                 pg->moved[pg->nmoved++] = page;
                 pg->moved_bit[page >> 6] |= 1ull << (page & 63);
+                pg->moved_from[page] = pg->slot[page];
             }
+            pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)at * pg->unit;
         }
         at += n;
         u += n;
@@ -669,6 +672,46 @@ void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* 
 
 const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg) { return cg && cg->pg ? &cg->pg->p : NULL; }
 
+/* Relocates page p's image w to pool slot P (the walk reads absolute
+ * slots: word 1 of its header and of its nodes of levels >= 3 with
+ * children), or undoes that (undo). */
+static void page_relocate(uint32_t* w, const vx_compact_page* p, uint32_t P, bool undo) {
+    uint32_t a = 2 * P, b = P, c = P + 2;
+    if (undo) a = 0u - a, b = 0u - b, c = 0u - c;
+    w[0] += a, w[1] += b;
+    for (uint32_t j = 0; j < p->n3; j++) {
+        uint32_t d = w[4 + 2 * j];
+        if (((d >> 8) & ~d) & 0xFFu) w[4 + 2 * j + 1] += c;
+    }
+}
+
+/* The images of the file source's pages that the service moved (pages[0 ..
+ * n), each into dst[i]): read back from where they are in the pool (one
+ * download of the span that holds them) and their relocation undone. From
+ * the host they came from the cache or, evicted there, were cut from the
+ * file again: with a host cache of 6 MB a frame of 511 loads cut 1,663
+ * pages on the H200 (docs/PERFORMANCE.md "Paging from files"). */
+static vx_result moved_from_pool(vx_compact_gpu* cg, const uint32_t* pages, uint32_t* const* dst, uint32_t n, vx_error* err) {
+    paging* pg = cg->pg;
+    uint64_t lo = UINT64_MAX, hi = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint64_t w0 = 2 * (uint64_t)pg->moved_from[pages[i]], w1 = w0 + pg->p.pages[pages[i]].words;
+        if (w0 < lo) lo = w0;
+        if (w1 > hi) hi = w1;
+    }
+    uint32_t* span = vx_alloc(&cg->gpu->alloc, (size_t)(hi - lo) * 4);
+    if (!span) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu bytes of moved pages", 4ull * (hi - lo));
+    vx_result r = vx__buffer_download_at(cg->gpu, &cg->geom, lo * 4, span, (hi - lo) * 4, err);
+    for (uint32_t i = 0; !r && i < n; i++) {
+        const vx_compact_page* p = &pg->p.pages[pages[i]];
+        memcpy(dst[i], span + (2 * (uint64_t)pg->moved_from[pages[i]] - lo), (size_t)p->words * 4);
+        page_relocate(dst[i], p, (uint32_t)pg->moved_from[pages[i]], true);
+    }
+    pg->st.moved_from_pool += r ? 0 : n;
+    vx_free(&cg->gpu->alloc, span);
+    return r;
+}
+
 /* least recently entered first, ties by page (the order of the scan it replaced) */
 static int cmp_victim(const void* a, const void* b) {
     const struct victim *x = a, *y = b;
@@ -684,7 +727,7 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     paging* pg = cg->pg;
     vx_gpu* g = cg->gpu;
     uint64_t frame = pg->st.frames + 1; /* the frame about to be traced */
-    pg->st.loaded = pg->st.evicted = pg->st.refused = 0;
+    pg->st.loaded = pg->st.evicted = pg->st.refused = pg->st.moved = 0;
     pg->st.refused_bytes = 0;
     uint32_t nload = 0;
     uint32_t* load = pg->pending; /* loaded pages are compacted to the front */
@@ -741,6 +784,7 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
         if (pg->slot[page] >= 0) load[nload++] = page;
     }
     pg->nmoved = 0;
+    pg->st.moved = nload - pg->st.loaded;
     uint64_t words = pg->state_words;
     for (uint32_t i = 0; i < nload; i++) words += pg->p.pages[load[i]].words;
     words += (uint64_t)nload + pg->nevict;
@@ -766,7 +810,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
         if (!pg->cache) memcpy(st + a, pg->p.data + p->offset, (size_t)p->words * 4);
         a += p->words;
     }
-    if (pg->cache && nload && (r = vx_compact_page_cache_get(pg->cache, load, nload, pg->dst, err))) {
+    /* the file source's moved pages from the pool itself (loads [st.loaded, nload)) */
+    uint32_t nget = pg->cache ? pg->st.loaded : nload;
+    if (pg->cache && nload > nget) r = moved_from_pool(cg, load + nget, pg->dst + nget, nload - nget, err);
+    if (!r && pg->cache && nget) r = vx_compact_page_cache_get(pg->cache, load, nget, pg->dst, err);
+    if (r) {
         /* nothing went up: this service's pages (and those it moved) are not
          * resident after all; the next service marks them so in the top
          * before any ray enters them, and the next frame asks for them again */
@@ -780,13 +828,8 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     }
     for (uint32_t i = 0; i < nload; i++) {
         const vx_compact_page* p = &pg->p.pages[load[i]];
-        uint32_t* w = st + at;
         uint32_t P = (uint32_t)pg->slot[load[i]];
-        w[0] += 2 * P, w[1] += P;
-        for (uint32_t j = 0; j < p->n3; j++) {
-            uint32_t d = w[4 + 2 * j];
-            if (((d >> 8) & ~d) & 0xFFu) w[4 + 2 * j + 1] += P + 2;
-        }
+        page_relocate(st + at, p, P, false);
         cp[nc++] = (VkBufferCopy){.srcOffset = at * 4, .dstOffset = (VkDeviceSize)P * 8, .size = (VkDeviceSize)p->words * 4};
         at += p->words;
     }
@@ -888,6 +931,7 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
     pg->evict_patch = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->moved = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->moved_bit = vx_calloc(&g->alloc, (P + 63) / 64 + 1, 8);
+    pg->moved_from = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 8);
     pg->victims = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->victims);
     pg->busy = vx_calloc(&g->alloc, (pg->units + 63) / 64 + 1, 8);
     pg->dst = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->dst);
@@ -899,7 +943,7 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
         return cerr.code;
     }
     if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst ||
-        !pg->moved_bit || !pg->victims || !pg->busy) {
+        !pg->moved_bit || !pg->moved_from || !pg->victims || !pg->busy) {
         paging_free(g, pg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", P);
     }

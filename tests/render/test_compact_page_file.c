@@ -250,13 +250,15 @@ static void test_fly(void) {
     vx_compact_gpu_page_stats(cf, &sf);
     CHECKF(wrong == 0 && stats_differ == 0, "fly-through: %u pixels and %u frames' page counts differ from the in-memory pager's",
            wrong, stats_differ);
-    CHECKF(coarse > 0 && sf.host_evictions > 0 && sf.file_pages > 0, "fly-through: %u coarse, %llu host evictions, %llu cut",
-           coarse, (unsigned long long)sf.host_evictions, (unsigned long long)sf.file_pages);
+    /* and pages the service slid together, read back from the pool (branch page2) */
+    CHECKF(coarse > 0 && sf.host_evictions > 0 && sf.file_pages > 0 && sf.moved_from_pool > 0,
+           "fly-through: %u coarse, %llu host evictions, %llu cut, %llu moved", coarse, (unsigned long long)sf.host_evictions,
+           (unsigned long long)sf.file_pages, (unsigned long long)sf.moved_from_pool);
     printf("  fly-through, %u pages (%.1f KB), pool %.1f KB, host cache %.1f KB: %llu pages cut from the file (%llu model "
-           "reads), %llu from the cache, %llu evicted from it, peak %.1f KB\n",
+           "reads), %llu from the cache, %llu evicted from it, peak %.1f KB; %llu moved pages read back from the pool\n",
            npages, page_bytes / 1e3, pool / 1e3, host / 1e3, (unsigned long long)sf.file_pages,
            (unsigned long long)sf.file_models, (unsigned long long)sf.host_hits, (unsigned long long)sf.host_evictions,
-           sf.host_peak_bytes / 1e3);
+           sf.host_peak_bytes / 1e3, (unsigned long long)sf.moved_from_pool);
     /* still: both converge to the whole layout's image; then every resident page out, back to the same image */
     vx_render_desc d = tp_view(lo, hi, 0.3, true);
     d.width = 48, d.height = 32, d.camera.fov = 16;
