@@ -246,9 +246,11 @@ uint g_path = 0xFFFFu;
 // (render_bench: 0 px differ; svo_render's images byte for byte). Not in the
 // BVH kernels (several instances): there its registers stayed at 48 (depth)
 // and 64 (colour). DEEP 1 (exact models): the same loop; the hit's t comes
-// from its cube's entry planes after it, as before.
+// from its cube's entry planes after it, as before. The compact layout's
+// G-buffer (COMPACT) too, as trace_compact.comp's kernels (issue 18, lean3):
+// its walk makes the plain one's decisions, so both lean or neither.
 #if defined(TRACE_LEAN) && !defined(PRECISE)
-const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && !LOD && DEEP <= 1 && !COMPACT && !NODES_FILE;
+const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && !LOD && DEEP <= 1 && !NODES_FILE;
 #else
 const bool LEAN = false;
 #endif

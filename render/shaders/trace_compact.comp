@@ -109,6 +109,20 @@ const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 // 1 kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
 // they keep the load's choice (docs/PERFORMANCE.md issue 18, fifteenth step).
 const bool PUSH_BRICK = DEEP == 0;
+// The lean walk (trace_common.glsl LEAN, which trace.comp's kernels have
+// since issue 21's twenty-first sitting): one instance, no hits, no paging,
+// DEEP 0-1, GPUs (as trace.comp's: not on CPU devices, NODES_FILE). This
+// walk already had two of its parts (no iteration guard but with the hits
+// or the heat map, every push storing its parent); LEAN adds the other
+// two: scale_exp2 taken from scale at the loop's top rather than carried
+// around it, and in a primary walk (not any_hit) no test of the ray's end
+// at a push: the model's box holds every cell, so a push past the box's
+// exit (the ray's end with one instance) finds none (a paged layout's
+// coarse hit, a page's cube, may lie outside the box: PAGES keeps the
+// test). The same decisions as trace.comp's lean walk, so the cells are
+// its cells (test_compact_gpu). (A macro: glslang makes a const bool of &&
+// between specialization constants a value that does not dominate its uses.)
+#define LEAN (MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && DEEP <= 1 && PAGES == 0u && !NODES_FILE)
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // The colour of a hit inside a brick from the walk's path (the whole layout,
@@ -442,6 +456,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         while (true) {
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
+            if (LEAN) scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23); // not carried
             int lvl = scale + lvl_off - koff;
             bool ge3 = scale - koff >= s3, eq2 = scale - koff == s2; // lvl >= 3, lvl == 2
             if (SENT ? desc == 0u : !loaded) {
@@ -467,7 +482,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
             bool valid = (desc & (cbit << 8)) != 0u;
-            if (valid && tmin <= tmax) {
+            if (valid && ((LEAN && !any_hit) || tmin <= tmax)) {
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
                 // No test of tmin against the child's exit (min(tmax, tc_max))
@@ -838,6 +853,8 @@ vec3 heat(uint it) {
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
+    // the lean kernels (LEAN) hold one register across the walk for it, not px's two (as trace.comp's)
+    uint pix_i = LEAN ? px.y * W + px.x : 0u;
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -943,7 +960,7 @@ void shade(uvec2 px) {
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, hflags, 0u);
         }
     }
-    pixels[px.y * W + px.x] = acc / float(spp);
+    pixels[LEAN ? pix_i : px.y * W + px.x] = acc / float(spp);
 }
 
 #include "screen_cull.glsl"
