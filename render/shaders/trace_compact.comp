@@ -109,20 +109,25 @@ const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 // 1 kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
 // they keep the load's choice (docs/PERFORMANCE.md issue 18, fifteenth step).
 const bool PUSH_BRICK = DEEP == 0;
-// The lean walk (trace_common.glsl LEAN, which trace.comp's kernels have
-// since issue 21's twenty-first sitting): one instance, no hits, no paging,
-// DEEP 0-1, GPUs (as trace.comp's: not on CPU devices, NODES_FILE). This
-// walk already had two of its parts (no iteration guard but with the hits
-// or the heat map, every push storing its parent); LEAN adds the other
-// two: scale_exp2 taken from scale at the loop's top rather than carried
-// around it, and in a primary walk (not any_hit) no test of the ray's end
-// at a push: the model's box holds every cell, so a push past the box's
-// exit (the ray's end with one instance) finds none (a paged layout's
-// coarse hit, a page's cube, may lie outside the box: PAGES keeps the
-// test). The same decisions as trace.comp's lean walk, so the cells are
-// its cells (test_compact_gpu). (A macro: glslang makes a const bool of &&
-// between specialization constants a value that does not dominate its uses.)
-#define LEAN (MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && DEEP <= 1 && PAGES == 0u && !NODES_FILE)
+// The lean walk (trace_common.glsl LEAN, trace.comp's kernels' since issue
+// 21's twenty-first sitting), in the part that pays here: in a primary walk
+// (not any_hit) no test of the ray's end at a push. The model's box holds
+// every cell, so a push past the box's exit (the ray's end with one
+// instance) finds none; a paged layout's coarse hit (a page's cube) may lie
+// outside the box, so PAGES keeps the test. This walk already had two of
+// trace.comp's lean parts (no iteration guard but with the hits or the heat
+// map, every push storing its parent). On the H200 (docs/PERFORMANCE.md
+// issue 18, branch lean3) the test's removal gives the DEEP 0 albedo
+// kernels about 2% (eph_monu1's close-up) and the depth kernels 3%, but
+// the DEEP 1 albedo kernels (the helmet, the terrain) lost 5%: the driver
+// then gave them 32 registers and spilled; and the other lean parts lost
+// in every albedo kernel: scale_exp2 from scale at the loop's top (-2%)
+// and the pixel's index formed before the walk (-4% on eph_monu1's
+// close-up). So DEEP 0 only, and the DEEP 0 walk's decisions are
+// trace.comp's lean walk's (test_compact_gpu). (A macro: glslang makes a
+// const bool of && between specialization constants a value that does
+// not dominate its uses.)
+#define LEAN (MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && DEEP == 0 && PAGES == 0u && !NODES_FILE)
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // The colour of a hit inside a brick from the walk's path (the whole layout,
@@ -456,7 +461,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         while (true) {
         while (scale < S_MAX) {
             if (GUARD) g_iter++;
-            if (LEAN) scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23); // not carried
             int lvl = scale + lvl_off - koff;
             bool ge3 = scale - koff >= s3, eq2 = scale - koff == s2; // lvl >= 3, lvl == 2
             if (SENT ? desc == 0u : !loaded) {
@@ -853,8 +857,6 @@ vec3 heat(uint it) {
 void shade(uvec2 px) {
     uint W = F.dims.x, H = F.dims.y;
     uint spp = ONE_SAMPLE ? 1u : max(F.dims.z, 1u);
-    // the lean kernels (LEAN) hold one register across the walk for it, not px's two (as trace.comp's)
-    uint pix_i = LEAN ? px.y * W + px.x : 0u;
     // The camera ray, its t and the shading are precise (no contraction or
     // reassociation): trace.comp computes them with the same expressions and
     // must give the same bits (test_compact_gpu), but the NVIDIA compiler
@@ -960,7 +962,7 @@ void shade(uvec2 px) {
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, hflags, 0u);
         }
     }
-    pixels[LEAN ? pix_i : px.y * W + px.x] = acc / float(spp);
+    pixels[px.y * W + px.x] = acc / float(spp);
 }
 
 #include "screen_cull.glsl"
