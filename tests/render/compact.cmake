@@ -19,11 +19,12 @@ if(VX_WITH_VULKAN)
   add_test(NAME test_compact_gpu_paths COMMAND test_compact_gpu)
   set_tests_properties(test_compact_gpu_paths PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_path_start,test_path_records,test_corpus")
-  # the generated scenes in the descriptors' GPU form (VX_GPU_NODE_FORM=gpu): the lean walk of both kernels,
-  # which GPUs run and lavapipe's file form does not (trace_compact.comp LEAN; issue 18, lean3)
+  # scenes of one instance in the descriptors' GPU form (VX_GPU_NODE_FORM=gpu): both kernels' lean walks (DEEP 0:
+  # the start table's and the uniform cubes' models; DEEP 1: the generated 10-level model), which GPUs run and
+  # lavapipe's file form does not (trace_compact.comp and trace_common.glsl LEAN; issue 18, lean3)
   add_test(NAME test_compact_gpu_gpu_form COMMAND test_compact_gpu)
   set_tests_properties(test_compact_gpu_gpu_form PROPERTIES TIMEOUT 900 ENVIRONMENT
-                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated;VX_GPU_NODE_FORM=gpu")
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated,test_start_table,test_uniform_cubes;VX_GPU_NODE_FORM=gpu")
   if(TARGET vx_conv_mesh)
     target_link_libraries(test_compact_gpu PRIVATE vx_conv_mesh)
     target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)
