@@ -118,9 +118,10 @@ const bool PUSH_BRICK = DEEP == 0;
 // trace.comp's lean parts (no iteration guard but with the hits or the heat
 // map, every push storing its parent). On the H200 (docs/PERFORMANCE.md
 // issue 18, branch lean3) the test's removal gives the DEEP 0 albedo
-// kernels about 2% (eph_monu1's close-up) and the depth kernels 3%, but
-// the DEEP 1 albedo kernels (the helmet, the terrain) lost 5%: the driver
-// then gave them 32 registers and spilled; and the other lean parts lost
+// kernels 1.5-3.3% (eph_monu1's close-up 0.869 -> 0.898 of trace.comp's
+// rays/s) and their depth kernels 2-5%, but the DEEP 1 albedo kernels (the
+// helmet, the terrain) lost 5%: the driver then gave them 32 registers and
+// spilled; and the other lean parts lost
 // in every albedo kernel: scale_exp2 from scale at the loop's top (-2%)
 // and the pixel's index formed before the walk (-4% on eph_monu1's
 // close-up). So DEEP 0 only, and the DEEP 0 walk's decisions are
