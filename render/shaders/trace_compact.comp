@@ -109,6 +109,26 @@ const bool NEED_T = USE_BVH || WRITE_HITS || MODE == 0 || MODE == 3;
 // 1 kernels' albedo lost 2.8-11% with it (the helmet at 512, the terrain), so
 // they keep the load's choice (docs/PERFORMANCE.md issue 18, fifteenth step).
 const bool PUSH_BRICK = DEEP == 0;
+// The lean walk (trace_common.glsl LEAN, trace.comp's kernels' since issue
+// 21's twenty-first sitting), in the part that pays here: in a primary walk
+// (not any_hit) no test of the ray's end at a push. The model's box holds
+// every cell, so a push past the box's exit (the ray's end with one
+// instance) finds none; a paged layout's coarse hit (a page's cube) may lie
+// outside the box, so PAGES keeps the test. This walk already had two of
+// trace.comp's lean parts (no iteration guard but with the hits or the heat
+// map, every push storing its parent). On the H200 (docs/PERFORMANCE.md
+// issue 18, branch lean3) the test's removal gives the DEEP 0 albedo
+// kernels 1.5-3.3% (eph_monu1's close-up 0.869 -> 0.898 of trace.comp's
+// rays/s) and their depth kernels 2-5%, but the DEEP 1 albedo kernels (the
+// helmet, the terrain) lost 5%: the driver then gave them 32 registers and
+// spilled; and the other lean parts lost
+// in every albedo kernel: scale_exp2 from scale at the loop's top (-2%)
+// and the pixel's index formed before the walk (-4% on eph_monu1's
+// close-up). So DEEP 0 only, and the DEEP 0 walk's decisions are
+// trace.comp's lean walk's (test_compact_gpu). (A macro: glslang makes a
+// const bool of && between specialization constants a value that does
+// not dominate its uses.)
+#define LEAN (MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && DEEP == 0 && PAGES == 0u && !NODES_FILE)
 
 const int MODE_COLOR = 0, MODE_ALBEDO = 1, MODE_NORMAL = 2, MODE_DEPTH = 3, MODE_INSTANCE = 4, MODE_ITER = 5;
 // The colour of a hit inside a brick from the walk's path (the whole layout,
@@ -467,7 +487,7 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
             int cs = idx ^ oct7;
             uint cbit = 1u << cs;
             bool valid = (desc & (cbit << 8)) != 0u;
-            if (valid && tmin <= tmax) {
+            if (valid && ((LEAN && !any_hit) || tmin <= tmax)) {
                 float half_ = scale_exp2 * 0.5;
                 vec3 tcen = half_ * coef + tc;
                 // No test of tmin against the child's exit (min(tmax, tc_max))

@@ -19,6 +19,12 @@ if(VX_WITH_VULKAN)
   add_test(NAME test_compact_gpu_paths COMMAND test_compact_gpu)
   set_tests_properties(test_compact_gpu_paths PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_path_start,test_path_records,test_corpus")
+  # scenes of one instance in the descriptors' GPU form (VX_GPU_NODE_FORM=gpu): both kernels' lean walks (DEEP 0:
+  # the start table's and the uniform cubes' models; DEEP 1: the generated 10-level model), which GPUs run and
+  # lavapipe's file form does not (trace_compact.comp and trace_common.glsl LEAN; issue 18, lean3)
+  add_test(NAME test_compact_gpu_gpu_form COMMAND test_compact_gpu)
+  set_tests_properties(test_compact_gpu_gpu_form PROPERTIES TIMEOUT 900 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated,test_start_table,test_uniform_cubes;VX_GPU_NODE_FORM=gpu")
   if(TARGET vx_conv_mesh)
     target_link_libraries(test_compact_gpu PRIVATE vx_conv_mesh)
     target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)
@@ -52,6 +58,11 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   # methods that read them, each within its timeout under the sanitizers on a loaded machine
   set_tests_properties(test_compact_passes PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_frames")
+  # the room's frames (one instance) in the descriptors' GPU form: the compact G-buffer's lean walk (trace_common.glsl
+  # LEAN) against the plain one's, which lavapipe's file form does not run (issue 18, lean3)
+  add_test(NAME test_compact_passes_gpu_form COMMAND test_compact_passes)
+  set_tests_properties(test_compact_passes_gpu_form PROPERTIES TIMEOUT 900 ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_room_frames;VX_GPU_NODE_FORM=gpu")
   add_test(NAME test_compact_passes_bakes COMMAND test_compact_passes)
   set_tests_properties(test_compact_passes_bakes PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_bakes")
