@@ -54,8 +54,10 @@ static void side_close(side* o) {
     vx_render_scene_destroy(o->rs);
 }
 
-static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
-                   vx_render_image* out) {
+/* merged: the passes merged where the pipeline can (frame.comp), else each its own dispatch so that every kernel
+ * runs; *dispatches (if not NULL) the frame's timed dispatches */
+static bool render_as(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
+                      bool merged, vx_render_image* out, uint32_t* dispatches) {
     vx_pass_list L;
     vx_error err = {0};
     if (vx_pass_list_parse(list, &L, &err)) {
@@ -66,14 +68,20 @@ static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_f
     d.passes = &L;
     d.gi = gm;
     d.show = show;
-    d.separate_passes = true; /* each pass its own dispatch: every kernel runs */
+    d.separate_passes = !merged;
     vx_frame_result res;
     if (vx_frame_render(o->fr, &d, &res, &err)) {
         fprintf(stderr, "  render '%s': %s\n", list, err.msg);
         return false;
     }
     *out = res.image;
+    if (dispatches) *dispatches = res.timing_count;
     return true;
+}
+
+static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
+                   vx_render_image* out) {
+    return render_as(o, list, gm, t, show, false, out, NULL);
 }
 
 /* The floats of b that differ from a; *hits the pixels a shows geometry on (alpha > 0). */
@@ -141,6 +149,31 @@ static void compare_show(const char* name, const char* list, side* p, side* c, c
 static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
                     const vx_gi_method* gc, const vx_frame_desc* t) {
     compare_show(name, list, p, c, gp, gc, t, VX_SHOW_FINAL);
+}
+
+/* The separate passes (gbuffer.comp, direct.comp, ao.comp, resolve.comp: each its own dispatch) against the merged
+ * kernel (frame.comp: the same rays in one dispatch) in one layout: the same floats. They are different kernels,
+ * so on NVIDIA each pipeline's walk would be contracted on its own where it could be (cmake/shaders.cmake), and a
+ * shadow or AO ray's hit could flip between them. */
+static void compare_merged(const char* name, const char* list, side* o, const vx_frame_desc* t) {
+    vx_render_image a = {0}, b = {0};
+    uint32_t na = 0, nb = 0;
+    bool ok = render_as(o, list, NULL, t, VX_SHOW_FINAL, false, &a, &na) &&
+              render_as(o, list, NULL, t, VX_SHOW_FINAL, true, &b, &nb);
+    CHECKF(ok, "%s '%s': rendered separate and merged", name, list);
+    if (ok) {
+        size_t hits = 0, diff = differ(&a, &b, &hits);
+        const char* layout = vx_render_layout_name(vx__render_scene_compact(o->rs) ? VX_RENDER_LAYOUT_COMPACT
+                                                                                 : VX_RENDER_LAYOUT_PLAIN);
+        printf("  %-28s %-36s %ux%u: %zu pixels hit, separate (%u dispatches) and merged (%u) %s: %zu floats differ%s\n",
+               name, list, a.width, a.height, hits, na, nb, layout, diff, t->light_count ? " (frame lights)" : "");
+        CHECKF(nb < na, "%s '%s': %u dispatches merged, %u separate: not merged", name, list, nb, na);
+        CHECKF(diff == 0, "%s '%s' %s: separate and merged passes: %zu floats differ", name, list, layout, diff);
+        CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
+        if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b);
+    }
+    vx_render_image_free(&a);
+    vx_render_image_free(&b);
 }
 
 /* The two layouts' radiance volumes, level by level: the same halfs (voxelize.comp's opacity, inject.comp's
@@ -215,6 +248,14 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
     vx_frame_desc lit = base;
     lit.lights = lights, lit.light_count = 2;
     compare(name, "gbuffer,direct", p, c, NULL, NULL, &lit);
+    /* the separate passes against the merged kernel, each layout: the sun's shadow rays, the AO rays, the frame
+     * lights' shadow rays */
+    for (int k = 0; k < 2; k++) {
+        side* o = k ? c : p;
+        compare_merged(name, "gbuffer,direct", o, &base);
+        compare_merged(name, "gbuffer,direct,ao", o, &base);
+        compare_merged(name, "gbuffer,direct", o, &lit);
+    }
 
     /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
      * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
