@@ -214,26 +214,12 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
-/* The frames: passes, frame lights, gi=cones (its volume too) and gi=photons, both layouts bit for bit. */
-static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
-    vx_frame_desc base = *b;
-    vx_error err = {0};
-    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
-     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
-     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
-    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
-    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
-        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
-    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
-    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
-    vx_frame_desc two = base;
-    two.base.spp = 2;
-    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
-    /* frame lights (their shadow rays): a point light above the scene's middle, a spot light from a corner */
+/* The scene's frame lights: a point light above the scene's middle, a spot light from a corner. */
+static void frame_lights(const vx_svo_scene* s, vx_light lights[2]) {
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(s, lo, hi);
-    vx_light lights[2] = {{.type = VX_LIGHT_POINT, .color = {1, 0.9, 0.8}},
-                          {.type = VX_LIGHT_SPOT, .color = {0.5, 0.7, 1}, .inner_cone = 0.3, .outer_cone = 0.6}};
+    lights[0] = (vx_light){.type = VX_LIGHT_POINT, .color = {1, 0.9, 0.8}};
+    lights[1] = (vx_light){.type = VX_LIGHT_SPOT, .color = {0.5, 0.7, 1}, .inner_cone = 0.3, .outer_cone = 0.6};
     double ext = 0;
     for (int k = 0; k < 3; k++) {
         ext = fmax(ext, hi[k] - lo[k]);
@@ -245,6 +231,26 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
                      lights[1].direction[2] * lights[1].direction[2]);
     for (int k = 0; k < 3; k++) lights[1].direction[k] /= dl;
     lights[0].intensity = lights[1].intensity = 0.5 * ext * ext;
+}
+
+/* The frames of the passes: the G-buffer, direct and AO, frame lights, the separate passes against the merged
+ * kernel, both layouts bit for bit. */
+static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
+     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
+     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
+    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
+    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
+        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
+    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
+    vx_frame_desc two = base;
+    two.base.spp = 2;
+    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
+    /* frame lights (their shadow rays) */
+    vx_light lights[2];
+    frame_lights(s, lights);
     vx_frame_desc lit = base;
     lit.lights = lights, lit.light_count = 2;
     compare(name, "gbuffer,direct", p, c, NULL, NULL, &lit);
@@ -256,7 +262,27 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
         compare_merged(name, "gbuffer,direct,ao", o, &base);
         compare_merged(name, "gbuffer,direct", o, &lit);
     }
+}
 
+/* The GI methods' frames that need no bake: gi=photons, gi=cones (its volume too), both layouts bit for bit. */
+static void check_gi_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b, lit = *b;
+    vx_error err = {0};
+    vx_light lights[2];
+    frame_lights(s, lights);
+    lit.lights = lights, lit.light_count = 2;
+    /* gi=photons */
+    {
+        vx_gi_method gp, gc;
+        vx_photon_gi *pp = NULL, *pc = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
+        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
+        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
+        vx_photon_gi_destroy(pp);
+        vx_photon_gi_destroy(pc);
+    }
     /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
      * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
      * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
@@ -274,18 +300,6 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
         }
         vx_cone_gi_destroy(cp);
         vx_cone_gi_destroy(cc);
-    }
-    /* gi=photons */
-    {
-        vx_gi_method gp, gc;
-        vx_photon_gi *pp = NULL, *pc = NULL;
-        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
-        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
-        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
-        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
-        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
-        vx_photon_gi_destroy(pp);
-        vx_photon_gi_destroy(pc);
     }
 }
 
@@ -342,11 +356,11 @@ static void check_bakes(const char* name, const vx_svo_scene* s, side* p, side* 
 
 /* All scenes through the one device: its pipeline cache holds the pass, GI
  * and bake variants of both layouts of every scene, as a session that opens
- * several scenes does. Each scene's frames and bakes are separate tests
- * (FRAMES, BAKES), so that VX_TEST_ONLY picks one: a fresh GPU machine
- * compiles every pipeline cold.
+ * several scenes does. Each scene's pass frames, GI frames and bakes are
+ * separate tests (FRAMES, GI_FRAMES, BAKES), so that VX_TEST_ONLY picks one:
+ * a fresh GPU machine compiles every pipeline cold.
  * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
-enum { FRAMES = 1, BAKES = 2 };
+enum { FRAMES = 1, BAKES = 2, GI_FRAMES = 4 };
 
 static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks, int parts) {
     side p, c;
@@ -368,6 +382,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     vx_frame_desc base = vx_frame_desc_defaults();
     base.base = (vx_render_desc){.width = w, .height = h};
     if (parts & FRAMES) check_frames(name, s, &p, &c, &base);
+    if (parts & GI_FRAMES) check_gi_frames(name, s, &p, &c, &base);
     if (parts & BAKES) check_bakes(name, s, &p, &c, &base);
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     printf("  %-28s %u pipelines cached\n", name, gpu->pipeline_count);
@@ -454,11 +469,15 @@ static void corpus_scenes(int parts) {
     if (!done) SKIP("no corpus .vox files");
 }
 
+/* (the names of the frame tests end in _frames: ctest's entry test_compact_passes runs VX_TEST_ONLY=_frames) */
 static void test_generated_frames(void) { generated_scenes(FRAMES); }
+static void test_generated_gi_frames(void) { generated_scenes(GI_FRAMES); }
 static void test_generated_bakes(void) { generated_scenes(BAKES); }
 static void test_room_frames(void) { room_scenes(FRAMES); }
+static void test_room_gi_frames(void) { room_scenes(GI_FRAMES); }
 static void test_room_bakes(void) { room_scenes(BAKES); }
 static void test_corpus_frames(void) { corpus_scenes(FRAMES); }
+static void test_corpus_gi_frames(void) { corpus_scenes(GI_FRAMES); }
 static void test_corpus_bakes(void) { corpus_scenes(BAKES); }
 
 int main(void) {
@@ -466,10 +485,13 @@ int main(void) {
     vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
     RUN(test_generated_frames);
+    RUN(test_generated_gi_frames);
     RUN(test_generated_bakes);
     RUN(test_room_frames);
+    RUN(test_room_gi_frames);
     RUN(test_room_bakes);
     RUN(test_corpus_frames);
+    RUN(test_corpus_gi_frames);
     RUN(test_corpus_bakes);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
