@@ -96,14 +96,14 @@ static size_t differ(const vx_render_image* a, const vx_render_image* b, size_t*
     return diff;
 }
 
-/* The first few pixels where b differs from a (same size), both values. */
-static void list_pixels(const vx_render_image* a, const vx_render_image* b) {
+/* The first few pixels where b differs from a (same size), both values (named la and lb). */
+static void list_pixels(const vx_render_image* a, const vx_render_image* b, const char* la, const char* lb) {
     int shown = 0;
     for (size_t i = 0; i < (size_t)a->width * a->height && shown < 4; i++) {
         const float *x = &a->pixels[4 * i], *y = &b->pixels[4 * i];
         if (!memcmp(x, y, 16)) continue;
-        printf("      pixel (%zu, %zu): plain %.9g %.9g %.9g %.9g, compact %.9g %.9g %.9g %.9g\n", i % a->width,
-               i / a->width, x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]);
+        printf("      pixel (%zu, %zu): %s %.9g %.9g %.9g %.9g, %s %.9g %.9g %.9g %.9g\n", i % a->width, i / a->width, la,
+               x[0], x[1], x[2], x[3], lb, y[0], y[1], y[2], y[3]);
         shown++;
     }
 }
@@ -119,7 +119,7 @@ static void report(side* p, side* c, const char* list, const vx_gi_method* gp, c
         if (render(p, list, gp, t, (vx_show)sh, &a) && render(c, list, gc, t, (vx_show)sh, &b)) {
             size_t hits = 0, diff = differ(&a, &b, &hits);
             printf("    show %-9s %zu floats differ\n", vx_show_name((vx_show)sh), diff);
-            if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b);
+            if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b, "plain", "compact");
         }
         vx_render_image_free(&a);
         vx_render_image_free(&b);
@@ -138,7 +138,7 @@ static void compare_show(const char* name, const char* list, side* p, side* c, c
         CHECKF(diff == 0, "%s '%s': %zu floats differ", name, list, diff);
         CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
         if (diff && a.width == b.width && a.height == b.height) {
-            list_pixels(&a, &b);
+            list_pixels(&a, &b, "plain", "compact");
             if (show == VX_SHOW_FINAL) report(p, c, list, gp, gc, t);
         }
     }
@@ -170,7 +170,7 @@ static void compare_merged(const char* name, const char* list, side* o, const vx
         CHECKF(nb < na, "%s '%s': %u dispatches merged, %u separate: not merged", name, list, nb, na);
         CHECKF(diff == 0, "%s '%s' %s: separate and merged passes: %zu floats differ", name, list, layout, diff);
         CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
-        if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b);
+        if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b, "separate", "merged");
     }
     vx_render_image_free(&a);
     vx_render_image_free(&b);
