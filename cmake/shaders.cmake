@@ -28,11 +28,13 @@ endfunction()
 # passes and the merged frame (and its display form), the cones' voxelization, injection (shadow rays) and gi
 # pass, and the photons' kernel. Names are the embedded arrays' (vx__NAME_spv_arr); test_spirv_precise checks each
 # listed kernel's walk for the marks (VX_WALK_PRECISE_KERNELS reaches it as a define) and fails on a name it
-# cannot check. Not listed, as measured (docs/PERFORMANCE.md, issue 18 branch prec2): the single-shader tracers
-# trace.comp, trace_precise and trace_compact.comp (the primary-ray benchmarks; compared with the CPU reference
-# within a tolerance, not bit for bit with another pipeline) and the probe bake's kernels (probe, probe_one: their
-# hits are cell hits, CELL_HITS, and their .probes bytes agree between the layouts on the H200 as they are). The
-# path tracer's render kernel (probes/, probe_pt) walks non-contracted through its own PT_PRECISE.
+# cannot check. So the rule is this list, not "every walking kernel": not listed (docs/PERFORMANCE.md, issue 18,
+# branch prec2) are trace.comp and trace_precise, the single-shader tracers of vx_render_frame and the primary-ray
+# benchmarks (compared with the CPU reference within a tolerance, not bit for bit with another pipeline; trace.comp
+# non-contracted cost 2.7% on eph_monu1's close-up on the H200), trace_compact.comp (its own walk, which the define
+# does not reach) and the probe bake's kernels (probe, probe_one: their hits are cell hits, CELL_HITS, and their
+# .probes bytes agree between the layouts on the H200 as they are). The path tracer's render kernel (probes/,
+# probe_pt) walks non-contracted through its own PT_PRECISE.
 set(VX_WALK_PRECISE_KERNELS gbuffer frame frame_display direct ao cone_voxelize cone_inject cone_trace photon)
 
 # Appends -DWALK_PRECISE to the list defs_var where name (the embedded array's) is in VX_WALK_PRECISE_KERNELS.
