@@ -30,9 +30,9 @@ endfunction()
 # listed kernel's walk for the marks (VX_WALK_PRECISE_KERNELS reaches it as a define) and fails on a name it
 # cannot check. So the rule is this list, not "every walking kernel": not listed (docs/PERFORMANCE.md, issue 18,
 # branch prec2) are trace.comp and trace_precise, the single-shader tracers of vx_render_frame and the primary-ray
-# benchmarks (compared with the CPU reference within a tolerance, not bit for bit with another pipeline; trace.comp
-# non-contracted cost 2.7% on eph_monu1's close-up on the H200), trace_compact.comp (its own walk, which the define
-# does not reach) and the probe bake's kernels (probe, probe_one: their hits are cell hits, CELL_HITS, and their
+# benchmarks (trace.comp non-contracted cost 2.7% on eph_monu1's close-up on the H200; test_passes compares its colour
+# mode with the passes bit for bit, and on the H200 they agreed with its walk contractible), trace_compact.comp (its
+# own walk, which the define does not reach) and the probe bake's kernels (probe, probe_one: their hits are cell hits, CELL_HITS, and their
 # .probes bytes agree between the layouts on the H200 as they are). The path tracer's render kernel (probes/,
 # probe_pt) walks non-contracted through its own PT_PRECISE.
 set(VX_WALK_PRECISE_KERNELS gbuffer frame frame_display direct ao cone_voxelize cone_inject cone_trace photon)
