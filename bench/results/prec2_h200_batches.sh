@@ -9,7 +9,8 @@
 # "=gbuffer,direct,ao") over prec2's / main's kernels; (batch 1 only: passes_bench_all, prec2's with trace.comp in
 # the list too: its single-shader row, the cost of the non-contracted walk in the primary-ray benchmark's kernel;
 # test_render_gpu_main, main's; test_diag); test_passes_new / _main: test_passes over prec2's / main's kernels.
-# PART (env, default 2) picks the steps; BUDGET (s): the limit given in prec2.ready less 5.
+# PART (env, default 3) picks the steps; BUDGET (s): the limit given in prec2.ready less 2-5.
+HERE=$(dirname "$(readlink -f "$0")")
 T=/tmp/${NAME:-prec2}
 rm -rf $T; mkdir -p $T
 for f in bin/*.gz; do gunzip -c $f > $T/$(basename $f .gz); chmod +x $T/$(basename $f .gz); done
@@ -19,16 +20,9 @@ PART=${PART:-3} # parts 1 and 2 ran in batches 1 and 5 (logs bench/results/prec2
 echo "== machine: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1); $(nproc) CPUs; $(date -u +%T); part $PART"
 t0=$(date +%s)
 BUDGET=${BUDGET:-$(case $PART in 1) echo 80;; 2) echo 60;; *) echo 18;; esac)}
-SB=""; command -v stdbuf > /dev/null && SB="stdbuf -oL -eL"
-run() { # LIMIT ARGS...
-    lim=$1; shift
-    left=$(( BUDGET - ($(date +%s) - t0) ))
-    [ $left -lt 4 ] && { echo "SKIPPED (time): $*"; return; }
-    [ $lim -gt $left ] && lim=$left
-    s=$(date +%s%N)
-    timeout $lim $SB "$@"
-    rc=$?; echo "rc $rc $(( ($(date +%s%N) - s) / 1000000 )) ms (at $(( $(date +%s) - t0 )) s)"
-}
+# SB and run LIMIT ARGS... (a step within the budget, its rc and time): cones_h200_batches.sh's, which the payload
+# held as its own lines; taken from there (this file lies beside it in bench/results)
+eval "$(sed -n '/^SB=""; command -v stdbuf/p; /^run() {/,/^}/p' "$HERE/cones_h200_batches.sh")"
 export VX_CORPUS_DIR=$T/corpus
 PB="--runs 9 --size 1920x1080 corpus/vox/eph_monu1.vox"
 bench() { # ROUNDS
