@@ -44,7 +44,7 @@
  * vx_render_desc.no_shadow_map (the direct pass's sun rays unclipped by the sun's depth map) */
 static const char* const lists[] = {"gbuffer",        "gbuffer,direct",           "!gbuffer,direct", "=gbuffer,direct",
                                     "!=gbuffer,direct", "gbuffer,direct,tonemap", "=gbuffer,direct,tonemap",
-                                    "gbuffer,direct,ao,tonemap", "gbuffer,direct,ao,aa,tonemap"};
+                                    "gbuffer,direct,ao,tonemap", "=gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap"};
 #define NLISTS (sizeof lists / sizeof lists[0])
 
 int main(int argc, char** argv) {

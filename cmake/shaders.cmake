@@ -1,6 +1,7 @@
 # A compute kernel's spec in the shader lists of render/render.cmake and
 # probes/probes.cmake: NAME:FILE[:DEFINE] -> the embedded kernel's name, its
-# source FILE.comp and the glslangValidator define (-DDEFINE, or empty).
+# source FILE.comp and the glslangValidator define (-DDEFINE, or empty); the
+# kernels of VX_WALK_PRECISE_KERNELS get -DWALK_PRECISE too (vx_walk_defs).
 function(vx_shader_spec spec name_var file_var defs_var)
   string(REPLACE ":" ";" parts ${spec})
   list(GET parts 0 name)
@@ -11,7 +12,34 @@ function(vx_shader_spec spec name_var file_var defs_var)
     list(GET parts 2 def)
     set(defs -D${def})
   endif()
+  vx_walk_defs(${name} defs)
   set(${name_var} ${name} PARENT_SCOPE)
   set(${file_var} ${file} PARENT_SCOPE)
   set(${defs_var} ${defs} PARENT_SCOPE)
+endfunction()
+
+# The one rule for the octree walk's float arithmetic (WALK_PRECISE, render/shaders/trace_common.glsl: every float
+# operation of the walk `precise`, so the driver may not contract it into fused multiply-adds). The NVIDIA compiler
+# (driver 580) contracts each pipeline on its own: the plain and the compact layout are two pipelines of one kernel
+# (the COMPACT constant), and with the walk contractible 5 of 380 hits of test_compact_passes' room came out one
+# float step apart in depth (issue 18, H200; lavapipe never contracts, so no lavapipe render can show it). So every
+# kernel whose walk's results are compared between the layouts (test_compact_passes) or between the separate
+# passes and the merged frame.comp walks non-contracted: the pass pipeline's G-buffer, direct (shadow rays) and AO
+# passes and the merged frame (and its display form), the cones' voxelization, injection (shadow rays) and gi
+# pass, and the photons' kernel. Names are the embedded arrays' (vx__NAME_spv_arr); test_spirv_precise checks each
+# listed kernel's walk for the marks (VX_WALK_PRECISE_KERNELS reaches it as a define) and fails on a name it
+# cannot check. So the rule is this list, not "every walking kernel": not listed (docs/PERFORMANCE.md, issue 18,
+# branch prec2) are trace.comp and trace_precise, the single-shader tracers of vx_render_frame and the primary-ray
+# benchmarks (trace.comp non-contracted cost 2.7% on eph_monu1's close-up on the H200; test_passes compares its colour
+# mode with the passes bit for bit, and on the H200 they agreed with its walk contractible), trace_compact.comp (its
+# own walk, which the define does not reach) and the probe bake's kernels (probe, probe_one: their hits are cell hits, CELL_HITS, and their
+# .probes bytes agree between the layouts on the H200 as they are). The path tracer's render kernel (probes/,
+# probe_pt) walks non-contracted through its own PT_PRECISE.
+set(VX_WALK_PRECISE_KERNELS gbuffer frame frame_display direct ao cone_voxelize cone_inject cone_trace photon)
+
+# Appends -DWALK_PRECISE to the list defs_var where name (the embedded array's) is in VX_WALK_PRECISE_KERNELS.
+function(vx_walk_defs name defs_var)
+  if(name IN_LIST VX_WALK_PRECISE_KERNELS)
+    set(${defs_var} ${${defs_var}} -DWALK_PRECISE PARENT_SCOPE)
+  endif()
 endfunction()

@@ -10,10 +10,12 @@ if(VX_WITH_VULKAN)
     if(name STREQUAL "cone")
       set(var trace)
     endif()
+    set(defs)
+    vx_walk_defs(cone_${var} defs) # cmake/shaders.cmake: the walk non-contracted
     add_custom_command(
       OUTPUT ${VX_CONES_SPV_DIR}/${name}.comp.h
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
-              -I${CMAKE_CURRENT_LIST_DIR}/shaders --vn vx__cone_${var}_spv_arr
+              -I${CMAKE_CURRENT_LIST_DIR}/shaders ${defs} --vn vx__cone_${var}_spv_arr
               -o ${VX_CONES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/cone_common.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/passes_common.glsl

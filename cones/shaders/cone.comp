@@ -22,12 +22,8 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// WALK_PRECISE (trace_common.glsl): the walk's float operations not contracted, as gbuffer.comp's, whose
-// primary ray this kernel traces again (gbuffer_pixel): the NVIDIA compiler contracted the walk's crossing
-// times differently in the plain and the compact layout's pipelines (the COMPACT constant), and a hit's
-// distance came out one float step apart (issue 18: the room of test_compact_passes, depth and gi 1 step
-// apart on the H200, 0 on lavapipe)
-#define WALK_PRECISE
+// built with WALK_PRECISE (the walk not contracted; the rule and why: cmake/shaders.cmake), as gbuffer.comp,
+// whose primary ray this kernel traces again (gbuffer_pixel)
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;

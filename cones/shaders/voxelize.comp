@@ -16,9 +16,7 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// WALK_PRECISE (trace_common.glsl): the face rays' walk not contracted, so that both layouts' pipelines
-// compute the same hit distances (cone.comp says why)
-#define WALK_PRECISE
+// built with WALK_PRECISE (the face rays' walk not contracted; the rule and why: cmake/shaders.cmake)
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;

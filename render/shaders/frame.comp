@@ -9,8 +9,7 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// WALK_PRECISE: as gbuffer.comp (the same primary rays, merged)
-#define WALK_PRECISE
+// built with WALK_PRECISE (the walk not contracted; the rule and why: cmake/shaders.cmake)
 // the lean walk where it applies (trace_common.glsl LEAN: one instance, no ids)
 #define TRACE_LEAN
 #include "trace_common.glsl"

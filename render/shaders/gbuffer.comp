@@ -9,11 +9,7 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// WALK_PRECISE (trace_common.glsl): the walk's float operations not contracted: the NVIDIA compiler
-// contracted its crossing times differently in the plain and the compact layout's pipelines (the COMPACT
-// constant), and 5 of 380 hits of test_compact_passes' room came out one float step apart in depth (H200;
-// lavapipe, which does not contract, gave the same bits); frame.comp and cone.comp trace the same rays
-#define WALK_PRECISE
+// built with WALK_PRECISE (the walk not contracted; the rule and why: cmake/shaders.cmake)
 // the lean walk where it applies (trace_common.glsl LEAN: one instance, no ids)
 #define TRACE_LEAN
 #include "trace_common.glsl"

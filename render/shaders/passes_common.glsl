@@ -101,10 +101,17 @@ vec3 gb_normal(uvec4 g1) {
     return normalize(row.xyz * nsign);
 }
 
-// A point just off the surface for secondary rays (as trace.comp's shadow ray).
+// A point just off the surface for secondary rays (as trace.comp's shadow ray). In the WALK_PRECISE kernels
+// (cmake/shaders.cmake) not contracted either: the shadow and AO rays start there in the separate passes and
+// in the merged kernel, which the NVIDIA compiler contracts each on its own.
 vec3 gb_offset_point(vec3 p, vec3 nw, uint slot) {
     float cell = insts[slot].cell;
+#ifdef WALK_PRECISE
+    precise vec3 q = p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+    return q;
+#else
     return p + nw * (cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
+#endif
 }
 
 // Counter-based random numbers keyed by (pixel, sample, stream).

@@ -292,10 +292,10 @@ bool sign_neg(float x) { return (floatBitsToUint(x) >> 31) != 0u; }
 bool sign_neg(double x) { return (unpackDouble2x32(x).y >> 31) != 0u; }
 #endif
 
-// WALK_PRECISE (probe.comp's render kernel, PT_PRECISE; gbuffer.comp, frame.comp and the cones' kernels):
-// every float operation of the walk precise (no contraction into fused multiply-adds: the NVIDIA compiler
-// contracted the walk's crossing times differently in two variants of that kernel, issue 21, and in the
-// plain and the compact layout's pipelines of one kernel, issue 18); elsewhere the walk is as it was
+// WALK_PRECISE (the kernels of cmake/shaders.cmake's VX_WALK_PRECISE_KERNELS, which says why; probe.comp's render
+// kernel through PT_PRECISE): every float operation of the walk precise (no contraction into fused multiply-adds:
+// the NVIDIA compiler contracted the walk's crossing times differently in two variants of that kernel, issue 21,
+// and in the plain and the compact layout's pipelines of one kernel, issue 18); elsewhere the walk is as it was
 #ifdef WALK_PRECISE
 #define WPREC precise
 #else

@@ -54,8 +54,10 @@ static void side_close(side* o) {
     vx_render_scene_destroy(o->rs);
 }
 
-static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
-                   vx_render_image* out) {
+/* merged: the passes merged where the pipeline can (frame.comp), else each its own dispatch so that every kernel
+ * runs; *dispatches (if not NULL) the frame's timed dispatches */
+static bool render_as(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
+                      bool merged, vx_render_image* out, uint32_t* dispatches) {
     vx_pass_list L;
     vx_error err = {0};
     if (vx_pass_list_parse(list, &L, &err)) {
@@ -66,14 +68,20 @@ static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_f
     d.passes = &L;
     d.gi = gm;
     d.show = show;
-    d.separate_passes = true; /* each pass its own dispatch: every kernel runs */
+    d.separate_passes = !merged;
     vx_frame_result res;
     if (vx_frame_render(o->fr, &d, &res, &err)) {
         fprintf(stderr, "  render '%s': %s\n", list, err.msg);
         return false;
     }
     *out = res.image;
+    if (dispatches) *dispatches = res.timing_count;
     return true;
+}
+
+static bool render(side* o, const char* list, const vx_gi_method* gm, const vx_frame_desc* t, vx_show show,
+                   vx_render_image* out) {
+    return render_as(o, list, gm, t, show, false, out, NULL);
 }
 
 /* The floats of b that differ from a; *hits the pixels a shows geometry on (alpha > 0). */
@@ -88,14 +96,14 @@ static size_t differ(const vx_render_image* a, const vx_render_image* b, size_t*
     return diff;
 }
 
-/* The first few pixels where b differs from a (same size), both values. */
-static void list_pixels(const vx_render_image* a, const vx_render_image* b) {
+/* The first few pixels where b differs from a (same size), both values (named la and lb). */
+static void list_pixels(const vx_render_image* a, const vx_render_image* b, const char* la, const char* lb) {
     int shown = 0;
     for (size_t i = 0; i < (size_t)a->width * a->height && shown < 4; i++) {
         const float *x = &a->pixels[4 * i], *y = &b->pixels[4 * i];
         if (!memcmp(x, y, 16)) continue;
-        printf("      pixel (%zu, %zu): plain %.9g %.9g %.9g %.9g, compact %.9g %.9g %.9g %.9g\n", i % a->width,
-               i / a->width, x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]);
+        printf("      pixel (%zu, %zu): %s %.9g %.9g %.9g %.9g, %s %.9g %.9g %.9g %.9g\n", i % a->width, i / a->width, la,
+               x[0], x[1], x[2], x[3], lb, y[0], y[1], y[2], y[3]);
         shown++;
     }
 }
@@ -111,7 +119,7 @@ static void report(side* p, side* c, const char* list, const vx_gi_method* gp, c
         if (render(p, list, gp, t, (vx_show)sh, &a) && render(c, list, gc, t, (vx_show)sh, &b)) {
             size_t hits = 0, diff = differ(&a, &b, &hits);
             printf("    show %-9s %zu floats differ\n", vx_show_name((vx_show)sh), diff);
-            if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b);
+            if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b, "plain", "compact");
         }
         vx_render_image_free(&a);
         vx_render_image_free(&b);
@@ -130,7 +138,7 @@ static void compare_show(const char* name, const char* list, side* p, side* c, c
         CHECKF(diff == 0, "%s '%s': %zu floats differ", name, list, diff);
         CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
         if (diff && a.width == b.width && a.height == b.height) {
-            list_pixels(&a, &b);
+            list_pixels(&a, &b, "plain", "compact");
             if (show == VX_SHOW_FINAL) report(p, c, list, gp, gc, t);
         }
     }
@@ -141,6 +149,31 @@ static void compare_show(const char* name, const char* list, side* p, side* c, c
 static void compare(const char* name, const char* list, side* p, side* c, const vx_gi_method* gp,
                     const vx_gi_method* gc, const vx_frame_desc* t) {
     compare_show(name, list, p, c, gp, gc, t, VX_SHOW_FINAL);
+}
+
+/* The separate passes (gbuffer.comp, direct.comp, ao.comp, resolve.comp: each its own dispatch) against the merged
+ * kernel (frame.comp: the same rays in one dispatch) in one layout: the same floats. They are different kernels,
+ * so on NVIDIA each pipeline's walk would be contracted on its own where it could be (cmake/shaders.cmake), and a
+ * shadow or AO ray's hit could flip between them. */
+static void compare_merged(const char* name, const char* list, side* o, const vx_frame_desc* t) {
+    vx_render_image a = {0}, b = {0};
+    uint32_t na = 0, nb = 0;
+    bool ok = render_as(o, list, NULL, t, VX_SHOW_FINAL, false, &a, &na) &&
+              render_as(o, list, NULL, t, VX_SHOW_FINAL, true, &b, &nb);
+    CHECKF(ok, "%s '%s': rendered separate and merged", name, list);
+    if (ok) {
+        size_t hits = 0, diff = differ(&a, &b, &hits);
+        const char* layout = vx_render_layout_name(vx__render_scene_compact(o->rs) ? VX_RENDER_LAYOUT_COMPACT
+                                                                                 : VX_RENDER_LAYOUT_PLAIN);
+        printf("  %-28s %-36s %ux%u: %zu pixels hit, separate (%u dispatches) and merged (%u) %s: %zu floats differ%s\n",
+               name, list, a.width, a.height, hits, na, nb, layout, diff, t->light_count ? " (frame lights)" : "");
+        CHECKF(nb < na, "%s '%s': %u dispatches merged, %u separate: not merged", name, list, nb, na);
+        CHECKF(diff == 0, "%s '%s' %s: separate and merged passes: %zu floats differ", name, list, layout, diff);
+        CHECKF(hits > 0, "%s '%s': nothing hit", name, list);
+        if (diff && a.width == b.width && a.height == b.height) list_pixels(&a, &b, "separate", "merged");
+    }
+    vx_render_image_free(&a);
+    vx_render_image_free(&b);
 }
 
 /* The two layouts' radiance volumes, level by level: the same halfs (voxelize.comp's opacity, inject.comp's
@@ -181,26 +214,12 @@ static bool probe_sets_equal(const vx_probe_set* a, const vx_probe_set* b) {
            !memcmp(a->irradiance, b->irradiance, n * 100 * 3 * 2) && !memcmp(a->moments, b->moments, n * 324 * 2 * 4);
 }
 
-/* The frames: passes, frame lights, gi=cones (its volume too) and gi=photons, both layouts bit for bit. */
-static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
-    vx_frame_desc base = *b;
-    vx_error err = {0};
-    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
-     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
-     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
-    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
-    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
-        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
-    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
-    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
-    vx_frame_desc two = base;
-    two.base.spp = 2;
-    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
-    /* frame lights (their shadow rays): a point light above the scene's middle, a spot light from a corner */
+/* The scene's frame lights: a point light above the scene's middle, a spot light from a corner. */
+static void frame_lights(const vx_svo_scene* s, vx_light lights[2]) {
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(s, lo, hi);
-    vx_light lights[2] = {{.type = VX_LIGHT_POINT, .color = {1, 0.9, 0.8}},
-                          {.type = VX_LIGHT_SPOT, .color = {0.5, 0.7, 1}, .inner_cone = 0.3, .outer_cone = 0.6}};
+    lights[0] = (vx_light){.type = VX_LIGHT_POINT, .color = {1, 0.9, 0.8}};
+    lights[1] = (vx_light){.type = VX_LIGHT_SPOT, .color = {0.5, 0.7, 1}, .inner_cone = 0.3, .outer_cone = 0.6};
     double ext = 0;
     for (int k = 0; k < 3; k++) {
         ext = fmax(ext, hi[k] - lo[k]);
@@ -212,10 +231,58 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
                      lights[1].direction[2] * lights[1].direction[2]);
     for (int k = 0; k < 3; k++) lights[1].direction[k] /= dl;
     lights[0].intensity = lights[1].intensity = 0.5 * ext * ext;
+}
+
+/* The frames of the passes: the G-buffer, direct and AO, frame lights, the separate passes against the merged
+ * kernel, both layouts bit for bit. */
+static void check_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b;
+    /* the G-buffer itself: the same hit (instance, face, colour) at the same depth on every pixel; the final
+     * image hides a depth one float step apart where nothing reads the hit point (the H200's room: 5 pixels
+     * with main's gbuffer.comp, whose walk the NVIDIA compiler contracted per layout) */
+    static const vx_show gshows[] = {VX_SHOW_DEPTH, VX_SHOW_NORMAL, VX_SHOW_ALBEDO, VX_SHOW_INSTANCE};
+    for (size_t k = 0; k < sizeof gshows / sizeof gshows[0]; k++)
+        compare_show(name, "gbuffer", p, c, NULL, NULL, &base, gshows[k]);
+    compare(name, "gbuffer,direct", p, c, NULL, NULL, &base);
+    compare(name, "gbuffer,direct,ao", p, c, NULL, NULL, &base);
+    vx_frame_desc two = base;
+    two.base.spp = 2;
+    compare(name, "gbuffer,direct,ao,aa,tonemap", p, c, NULL, NULL, &two);
+    /* frame lights (their shadow rays) */
+    vx_light lights[2];
+    frame_lights(s, lights);
     vx_frame_desc lit = base;
     lit.lights = lights, lit.light_count = 2;
     compare(name, "gbuffer,direct", p, c, NULL, NULL, &lit);
+    /* the separate passes against the merged kernel, each layout: the sun's shadow rays, the AO rays, the frame
+     * lights' shadow rays */
+    for (int k = 0; k < 2; k++) {
+        side* o = k ? c : p;
+        compare_merged(name, "gbuffer,direct", o, &base);
+        compare_merged(name, "gbuffer,direct,ao", o, &base);
+        compare_merged(name, "gbuffer,direct", o, &lit);
+    }
+}
 
+/* The GI methods' frames that need no bake: gi=photons, gi=cones (its volume too), both layouts bit for bit. */
+static void check_gi_frames(const char* name, const vx_svo_scene* s, side* p, side* c, const vx_frame_desc* b) {
+    vx_frame_desc base = *b, lit = *b;
+    vx_error err = {0};
+    vx_light lights[2];
+    frame_lights(s, lights);
+    lit.lights = lights, lit.light_count = 2;
+    /* gi=photons */
+    {
+        vx_gi_method gp, gc;
+        vx_photon_gi *pp = NULL, *pc = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
+        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
+        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
+        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
+        vx_photon_gi_destroy(pp);
+        vx_photon_gi_destroy(pc);
+    }
     /* gi=cones: its voxelization, its light injection (shadow rays) and its gi pass (each pixel's primary ray)
      * trace the scene; the volumes compared level by level, then the frames. Then with frame lights injected
      * (their shadow rays) and the cone shadows (gbuffer,gi=cones: the gi image holds the direct light). */
@@ -233,18 +300,6 @@ static void check_frames(const char* name, const vx_svo_scene* s, side* p, side*
         }
         vx_cone_gi_destroy(cp);
         vx_cone_gi_destroy(cc);
-    }
-    /* gi=photons */
-    {
-        vx_gi_method gp, gc;
-        vx_photon_gi *pp = NULL, *pc = NULL;
-        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
-        vx_result q = vx_photon_gi_create(p->rs, s, NULL, &phd, &gp, &pp, &err);
-        if (!q) q = vx_photon_gi_create(c->rs, s, NULL, &phd, &gc, &pc, &err);
-        CHECKF(q == VX_OK, "%s: gi=photons: %s", name, err.msg);
-        if (!q) compare(name, "gbuffer,direct,gi=photons", p, c, &gp, &gc, &base);
-        vx_photon_gi_destroy(pp);
-        vx_photon_gi_destroy(pc);
     }
 }
 
@@ -301,11 +356,11 @@ static void check_bakes(const char* name, const vx_svo_scene* s, side* p, side* 
 
 /* All scenes through the one device: its pipeline cache holds the pass, GI
  * and bake variants of both layouts of every scene, as a session that opens
- * several scenes does. Each scene's frames and bakes are separate tests
- * (FRAMES, BAKES), so that VX_TEST_ONLY picks one: a fresh GPU machine
- * compiles every pipeline cold.
+ * several scenes does. Each scene's pass frames, GI frames and bakes are
+ * separate tests (FRAMES, GI_FRAMES, BAKES), so that VX_TEST_ONLY picks one:
+ * a fresh GPU machine compiles every pipeline cold.
  * bricks: the compact layout's brick form (VX_RENDER_BRICKS_INLINE or _DICT; the scenes take turns) */
-enum { FRAMES = 1, BAKES = 2 };
+enum { FRAMES = 1, BAKES = 2, GI_FRAMES = 4 };
 
 static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h, uint32_t bricks, int parts) {
     side p, c;
@@ -327,6 +382,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, uint32_t w, uin
     vx_frame_desc base = vx_frame_desc_defaults();
     base.base = (vx_render_desc){.width = w, .height = h};
     if (parts & FRAMES) check_frames(name, s, &p, &c, &base);
+    if (parts & GI_FRAMES) check_gi_frames(name, s, &p, &c, &base);
     if (parts & BAKES) check_bakes(name, s, &p, &c, &base);
     CHECKF(vx_gpu_validation_errors(gpu) == 0, "%s: %u validation errors", name, vx_gpu_validation_errors(gpu));
     printf("  %-28s %u pipelines cached\n", name, gpu->pipeline_count);
@@ -413,11 +469,15 @@ static void corpus_scenes(int parts) {
     if (!done) SKIP("no corpus .vox files");
 }
 
+/* (the names of the frame tests end in _frames: ctest's entry test_compact_passes runs VX_TEST_ONLY=_frames) */
 static void test_generated_frames(void) { generated_scenes(FRAMES); }
+static void test_generated_gi_frames(void) { generated_scenes(GI_FRAMES); }
 static void test_generated_bakes(void) { generated_scenes(BAKES); }
 static void test_room_frames(void) { room_scenes(FRAMES); }
+static void test_room_gi_frames(void) { room_scenes(GI_FRAMES); }
 static void test_room_bakes(void) { room_scenes(BAKES); }
 static void test_corpus_frames(void) { corpus_scenes(FRAMES); }
+static void test_corpus_gi_frames(void) { corpus_scenes(GI_FRAMES); }
 static void test_corpus_bakes(void) { corpus_scenes(BAKES); }
 
 int main(void) {
@@ -425,10 +485,13 @@ int main(void) {
     vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
     RUN(test_generated_frames);
+    RUN(test_generated_gi_frames);
     RUN(test_generated_bakes);
     RUN(test_room_frames);
+    RUN(test_room_gi_frames);
     RUN(test_room_bakes);
     RUN(test_corpus_frames);
+    RUN(test_corpus_gi_frames);
     RUN(test_corpus_bakes);
     vx_gpu_destroy(gpu);
     return vx_test_finish();

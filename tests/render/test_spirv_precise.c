@@ -24,16 +24,19 @@
  * feeding some variables. `test_spirv_precise --path FILE.spv` checks a
  * kernel file that way (main's probe.comp before the fix: 475 fail).
  *
- * The kernels that trace the G-buffer's primary rays (gbuffer.comp, frame.comp
- * and the cones' cone.comp, which traces them again) and the cones' own rays
- * (voxelize.comp, inject.comp) are built with WALK_PRECISE: with main's, the
- * NVIDIA compiler contracted the walk's crossing times differently in the
- * plain and the compact layout's pipelines (the COMPACT constant), and 5 of
+ * The kernels of cmake/shaders.cmake's VX_WALK_PRECISE_KERNELS (the list
+ * reaches this test as a define of the same name: the pass pipeline's
+ * G-buffer, direct, AO and merged kernels, the cones' kernels, the photons')
+ * are built with WALK_PRECISE: with a contractible walk the NVIDIA compiler
+ * contracted the walk's crossing times differently in the plain and the
+ * compact layout's pipelines (the COMPACT constant), and 5 of
  * test_compact_passes' room hits came out one float step apart in depth, its
  * cone gi and its frame-lit direct light with them (issue 18, H200; lavapipe
  * gave the same bits). So every float operation of their walk (trace_model,
- * trace_instance, box_t, safe_inv) must carry NoContraction; trace.comp,
- * built without it, must not (the control). */
+ * trace_instance, box_t, safe_inv) and of the secondary rays' start
+ * (gb_offset_point, where the kernel has it) must carry NoContraction; a
+ * listed name this test cannot find fails; trace.comp, built without it,
+ * must not (the control). */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,7 +46,10 @@
 
 #include "trace.comp.h"
 #include "trace_compact.comp.h"
+#include "ao.comp.h"
+#include "direct.comp.h"
 #include "frame.comp.h"
+#include "frame_display.comp.h"
 #include "gbuffer.comp.h"
 #ifdef VX_TEST_CONES
 #include "cone.comp.h"
@@ -53,6 +59,12 @@
 #ifdef VX_TEST_PROBES
 #include "probe.comp.h"
 #include "probe_pt.comp.h"
+#endif
+#ifdef VX_TEST_PHOTONS
+#include "photon.comp.h"
+#endif
+#ifndef VX_WALK_PRECISE_KERNELS
+#error "VX_WALK_PRECISE_KERNELS (cmake/shaders.cmake) not defined"
 #endif
 
 enum {
@@ -263,6 +275,23 @@ static const char* const path_fns[] = {"render", "path", "surface", "bsdf_of", "
 /* The octree walk's functions (trace_common.glsl), whose every float operation WALK_PRECISE makes precise. */
 static const char* const walk_fns[] = {"trace_model", "trace_instance", "box_t", "safe_inv", NULL};
 
+/* The embedded kernels by the name of their array (vx__NAME_spv_arr), as VX_WALK_PRECISE_KERNELS names them. */
+typedef struct kernel {
+    const char* name;
+    const uint32_t* w;
+    size_t bytes;
+} kernel;
+#define KERNEL(n) {#n, vx__##n##_spv_arr, sizeof vx__##n##_spv_arr}
+static const kernel kernels[] = {KERNEL(gbuffer), KERNEL(frame), KERNEL(frame_display), KERNEL(direct), KERNEL(ao),
+                                 KERNEL(trace), KERNEL(trace_compact),
+#ifdef VX_TEST_CONES
+                                 KERNEL(cone_trace), KERNEL(cone_inject), KERNEL(cone_voxelize),
+#endif
+#ifdef VX_TEST_PHOTONS
+                                 KERNEL(photon),
+#endif
+                                 {NULL, NULL, 0}};
+
 /* Every float operation of the functions fns must carry NoContraction; the count of those that do not.
  * quiet: count only (a kernel expected to fail) */
 static int check_fns(const char* label, const uint32_t* w, size_t bytes, const char* const* fns, const char* what,
@@ -310,23 +339,47 @@ static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int
     spv_free(&m);
 }
 
+/* Each kernel of the list (names separated by spaces, as cmake/shaders.cmake's VX_WALK_PRECISE_KERNELS): its walk
+ * and its secondary rays' start (gb_offset_point, where it has one) wholly precise; a name not in kernels[] fails
+ * (the list grew past this test's table, or the kernel is not built here). */
+static void check_listed(const char* list) {
+    int listed = 0;
+    for (const char* at = list; *at;) {
+        size_t n = strcspn(at, " ,;");
+        if (n) {
+            char name[64];
+            snprintf(name, sizeof name, "%.*s", (int)n, at);
+            const kernel* k = kernels;
+            while (k->name && strcmp(k->name, name)) k++;
+            CHECKF(k->name != NULL, "listed kernel %s: not embedded in this test (kernels[]) or not built", name);
+            if (k->name) {
+                check_fns(name, k->w, k->bytes, walk_fns, "walk", 0);
+                spv m;
+                if (parse(&m, k->w, k->bytes / 4)) {
+                    int ops = 0, bad = check_whole_function(&m, "gb_offset_point", &ops, name, 0);
+                    if (bad >= 0) printf("%-24s gb_offset_point: %d of %d operations without NoContraction\n", name, bad, ops);
+                    CHECKF(bad <= 0, "%s: gb_offset_point: %d of %d float operations could be contracted", name, bad, ops);
+                }
+                spv_free(&m);
+            }
+            listed++;
+        }
+        at += n;
+        at += *at != 0;
+    }
+    CHECKF(listed > 0, "VX_WALK_PRECISE_KERNELS is empty");
+}
+
 static void test_embedded(void) {
     check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1);
     check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1);
     /* the pass pipeline's kernels trace through trace_common.glsl too */
     check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0);
     check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0);
-    /* the walks of the G-buffer's primary rays wholly precise (WALK_PRECISE); trace.comp's not (the control,
-     * as main's gbuffer.comp: the check sees what the define changes) */
-    check_fns("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, walk_fns, "walk", 0);
-    check_fns("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, walk_fns, "walk", 0);
+    check_listed(VX_WALK_PRECISE_KERNELS);
+    /* trace.comp's walk is not in the list (the control: the check sees what the define changes) */
     int ctl = check_fns("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, walk_fns, "walk", 1);
     CHECKF(ctl >= 50, "trace.comp's walk has only %d operations without NoContraction", ctl);
-#ifdef VX_TEST_CONES
-    check_fns("cone.comp", vx__cone_trace_spv_arr, sizeof vx__cone_trace_spv_arr, walk_fns, "walk", 0);
-    check_fns("voxelize.comp", vx__cone_voxelize_spv_arr, sizeof vx__cone_voxelize_spv_arr, walk_fns, "walk", 0);
-    check_fns("inject.comp", vx__cone_inject_spv_arr, sizeof vx__cone_inject_spv_arr, walk_fns, "walk", 0);
-#endif
 #ifdef VX_TEST_PROBES
     /* the render kernel's walk is trace_common.glsl's too */
     check_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 1);
