@@ -1479,6 +1479,22 @@ vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_alloca
     return VX_OK;
 }
 
+vx_result vx_svo_reader_update_bounds(const vx_svo_model_reader* r, vx_svo_scene* s, vx_error* err) {
+    if (!r || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    /* the extents are the first accepted pass's (a later pass writes the same values: a model that differs fails) */
+    pthread_mutex_lock((pthread_mutex_t*)&r->lock);
+    bool indexed = r->indexed;
+    pthread_mutex_unlock((pthread_mutex_t*)&r->lock);
+    if (!indexed)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the models' boxes are known after a pass that finish accepted",
+                       r->path);
+    if (s->model_count != r->s.model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the scene has %u models, the file %u", r->path,
+                       s->model_count, r->s.model_count);
+    vx__svo_scene_bounds_ext(s, r->ext, s->bounds_min, s->bounds_max);
+    return VX_OK;
+}
+
 void vx_svo_reader_close(vx_svo_model_reader* r) { reader_free(r); }
 
 /* ---- writing ------------------------------------------------------------------------------ */
