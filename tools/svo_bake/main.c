@@ -78,9 +78,9 @@ _Noreturn static void usage(int status) {
             "                     in cells in either GPU layout; checked on lavapipe and an H200), but slower on\n"
             "                     the GPU (no beam pass over the compact layout: an H200's bake of 512 probes at\n"
             "                     R=128, 64 spp took 0.50 s against 0.27 s), so not the default. The GPU bake\n"
-            "                     (any --frame) in one process only: --cpu casts on the scene's trees, and mpirun\n"
-            "                     (whose ranks place and open the device on threads beside MPI's start) reads it\n"
-            "                     whole. An interrupted run resumes from OUT.probes.partial either way\n"
+            "                     only (--cpu casts on the scene's trees), any --frame; under mpirun each rank\n"
+            "                     builds the layout and places the probes itself. An interrupted run resumes from\n"
+            "                     OUT.probes.partial either way\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
@@ -989,9 +989,6 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     if (vx_tool_mpi_launched() && o.shards > 1)
         usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
-    if (vx_tool_mpi_launched() && o.load_models)
-        usage_error("%s", "--load models is for one process; under mpirun each rank reads the scene whole (its "
-                          "placement and device start on threads beside MPI's start)");
     vx_tool_mpi_unmute(saved);
     if (vx_tool_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
 #endif
