@@ -78,7 +78,7 @@ _Noreturn static void usage(int status) {
             "                     in cells in either GPU layout; checked on lavapipe and an H200), but slower on\n"
             "                     the GPU (no beam pass over the compact layout: an H200's bake of 512 probes at\n"
             "                     R=128, 64 spp took 0.50 s against 0.27 s), so not the default. The GPU bake\n"
-            "                     only (--cpu casts on the scene's trees), any --frame; under mpirun each rank\n"
+            "                     only (--cpu casts on the scene's trees), any --frame; each MPI rank (mpirun)\n"
             "                     builds the layout and places the probes itself. An interrupted run resumes from\n"
             "                     OUT.probes.partial either way\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
