@@ -692,8 +692,9 @@ vx_result vx_svo_reader_model(vx_svo_model_reader* r, uint32_t index, vx_svo_mod
  * found them: what vx_svo_scene_update_bounds(s) computes from the trees of
  * the whole read (an animation's frame N > 0 read by the reader, which holds
  * no tree). Refused (VX_ERR_INVALID_ARG, s untouched) before a pass that
- * finish accepted and for a scene of another model count. */
-vx_result vx_svo_reader_update_bounds(const vx_svo_model_reader* r, vx_svo_scene* s, vx_error* err);
+ * finish accepted and for a scene of another model count. Thread-safe, also
+ * beside a later pass. */
+vx_result vx_svo_reader_update_bounds(vx_svo_model_reader* r, vx_svo_scene* s, vx_error* err);
 /* A copy of the graph as it is now (models without arrays, their checks and
  * the bounds as far as read), allocated with alloc and owned by the caller
  * (vx_svo_scene_free): for code that keeps the scene graph past the reader,
