@@ -334,6 +334,7 @@ typedef struct vx_compact_paged {
      * layout), and the attribute block the models were built with */
     vx_svo_model_reader* reader;
     uint32_t block;
+    uint32_t threads; /* vx_compact_page_desc.threads: the models the host cache cuts at once too (0: one a CPU) */
     vx_allocator alloc;
 } vx_compact_paged;
 
@@ -371,9 +372,18 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
  * file). p (with its reader) is borrowed. _get writes the images of pages[0
  * .. n) (not relocated) to dst[i] (pages[i]'s words each): cached ones
  * copied, the others cut from their models, each model read once for its
- * pages of the call; errors (a file cut or changed since the first pass)
- * name the file and the model. One thread at a time per cache (the page
- * service's); the reader's random access under it is thread-safe. */
+ * pages of the call, up to p->threads models at once (one thread each: the
+ * model's read, decode and layout build; 0: one a CPU), put into the cache
+ * in page order whatever the threads' timing; errors (a file cut or changed
+ * since the first pass) name the file and the first such model.
+ * _prefetch starts cutting the pages of pages[0 .. n) the cache lacks on a
+ * thread of its own (the same parallel cuts) and returns at once: the next
+ * _get copies those it asks for from there instead of the file (the rest
+ * are dropped; a cut that failed there is made again by _get, which reports
+ * it). It overlaps a frame's cuts with what the caller does between its
+ * frames (the service asks for the pages a frame requested right after its
+ * read-back). One caller thread at a time per cache (the page service's);
+ * the reader's random access and the allocator are called from several. */
 typedef struct vx_compact_page_cache vx_compact_page_cache;
 typedef struct vx_compact_cache_stats {
     uint64_t budget;      /* bytes the cache may hold */
@@ -383,11 +393,13 @@ typedef struct vx_compact_cache_stats {
     uint64_t file_pages;  /* images cut from the file */
     uint64_t models;      /* models read from the file for them */
     uint64_t evictions;   /* images the budget pushed out */
+    uint64_t prefetched;  /* images _get took from the cuts made ahead (also in file_pages) */
 } vx_compact_cache_stats;
 vx_result vx_compact_page_cache_create(const vx_compact_paged* p, uint64_t budget, const vx_allocator* alloc,
                                        vx_compact_page_cache** out, vx_error* err);
 vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n, uint32_t* const* dst,
                                     vx_error* err);
+void vx_compact_page_cache_prefetch(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n);
 void vx_compact_page_cache_stats(const vx_compact_page_cache* pc, vx_compact_cache_stats* out);
 void vx_compact_page_cache_destroy(vx_compact_page_cache* pc);
 

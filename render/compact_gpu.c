@@ -28,6 +28,7 @@ typedef struct paging {
     uint32_t units;       /* pool units */
     uint32_t cursor;      /* next-fit start */
     uint32_t* owner;      /* per unit: page + 1, 0 free */
+    uint64_t* busy;       /* per unit a bit: owned (owner != 0), for pool_find's word-at-a-time scan */
     int64_t* slot;        /* per page: its pool slot P, -1 not resident */
     uint64_t* last_used;  /* per page: the last frame a ray entered it */
     uint32_t* pending;    /* pages the last frame requested */
@@ -38,6 +39,9 @@ typedef struct paging {
     uint32_t nevict;
     uint32_t* moved;       /* resident pages the service moved (loaded again from the host elsewhere) */
     uint32_t nmoved;
+    uint64_t* moved_bit;   /* per page a bit: in moved[] (the list's membership without a search) */
+    int64_t* moved_from;   /* per page in moved[]: its slot before the service moved it (its words on the GPU) */
+    struct victim { uint64_t used; uint32_t page; } * victims; /* scratch: the service's eviction candidates */
     uint32_t free_units;
     vx_compact_page_stats st;
     vx_compact_page_cache* cache; /* the file source (p.reader): images cut from the file, a host cache */
@@ -115,6 +119,10 @@ static void paging_free(vx_gpu* g, paging* pg) {
     vx_free(&g->alloc, pg->state);
     vx_free(&g->alloc, pg->evict_patch);
     vx_free(&g->alloc, pg->moved);
+    vx_free(&g->alloc, pg->moved_bit);
+    vx_free(&g->alloc, pg->moved_from);
+    vx_free(&g->alloc, pg->victims);
+    vx_free(&g->alloc, pg->busy);
     vx_free(&g->alloc, pg);
 }
 
@@ -555,16 +563,40 @@ static uint32_t page_units(const paging* pg, uint32_t page) {
     return (uint32_t)((slots + pg->unit - 1) / pg->unit);
 }
 
+/* Marks units [u0, u0 + n) owned by page + 1 (page UINT32_MAX: free), in
+ * owner and in the busy bits. */
+static void units_set(paging* pg, uint32_t u0, uint32_t n, uint32_t page) {
+    for (uint32_t u = u0; u < u0 + n; u++) {
+        pg->owner[u] = page + 1;
+        if (page == UINT32_MAX) pg->busy[u >> 6] &= ~(1ull << (u & 63));
+        else pg->busy[u >> 6] |= 1ull << (u & 63);
+    }
+}
+
 /* Next-fit over the pool's units: the first run of n free units from the
  * cursor on (so a page loaded again after its eviction lands elsewhere while
- * there is room); UINT32_MAX when none. */
+ * there is room); UINT32_MAX when none. The busy bits are read a word at a
+ * time: a unit at a time, a service that loaded hundreds of pages into a
+ * pool of 10^5-10^6 units scanned it once a page (0.2-0.6 s of a frame's
+ * service on the H200, docs/PERFORMANCE.md "Paging from files"). */
 static uint32_t pool_find(const paging* pg, uint32_t n) {
     for (uint32_t pass = 0; pass < 2; pass++) {
         uint32_t lo = pass ? 0 : pg->cursor, hi = pass ? pg->cursor : pg->units;
-        uint32_t run = 0;
-        for (uint32_t u = lo; u < hi; u++) {
-            run = pg->owner[u] ? 0 : run + 1;
-            if (run == n) return u + 1 - n;
+        uint32_t run = 0; /* free units just before u */
+        for (uint32_t u = lo; u < hi;) {
+            uint32_t avail = 64 - (u & 63);
+            if (avail > hi - u) avail = hi - u;
+            uint64_t w = pg->busy[u >> 6] >> (u & 63);
+            if (avail < 64) w &= (1ull << avail) - 1;
+            uint32_t z = w ? (uint32_t)__builtin_ctzll(w) : avail; /* free units from u on, in this word */
+            if (run + z >= n) return u - run;
+            if (!w) {
+                run += avail, u += avail;
+                continue;
+            }
+            uint64_t b = ~(w >> z); /* the busy run from u + z: its length is b's trailing zeros */
+            run = 0;
+            u += z + (b ? (uint32_t)__builtin_ctzll(b) : 64 - z);
         }
         if (pass == 0 && pg->cursor == 0) break;
     }
@@ -584,12 +616,16 @@ static void pool_compact(paging* pg, uint64_t frame) {
         }
         uint32_t page = pg->owner[u] - 1, n = page_units(pg, page);
         if (u != at) {
-            for (uint32_t k = 0; k < n; k++) pg->owner[at + k] = page + 1;
-            for (uint32_t k = at + n > u ? at + n : u; k < u + n; k++) pg->owner[k] = 0;
+            uint32_t from = at + n > u ? at + n : u;
+            units_set(pg, at, n, page);
+            units_set(pg, from, u + n - from, UINT32_MAX);
+            bool listed = pg->last_used[page] == frame || ((pg->moved_bit[page >> 6] >> (page & 63)) & 1u);
+            if (!listed) { /* where its words are on the GPU until the service's upload */
+                pg->moved[pg->nmoved++] = page;
+                pg->moved_bit[page >> 6] |= 1ull << (page & 63);
+                pg->moved_from[page] = pg->slot[page];
+            }
             pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)at * pg->unit;
-            bool listed = pg->last_used[page] == frame;
-            for (uint32_t i = 0; !listed && i < pg->nmoved; i++) listed = pg->moved[i] == page;
-            if (!listed) pg->moved[pg->nmoved++] = page;
         }
         at += n;
         u += n;
@@ -599,7 +635,7 @@ static void pool_compact(paging* pg, uint64_t frame) {
 
 static void page_drop(paging* pg, uint32_t page) {
     uint32_t u0 = (uint32_t)((pg->slot[page] - pg->words_base / 2) / pg->unit), n = page_units(pg, page);
-    for (uint32_t u = u0; u < u0 + n; u++) pg->owner[u] = 0;
+    units_set(pg, u0, n, UINT32_MAX);
     pg->free_units += n;
     pg->slot[page] = -1;
     pg->st.resident--;
@@ -630,11 +666,58 @@ void vx_compact_gpu_page_stats(const vx_compact_gpu* cg, vx_compact_page_stats* 
         out->from_file = true;
         out->host_budget = cs.budget, out->host_bytes = cs.bytes, out->host_peak_bytes = cs.peak_bytes;
         out->host_hits = cs.hits, out->file_pages = cs.file_pages, out->file_models = cs.models;
-        out->host_evictions = cs.evictions;
+        out->host_evictions = cs.evictions, out->file_prefetched = cs.prefetched;
     }
 }
 
 const vx_compact_paged* vx_compact_gpu_paged(const vx_compact_gpu* cg) { return cg && cg->pg ? &cg->pg->p : NULL; }
+
+/* Relocates page p's image w to pool slot P (the walk reads absolute
+ * slots: word 1 of its header and of its nodes of levels >= 3 with
+ * children), or undoes that (undo). */
+static void page_relocate(uint32_t* w, const vx_compact_page* p, uint32_t P, bool undo) {
+    uint32_t a = 2 * P, b = P, c = P + 2;
+    if (undo) a = 0u - a, b = 0u - b, c = 0u - c;
+    w[0] += a, w[1] += b;
+    for (uint32_t j = 0; j < p->n3; j++) {
+        uint32_t d = w[4 + 2 * j];
+        if (((d >> 8) & ~d) & 0xFFu) w[4 + 2 * j + 1] += c;
+    }
+}
+
+/* The images of the file source's pages that the service moved (pages[0 ..
+ * n), each into dst[i]): read back from where they are in the pool (one
+ * download of the span that holds them) and their relocation undone. From
+ * the host they came from the cache or, evicted there, were cut from the
+ * file again: with a host cache of 6 MB a frame of 511 loads cut 1,663
+ * pages on the H200 (docs/PERFORMANCE.md "Paging from files"). */
+static vx_result moved_from_pool(vx_compact_gpu* cg, const uint32_t* pages, uint32_t* const* dst, uint32_t n, vx_error* err) {
+    paging* pg = cg->pg;
+    uint64_t lo = UINT64_MAX, hi = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        uint64_t w0 = 2 * (uint64_t)pg->moved_from[pages[i]], w1 = w0 + pg->p.pages[pages[i]].words;
+        if (w0 < lo) lo = w0;
+        if (w1 > hi) hi = w1;
+    }
+    uint32_t* span = vx_alloc(&cg->gpu->alloc, (size_t)(hi - lo) * 4);
+    if (!span) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %llu bytes of moved pages", 4ull * (hi - lo));
+    vx_result r = vx__buffer_download_at(cg->gpu, &cg->geom, lo * 4, span, (hi - lo) * 4, err);
+    for (uint32_t i = 0; !r && i < n; i++) {
+        const vx_compact_page* p = &pg->p.pages[pages[i]];
+        memcpy(dst[i], span + (2 * (uint64_t)pg->moved_from[pages[i]] - lo), (size_t)p->words * 4);
+        page_relocate(dst[i], p, (uint32_t)pg->moved_from[pages[i]], true);
+    }
+    pg->st.moved_from_pool += r ? 0 : n;
+    vx_free(&cg->gpu->alloc, span);
+    return r;
+}
+
+/* least recently entered first, ties by page (the order of the scan it replaced) */
+static int cmp_victim(const void* a, const void* b) {
+    const struct victim *x = a, *y = b;
+    if (x->used != y->used) return x->used < y->used ? -1 : 1;
+    return (x->page > y->page) - (x->page < y->page);
+}
 
 /* Between frames: loads the pages the last frame requested (evicting pages
  * the last frame did not enter, least recently entered first), marks the
@@ -644,54 +727,83 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     paging* pg = cg->pg;
     vx_gpu* g = cg->gpu;
     uint64_t frame = pg->st.frames + 1; /* the frame about to be traced */
-    pg->st.loaded = pg->st.evicted = pg->st.refused = 0;
+    pg->st.loaded = pg->st.evicted = pg->st.refused = pg->st.moved = 0;
     pg->st.refused_bytes = 0;
     uint32_t nload = 0;
     uint32_t* load = pg->pending; /* loaded pages are compacted to the front */
+    /* the eviction candidates: resident pages the last frame did not enter,
+     * least recently entered first (ties by page), sorted once: a scan of
+     * every page for each page evicted made the services that swap
+     * thousands of pages quadratic (pages loaded now are entered "now" and
+     * never candidates, so the order stays valid through the service) */
+    uint32_t nvict = 0, next_victim = 0;
+    for (uint32_t k = 0; k < pg->p.page_count; k++)
+        if (pg->slot[k] >= 0 && pg->last_used[k] + 1 < frame)
+            pg->victims[nvict++] = (struct victim){.used = pg->last_used[k], .page = k};
+    qsort(pg->victims, nvict, sizeof *pg->victims, cmp_victim);
+    /* which pages load, and which go for them: a page evicts (least recently
+     * entered first) while fewer units are free than it needs, and is refused
+     * when no candidate is left; where the free units lie plays no part in
+     * that, so the pages are placed after (below) */
     for (uint32_t i = 0; i < pg->npending; i++) {
         uint32_t page = pg->pending[i];
         if (page >= pg->p.page_count || pg->slot[page] >= 0) continue;
-        uint32_t n = page_units(pg, page), u = pool_find(pg, n);
-        while (u == UINT32_MAX) {
-            if (pg->free_units >= n) {
-                /* room enough, in holes: slide the pages together */
-                pool_compact(pg, frame);
-                u = pool_find(pg, n);
-                break;
-            }
-            /* the least recently entered page that the last frame did not enter */
-            uint32_t best = UINT32_MAX;
-            for (uint32_t k = 0; k < pg->p.page_count; k++)
-                if (pg->slot[k] >= 0 && pg->last_used[k] + 1 < frame &&
-                    (best == UINT32_MAX || pg->last_used[k] < pg->last_used[best]))
-                    best = k;
-            if (best == UINT32_MAX) break;
-            page_drop(pg, best);
+        uint32_t n = page_units(pg, page);
+        while (pg->free_units < n) {
+            while (next_victim < nvict && pg->slot[pg->victims[next_victim].page] < 0) next_victim++;
+            if (next_victim == nvict) break;
+            page_drop(pg, pg->victims[next_victim++].page);
             pg->st.evicted++;
-            u = pool_find(pg, n);
         }
-        if (u == UINT32_MAX) {
+        if (pg->free_units < n) {
             pg->st.refused++;
             pg->st.refused_bytes += 4ull * pg->p.pages[page].words;
             continue;
         }
-        for (uint32_t k = u; k < u + n; k++) pg->owner[k] = page + 1;
-        pg->free_units -= n;
-        pg->cursor = u + n < pg->units ? u + n : 0;
-        pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)u * pg->unit;
+        pg->free_units -= n; /* its units, placed below */
         pg->last_used[page] = frame;
         pg->st.resident++;
         pg->st.used_bytes += 8ull * n * pg->unit;
         load[nload++] = page;
     }
+    /* placed in turn, next fit; where the free units lie only in holes too
+     * small, the pages slide together once and the rest fit after them (a
+     * compaction per page, each a pass over the pool moving every page
+     * after its first hole, cost 100-250 ms of the H200's frames that
+     * loaded 150-500 pages) */
+    uint32_t placed = 0;
+    for (uint32_t i = 0; i < nload; i++) {
+        uint32_t page = load[i], n = page_units(pg, page), u = pool_find(pg, n);
+        if (u == UINT32_MAX) {
+            pool_compact(pg, frame);
+            u = pool_find(pg, n);
+        }
+        if (u == UINT32_MAX) { /* cannot happen (the free units hold it after the compaction): refused */
+            pg->free_units += n;
+            pg->st.resident--;
+            pg->st.used_bytes -= 8ull * n * pg->unit;
+            pg->st.refused++;
+            pg->st.refused_bytes += 4ull * pg->p.pages[page].words;
+            continue;
+        }
+        units_set(pg, u, n, page);
+        pg->cursor = u + n < pg->units ? u + n : 0;
+        pg->slot[page] = (int64_t)pg->words_base / 2 + (int64_t)u * pg->unit;
+        load[placed++] = page;
+    }
+    nload = placed;
     pg->st.loaded = nload;
     pg->npending = 0;
     /* staging: the state words, the loaded images (relocated), the top's patched words */
     /* the moved pages go up as loads too (after this service's, so that
      * they are found in one list) */
-    for (uint32_t i = 0; i < pg->nmoved; i++)
-        if (pg->slot[pg->moved[i]] >= 0) load[nload++] = pg->moved[i];
+    for (uint32_t i = 0; i < pg->nmoved; i++) {
+        uint32_t page = pg->moved[i];
+        pg->moved_bit[page >> 6] &= ~(1ull << (page & 63));
+        if (pg->slot[page] >= 0) load[nload++] = page;
+    }
     pg->nmoved = 0;
+    pg->st.moved = nload - pg->st.loaded;
     uint64_t words = pg->state_words;
     for (uint32_t i = 0; i < nload; i++) words += pg->p.pages[load[i]].words;
     words += (uint64_t)nload + pg->nevict;
@@ -717,7 +829,11 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
         if (!pg->cache) memcpy(st + a, pg->p.data + p->offset, (size_t)p->words * 4);
         a += p->words;
     }
-    if (pg->cache && nload && (r = vx_compact_page_cache_get(pg->cache, load, nload, pg->dst, err))) {
+    /* the file source's moved pages from the pool itself (loads [st.loaded, nload)) */
+    uint32_t nget = pg->cache ? pg->st.loaded : nload;
+    if (pg->cache && nload > nget) r = moved_from_pool(cg, load + nget, pg->dst + nget, nload - nget, err);
+    if (!r && pg->cache && nget) r = vx_compact_page_cache_get(pg->cache, load, nget, pg->dst, err);
+    if (r) {
         /* nothing went up: this service's pages (and those it moved) are not
          * resident after all; the next service marks them so in the top
          * before any ray enters them, and the next frame asks for them again */
@@ -731,13 +847,8 @@ static vx_result page_service(vx_compact_gpu* cg, vx_error* err) {
     }
     for (uint32_t i = 0; i < nload; i++) {
         const vx_compact_page* p = &pg->p.pages[load[i]];
-        uint32_t* w = st + at;
         uint32_t P = (uint32_t)pg->slot[load[i]];
-        w[0] += 2 * P, w[1] += P;
-        for (uint32_t j = 0; j < p->n3; j++) {
-            uint32_t d = w[4 + 2 * j];
-            if (((d >> 8) & ~d) & 0xFFu) w[4 + 2 * j + 1] += P + 2;
-        }
+        page_relocate(st + at, p, P, false);
         cp[nc++] = (VkBufferCopy){.srcOffset = at * 4, .dstOffset = (VkDeviceSize)P * 8, .size = (VkDeviceSize)p->words * 4};
         at += p->words;
     }
@@ -838,6 +949,10 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
     pg->pending = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->evict_patch = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
     pg->moved = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 4);
+    pg->moved_bit = vx_calloc(&g->alloc, (P + 63) / 64 + 1, 8);
+    pg->moved_from = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * 8);
+    pg->victims = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->victims);
+    pg->busy = vx_calloc(&g->alloc, (pg->units + 63) / 64 + 1, 8);
     pg->dst = vx_alloc(&g->alloc, (size_t)(P ? P : 1) * sizeof *pg->dst);
     pg->state = vx_calloc(&g->alloc, pg->state_words, 4);
     vx_error cerr = {0};
@@ -846,7 +961,8 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
         if (err) *err = cerr;
         return cerr.code;
     }
-    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst) {
+    if (!pg->owner || !pg->slot || !pg->last_used || !pg->pending || !pg->evict_patch || !pg->moved || !pg->state || !pg->dst ||
+        !pg->moved_bit || !pg->moved_from || !pg->victims || !pg->busy) {
         paging_free(g, pg);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u pages", P);
     }
@@ -995,6 +1111,10 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
     if (!r) r = dispatch(cg, desc, want_hits, 1, &f, &sec, err);
     if (!r && cg->pg) r = page_readback(cg, err);
     if (r) return r;
+    /* the file source: the requested pages the host cache lacks cut from
+     * the file on threads while the image is read back and the caller works
+     * between frames; the next service takes them from there */
+    if (cg->pg && cg->pg->cache) vx_compact_page_cache_prefetch(cg->pg->cache, cg->pg->pending, cg->pg->npending);
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &cg->gpu->alloc};
     if ((r = vx__image_read(cg->gpu, &cg->pixels, want_hits ? &cg->hits : NULL, &img, err))) return r;
     img.gpu_seconds = sec;

@@ -529,7 +529,8 @@ vx_result vx_compact_page_build_reader(const vx_compact_page_desc* desc, vx_svo_
     uint32_t Lp = d.page_level ? d.page_level : VX_RENDER_FRAME_LEVELS;
     if (Lp < 3 || Lp > 31) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "page level %u: not in 3..31", Lp);
     const vx_svo_scene* g = vx_svo_reader_scene(rd);
-    vx_compact_paged p = {.page_level = Lp, .model_count = g->model_count, .reader = rd, .block = d.block};
+    vx_compact_paged p = {.page_level = Lp, .model_count = g->model_count, .reader = rd, .block = d.block,
+                          .threads = d.threads};
     if (d.alloc) p.alloc = *d.alloc;
     memcpy(p.palette, g->palette, sizeof p.palette);
     p.palette_used[0] = 1;
@@ -585,31 +586,77 @@ uint32_t vx_compact_page_at(const vx_compact_paged* p, uint32_t mi, uint32_t x, 
 
 /* ---- the file source's host cache --------------------------------------------------- */
 
+/* A batch of page cuts: pages[0 .. n) sorted by page (so by model: pages
+ * are numbered model by model), each cut into dst[i]; a group per model,
+ * the groups cut at once on up to `threads` threads (each group one model's
+ * read, decode and layout build on one thread; the reader's random access
+ * and the allocator are called from several). */
+typedef struct cut_group {
+    uint32_t model, at, n;
+    vx_result r;
+    vx_error err;
+} cut_group;
+
+typedef struct cut_batch {
+    const vx_compact_page_cache* pc;
+    uint32_t* pages;
+    uint32_t** dst;
+    uint32_t n, ngroups, cap, group_cap;
+    cut_group* groups;
+} cut_batch;
+
 struct vx_compact_page_cache {
     const vx_compact_paged* p; /* borrowed: the top, the page table, the reader */
     vx_allocator alloc;
     const vx_allocator* a;
     uint64_t budget;
+    unsigned threads;     /* models cut at once (p->threads; 0 there: one a CPU) */
     uint32_t* first_page; /* per model, its first page (pages are numbered model by model); model_count + 1 */
     uint32_t** img;       /* per page: its image while cached, else NULL */
     uint32_t *prev, *next; /* the cached pages, most recently used first (UINT32_MAX: none) */
     uint32_t head, tail;
     uint64_t* miss;       /* scratch: the requests not cached (page << 32 | request) */
-    uint32_t* want;
     uint32_t miss_cap;
+    cut_batch now;        /* the cuts of a _get (dst: the caller's) */
+    /* the cuts ahead (_prefetch) on a thread of their own, joined by the next
+     * _get or _prefetch (dst: images of their own) */
+    cut_batch ahead;
+    pthread_t thread;
+    bool running;
     vx_compact_cache_stats st;
 };
+
+static void batch_free(const vx_allocator* a, cut_batch* b, bool own_images) {
+    for (uint32_t i = 0; own_images && b->dst && i < b->n; i++) vx_free(a, b->dst[i]);
+    vx_free(a, b->pages);
+    vx_free(a, b->dst);
+    vx_free(a, b->groups);
+    memset(b, 0, sizeof *b);
+}
+
+static void prefetch_join(vx_compact_page_cache* pc) {
+    if (!pc->running) return;
+    pthread_join(pc->thread, NULL);
+    pc->running = false;
+    for (uint32_t g = 0; g < pc->ahead.ngroups; g++) {
+        const cut_group* cg = &pc->ahead.groups[g];
+        pc->st.models++; /* read, whether or not it cut */
+        if (!cg->r) pc->st.file_pages += cg->n;
+    }
+}
 
 void vx_compact_page_cache_destroy(vx_compact_page_cache* pc) {
     if (!pc) return;
     const vx_allocator* a = pc->a;
+    prefetch_join(pc);
+    batch_free(a, &pc->ahead, true);
+    batch_free(a, &pc->now, false);
     for (uint32_t k = 0; pc->img && k < pc->p->page_count; k++) vx_free(a, pc->img[k]);
     vx_free(a, pc->img);
     vx_free(a, pc->first_page);
     vx_free(a, pc->prev);
     vx_free(a, pc->next);
     vx_free(a, pc->miss);
-    vx_free(a, pc->want);
     vx_allocator keep = pc->alloc;
     vx_free(&keep, pc);
 }
@@ -627,6 +674,8 @@ vx_result vx_compact_page_cache_create(const vx_compact_paged* p, uint64_t budge
     pc->p = p;
     pc->budget = budget;
     pc->st.budget = budget;
+    pc->threads = p->threads ? p->threads : vx_cpu_count(VX_MAX_THREADS);
+    if (pc->threads > VX_MAX_THREADS) pc->threads = VX_MAX_THREADS;
     pc->head = pc->tail = UINT32_MAX;
     uint32_t P = p->page_count ? p->page_count : 1;
     pc->img = vx_calloc(pc->a, P, sizeof *pc->img);
@@ -687,12 +736,13 @@ static void cache_put(vx_compact_page_cache* pc, uint32_t k, const uint32_t* wor
     if (pc->st.bytes > pc->st.peak_bytes) pc->st.peak_bytes = pc->st.bytes;
 }
 
-/* The requested pages of model mi (want[0..n): indices into pages/dst),
- * cut from the model read again from the file: the model's layout, its top
- * walked to number its pages as the first pass did, then the images of the
- * requested ones, checked against the page table. */
-static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const uint32_t* pages, uint32_t* const* dst,
-                                  const uint32_t* want, uint32_t n, vx_error* err) {
+/* Pages pages[0 .. n) of model mi (each once or more, any order), cut into
+ * dst[i] from the model read again from the file: the model's layout, its
+ * top walked to number its pages as the first pass did, then the images of
+ * the requested ones, checked against the page table. Reads pc, never
+ * writes it (the cuts of a batch run on several threads). */
+static vx_result cut_model_pages(const vx_compact_page_cache* pc, uint32_t mi, const uint32_t* pages, uint32_t* const* dst,
+                                 uint32_t n, vx_error* err) {
     const vx_compact_paged* P = pc->p;
     const vx_svo_scene* g = vx_svo_reader_scene(P->reader);
     vx_svo_model m;
@@ -702,7 +752,6 @@ static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const 
     r = model_layout(g, &m, P->block, pc->a, &c1, err);
     vx_svo_model_free(g->alloc, &m);
     if (r) return r;
-    pc->st.models++;
     vx_compact_paged scratch = {.page_level = P->page_level, .model_count = 1};
     if (pc->a) scratch.alloc = *pc->a;
     pbuild b = {.p = &scratch, .a = &scratch.alloc, .err = err, .Lp = P->page_level};
@@ -718,7 +767,7 @@ static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const 
         r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u has %u pages, the first pass cut %u (the file changed)", mi,
                     scratch.page_count, have);
     for (uint32_t i = 0; !r && i < n; i++) {
-        uint32_t k = pages[want[i]], local = k - base;
+        uint32_t k = pages[i], local = k - base;
         const vx_compact_page* was = &P->pages[k];
         if (k < base || local >= have) {
             r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "page %u is not a page of model %u", k, mi);
@@ -733,9 +782,7 @@ static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const 
             break;
         }
         b.img[2] = k; /* the scene's page number */
-        memcpy(dst[want[i]], b.img, 4ull * was->words);
-        cache_put(pc, k, b.img);
-        pc->st.file_pages++;
+        memcpy(dst[i], b.img, 4ull * was->words);
     }
     pbuild_free(&b);
     vx_free(b.a, scratch.pages);
@@ -743,24 +790,112 @@ static vx_result load_model_pages(vx_compact_page_cache* pc, uint32_t mi, const 
     return r;
 }
 
+/* Room in b for n cuts (and as many groups); its lists emptied. */
+static bool batch_reserve(const vx_allocator* a, cut_batch* b, uint32_t n) {
+    b->n = b->ngroups = 0;
+    if (n <= b->cap) return true;
+    vx_free(a, b->pages), vx_free(a, b->dst), vx_free(a, b->groups);
+    b->cap = 0;
+    b->pages = vx_alloc(a, (size_t)n * 4);
+    b->dst = vx_calloc(a, n, sizeof *b->dst);
+    b->groups = vx_alloc(a, (size_t)n * sizeof *b->groups);
+    if (!b->pages || !b->dst || !b->groups) return false;
+    b->cap = n;
+    return true;
+}
+
+/* Appends page k's cut (into dst) to b, whose pages come in page order. */
+static void batch_add(const vx_compact_page_cache* pc, cut_batch* b, uint32_t k, uint32_t* dst) {
+    uint32_t mi = pc->p->pages[k].model;
+    if (!b->ngroups || b->groups[b->ngroups - 1].model != mi)
+        b->groups[b->ngroups++] = (cut_group){.model = mi, .at = b->n};
+    b->groups[b->ngroups - 1].n++;
+    b->pages[b->n] = k, b->dst[b->n++] = dst;
+}
+
+static void cut_worker(void* ctx, unsigned thread, uint32_t i) {
+    (void)thread;
+    cut_batch* b = ctx;
+    cut_group* g = &b->groups[i];
+    memset(&g->err, 0, sizeof g->err);
+    g->r = cut_model_pages(b->pc, g->model, b->pages + g->at, b->dst + g->at, g->n, &g->err);
+}
+
+static void batch_run(cut_batch* b) {
+    unsigned t = b->pc->threads < b->ngroups ? b->pc->threads : b->ngroups;
+    vx_run_jobs(t ? t : 1, b->ngroups, cut_worker, b);
+}
+
+static void* prefetch_main(void* ctx) {
+    batch_run(ctx);
+    return NULL;
+}
+
+void vx_compact_page_cache_prefetch(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n) {
+    if (!pc) return;
+    prefetch_join(pc);
+    batch_free(pc->a, &pc->ahead, true);
+    if (!n || !pages || n > pc->p->page_count) return;
+    uint32_t* k = vx_alloc(pc->a, (size_t)n * 4);
+    if (!k) return;
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < n; i++)
+        if (pages[i] < pc->p->page_count && !pc->img[pages[i]]) k[m++] = pages[i];
+    /* by page (so by model: a group a model), each page once */
+    uint64_t* sorted = vx_alloc(pc->a, (size_t)(m ? m : 1) * 8);
+    bool ok = sorted && batch_reserve(pc->a, &pc->ahead, m);
+    for (uint32_t i = 0; ok && i < m; i++) sorted[i] = k[i];
+    if (ok) qsort(sorted, m, 8, cmp_u64);
+    for (uint32_t i = 0; ok && i < m; i++) {
+        if (i && sorted[i] == sorted[i - 1]) continue;
+        uint32_t* img = vx_alloc(pc->a, 4ull * pc->p->pages[sorted[i]].words);
+        if (!img) {
+            ok = false;
+            break;
+        }
+        batch_add(pc, &pc->ahead, (uint32_t)sorted[i], img);
+    }
+    vx_free(pc->a, sorted);
+    vx_free(pc->a, k);
+    pc->ahead.pc = pc;
+    if (ok && pc->ahead.ngroups && !pthread_create(&pc->thread, NULL, prefetch_main, &pc->ahead)) pc->running = true;
+    else batch_free(pc->a, &pc->ahead, true);
+}
+
+/* The image of page k cut ahead (a group that succeeded), or NULL. */
+static const uint32_t* ahead_image(const vx_compact_page_cache* pc, uint32_t k) {
+    const cut_batch* b = &pc->ahead;
+    uint32_t lo = 0, hi = b->n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (b->pages[mid] < k) lo = mid + 1;
+        else hi = mid;
+    }
+    if (lo == b->n || b->pages[lo] != k) return NULL;
+    for (uint32_t g = 0; g < b->ngroups; g++)
+        if (lo >= b->groups[g].at && lo < b->groups[g].at + b->groups[g].n) return b->groups[g].r ? NULL : b->dst[lo];
+    return NULL;
+}
+
 vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n, uint32_t* const* dst,
                                     vx_error* err) {
     if (!pc || (n && (!pages || !dst))) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     const vx_compact_paged* P = pc->p;
+    prefetch_join(pc);
+    vx_result r = VX_OK;
     if (n > pc->miss_cap) {
         vx_free(pc->a, pc->miss);
-        vx_free(pc->a, pc->want);
         pc->miss_cap = 0;
-        pc->miss = vx_alloc(pc->a, (size_t)n * 8);
-        pc->want = vx_alloc(pc->a, (size_t)n * 4);
-        if (!pc->miss || !pc->want) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-        pc->miss_cap = n;
+        if (!(pc->miss = vx_alloc(pc->a, (size_t)n * 8))) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+        else pc->miss_cap = n;
     }
+    if (!r && !batch_reserve(pc->a, &pc->now, n)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     uint32_t nm = 0;
-    for (uint32_t i = 0; i < n; i++) {
+    for (uint32_t i = 0; !r && i < n; i++) {
         uint32_t k = pages[i];
-        if (k >= P->page_count) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no page %u", k);
-        if (pc->img[k]) {
+        if (k >= P->page_count) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "no page %u", k);
+        } else if (pc->img[k]) {
             memcpy(dst[i], pc->img[k], 4ull * P->pages[k].words);
             lru_unlink(pc, k);
             lru_front(pc, k);
@@ -769,17 +904,44 @@ vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* p
             pc->miss[nm++] = (uint64_t)k << 32 | i;
         }
     }
-    /* by page, so by model (pages are numbered model by model): each model read once for its requests */
-    qsort(pc->miss, nm, 8, cmp_u64);
-    for (uint32_t i = 0; i < nm; i++) pc->want[i] = (uint32_t)pc->miss[i];
-    for (uint32_t i = 0; i < nm;) {
-        uint32_t mi = P->pages[pages[pc->want[i]]].model, j = i + 1;
-        while (j < nm && P->pages[pages[pc->want[j]]].model == mi) j++;
-        vx_result r = load_model_pages(pc, mi, pages, dst, pc->want + i, j - i, err);
-        if (r) return r;
-        i = j;
+    /* by page, so by model: each model read once for its requests; the
+     * pages cut ahead copied, the others cut now, the models at once */
+    if (!r) qsort(pc->miss, nm, 8, cmp_u64);
+    pc->now.pc = pc;
+    for (uint32_t j = 0; !r && j < nm; j++) {
+        uint32_t k = (uint32_t)(pc->miss[j] >> 32), i = (uint32_t)pc->miss[j];
+        const uint32_t* a = ahead_image(pc, k);
+        if (a) {
+            memcpy(dst[i], a, 4ull * P->pages[k].words);
+            pc->st.prefetched++;
+        } else {
+            batch_add(pc, &pc->now, k, dst[i]);
+        }
     }
-    return VX_OK;
+    if (!r) batch_run(&pc->now);
+    /* into the cache in page order (as one thread cutting model after model
+     * would put them), up to the first model that failed */
+    uint32_t g = 0, fail = UINT32_MAX;
+    for (; !r && g < pc->now.ngroups; g++) {
+        pc->st.models++;
+        if (pc->now.groups[g].r && fail == UINT32_MAX) fail = g;
+    }
+    for (uint32_t j = 0, at = 0, gi = 0; !r && j < nm; j++) {
+        uint32_t k = (uint32_t)(pc->miss[j] >> 32), i = (uint32_t)pc->miss[j];
+        if (at < pc->now.n && pc->now.pages[at] == k && pc->now.dst[at] == dst[i]) {
+            while (gi + 1 < pc->now.ngroups && pc->now.groups[gi + 1].at <= at) gi++;
+            at++;
+            if (fail != UINT32_MAX && gi >= fail) break;
+            pc->st.file_pages++;
+        }
+        cache_put(pc, k, dst[i]);
+    }
+    if (!r && fail != UINT32_MAX) {
+        r = pc->now.groups[fail].r;
+        if (err) *err = pc->now.groups[fail].err;
+    }
+    batch_free(pc->a, &pc->ahead, true);
+    return r;
 }
 
 void vx_compact_page_cache_stats(const vx_compact_page_cache* pc, vx_compact_cache_stats* out) {

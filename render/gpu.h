@@ -155,6 +155,9 @@ vx_result vx__buffer_upload(vx_gpu* g, vx__buffer* b, const void* data, VkDevice
 vx_result vx__buffer_upload_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, const void* data, VkDeviceSize size,
                                vx_error* err);
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err);
+/* The same from a byte offset into the buffer (offset + size within it). */
+vx_result vx__buffer_download_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, void* data, VkDeviceSize size,
+                                 vx_error* err);
 
 /* gpu_pipeline.c: created once per distinct key and cached in the vx_gpu
  * until vx_gpu_destroy, never evicted nor moved: a vx__pipeline* stays valid

@@ -149,13 +149,19 @@ vx_result vx__buffer_upload_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, co
 }
 
 vx_result vx__buffer_download(vx_gpu* g, vx__buffer* b, void* data, VkDeviceSize size, vx_error* err) {
+    return vx__buffer_download_at(g, b, 0, data, size, err);
+}
+
+vx_result vx__buffer_download_at(vx_gpu* g, vx__buffer* b, VkDeviceSize offset, void* data, VkDeviceSize size,
+                                 vx_error* err) {
     if (size == 0) return VX_OK;
-    if (size > b->size) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "download larger than buffer");
+    if (offset > b->size || size > b->size - offset)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "download past the buffer's end");
     if (b->map) {
-        memcpy(data, b->map, size);
+        memcpy(data, (const uint8_t*)b->map + offset, size);
         return VX_OK;
     }
-    return staged_copy(g, b, 0, data, size, false, err);
+    return staged_copy(g, b, offset, data, size, false, err);
 }
 
 vx_result vx__buffer_ensure(vx_gpu* g, vx__buffer* b, VkDeviceSize size, const char* label, vx_error* err) {

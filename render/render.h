@@ -464,6 +464,7 @@ typedef struct vx_render_page_stats {
     uint32_t loaded;       /* loaded before the last frame */
     uint32_t evicted;      /* evicted before the last frame */
     uint32_t refused;      /* requested pages the pool could not take before the last frame */
+    uint32_t moved;        /* resident pages slid elsewhere in the pool before the last frame (uploaded again) */
     uint64_t refused_bytes; /* their bytes (over the budget) */
     uint64_t top_bytes;    /* the resident top (slots, ranks, attributes, models, palette, page table) */
     uint64_t pool_bytes;   /* the pool */
@@ -480,6 +481,8 @@ typedef struct vx_render_page_stats {
     uint64_t file_pages;      /* loads cut from the file */
     uint64_t file_models;     /* models read from the file for them */
     uint64_t host_evictions;  /* images the cache's bound pushed out */
+    uint64_t file_prefetched; /* of file_pages, those cut ahead (after the frame that requested them) */
+    uint64_t moved_from_pool; /* moved pages whose images were read back from the pool (not the cache or the file) */
 } vx_render_page_stats;
 /* Zeroes unless the scene is paged. */
 void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats* out);

@@ -56,6 +56,40 @@ static bool same_page(const vx_compact_page* a, const vx_compact_page* b) {
            a->rgba == b->rgba && a->slots == b->slots && a->n3 == b->n3 && a->words == b->words;
 }
 
+/* The scene of make_scene written to g_dir/name (the default form) */
+static bool scene_file(vx_svo_scene* s, const char* name, char path[128]) {
+    make_scene(s);
+    snprintf(path, 128, "%s/%s", g_dir, name);
+    vx_error err = {0};
+    vx_result r = vx_svo_write_file(NULL, s, path, &err);
+    CHECKF(r == VX_OK, "%s: %s", path, err.msg);
+    return r == VX_OK;
+}
+
+/* A frame of the in-memory pager cm and of the file source cf (what names
+ * it): the pixels that differ and whether the page counts do (added to
+ * *wrong, *stats_differ); their stats in sa, sb; cf's image kept in *b
+ * where b is not NULL. */
+static vx_result frame_pair(vx_compact_gpu* cm, vx_compact_gpu* cf, const vx_render_desc* d, const char* what, uint32_t* wrong,
+                            uint32_t* stats_differ, vx_compact_page_stats* sa, vx_compact_page_stats* sb, vx_render_image* b) {
+    vx_error err = {0};
+    vx_render_image x = {0}, y = {0};
+    vx_result r = vx_compact_gpu_frame(cm, d, &x, &err);
+    if (!r) r = vx_compact_gpu_frame(cf, d, &y, &err);
+    CHECKF(r == VX_OK, "%s: %s", what, err.msg);
+    if (!r) {
+        *wrong += tp_differ(&x, &y, what, "file");
+        vx_compact_gpu_page_stats(cm, sa);
+        vx_compact_gpu_page_stats(cf, sb);
+        *stats_differ += sa->coarse != sb->coarse || sa->loaded != sb->loaded || sa->evicted != sb->evicted ||
+                         sa->resident != sb->resident || sa->refused != sb->refused || sa->used_bytes != sb->used_bytes;
+    }
+    vx_render_image_free(&x);
+    if (b && !r) *b = y;
+    else vx_render_image_free(&y);
+    return r;
+}
+
 /* The file source's table and images against the in-memory cut, on the CPU. */
 static void check_images(const vx_svo_scene* s, const char* path, uint32_t lp, const char* what) {
     vx_error err = {0};
@@ -176,11 +210,9 @@ static void test_images(void) {
 static void test_fly(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_scene s;
-    make_scene(&s);
     char path[128];
-    snprintf(path, sizeof path, "%s/fly.svo", g_dir);
+    if (!scene_file(&s, "fly.svo", path)) return;
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
     const uint32_t lp = 4;
     vx_render_scene* rs = NULL;
     vx_compact_scene c;
@@ -205,36 +237,28 @@ static void test_fly(void) {
     vx_result r = VX_OK;
     for (int f = 0; f < 16 && !r; f++) {
         vx_render_desc d = tp_view(lo, hi, f / 16.0, f % 4 != 0);
-        vx_render_image a = {0}, b = {0};
-        r = vx_compact_gpu_frame(cm, &d, &a, &err);
-        if (!r) r = vx_compact_gpu_frame(cf, &d, &b, &err);
-        CHECKF(r == VX_OK, "frame %d: %s", f, err.msg);
+        char what[32];
+        snprintf(what, sizeof what, "frame %d", f);
+        vx_compact_page_stats sa, sb;
+        r = frame_pair(cm, cf, &d, what, &wrong, &stats_differ, &sa, &sb, NULL);
         if (!r) {
-            char what[32];
-            snprintf(what, sizeof what, "frame %d", f);
-            wrong += tp_differ(&a, &b, what, "file");
-            vx_compact_page_stats sa, sb;
-            vx_compact_gpu_page_stats(cm, &sa);
-            vx_compact_gpu_page_stats(cf, &sb);
-            stats_differ += sa.coarse != sb.coarse || sa.loaded != sb.loaded || sa.evicted != sb.evicted ||
-                            sa.resident != sb.resident || sa.refused != sb.refused || sa.used_bytes != sb.used_bytes;
             coarse += sb.coarse;
             CHECK(!sa.from_file && sb.from_file && sb.host_bytes <= host && sb.host_peak_bytes <= host);
         }
-        vx_render_image_free(&a);
-        vx_render_image_free(&b);
     }
     vx_compact_page_stats sf;
     vx_compact_gpu_page_stats(cf, &sf);
     CHECKF(wrong == 0 && stats_differ == 0, "fly-through: %u pixels and %u frames' page counts differ from the in-memory pager's",
            wrong, stats_differ);
-    CHECKF(coarse > 0 && sf.host_evictions > 0 && sf.file_pages > 0, "fly-through: %u coarse, %llu host evictions, %llu cut",
-           coarse, (unsigned long long)sf.host_evictions, (unsigned long long)sf.file_pages);
+    /* and pages the service slid together, read back from the pool (branch page2) */
+    CHECKF(coarse > 0 && sf.host_evictions > 0 && sf.file_pages > 0 && sf.moved_from_pool > 0,
+           "fly-through: %u coarse, %llu host evictions, %llu cut, %llu moved", coarse, (unsigned long long)sf.host_evictions,
+           (unsigned long long)sf.file_pages, (unsigned long long)sf.moved_from_pool);
     printf("  fly-through, %u pages (%.1f KB), pool %.1f KB, host cache %.1f KB: %llu pages cut from the file (%llu model "
-           "reads), %llu from the cache, %llu evicted from it, peak %.1f KB\n",
+           "reads), %llu from the cache, %llu evicted from it, peak %.1f KB; %llu moved pages read back from the pool\n",
            npages, page_bytes / 1e3, pool / 1e3, host / 1e3, (unsigned long long)sf.file_pages,
            (unsigned long long)sf.file_models, (unsigned long long)sf.host_hits, (unsigned long long)sf.host_evictions,
-           sf.host_peak_bytes / 1e3);
+           sf.host_peak_bytes / 1e3, (unsigned long long)sf.moved_from_pool);
     /* still: both converge to the whole layout's image; then every resident page out, back to the same image */
     vx_render_desc d = tp_view(lo, hi, 0.3, true);
     d.width = 48, d.height = 32, d.camera.fov = 16;
@@ -278,11 +302,9 @@ static void test_fly(void) {
 static void test_render_scene(void) {
     if (gpu_skip) SKIP(gpu_skip);
     vx_svo_scene s;
-    make_scene(&s);
     char path[128];
-    snprintf(path, sizeof path, "%s/rs.svo", g_dir);
+    if (!scene_file(&s, "rs.svo", path)) return;
     vx_error err = {0};
-    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
     vx_render_scene *rc = NULL, *rm = NULL, *rf = NULL;
     REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc, &err) ==
             VX_OK);
@@ -356,6 +378,169 @@ out:
     vx_svo_scene_free(&s);
 }
 
+/* The parallel cuts (issue 18, branch page2): the host cache cuts the models
+ * of one request on several threads and cuts the pages a frame requested
+ * ahead, on a thread of its own, while the caller works between frames. On
+ * the CPU: every page of the scene asked for in one call, on 1 and 4
+ * threads, from a cache of a fifth of their bytes, equals the in-memory cut;
+ * pages cut ahead (half of them, then asked for with the other half, with
+ * pages never cut ahead and pages past the table refused) equal it too, and
+ * a cut ahead that the next call does not use is dropped. On the GPU: a
+ * close-up whose first service loads every page it needs at once, through
+ * a pool smaller than the frame needs (refusals every frame), renders the
+ * in-memory pager's frames pixel for pixel and page count for page count,
+ * and with a pool that holds them converges to the whole layout's image. */
+static void test_parallel(void) {
+    vx_svo_scene s;
+    char path[128];
+    if (!scene_file(&s, "par.svo", path)) return;
+    vx_error err = {0};
+    const uint32_t lp = 3;
+    vx_compact_scene c;
+    vx_compact_paged pm;
+    REQUIRE(vx_compact_build(NULL, &s, &c, &err) == VX_OK);
+    REQUIRE(vx_compact_page_build(&c, lp, NULL, &pm, &err) == VX_OK);
+    uint32_t n = pm.page_count;
+    uint64_t bytes = 4 * pm.data_words;
+    CHECKF(n > 200, "%u pages", n);
+    uint32_t* all = malloc(2 * n * sizeof *all); /* a request of up to n / 2 pages cut ahead and n others */
+    uint32_t** dst = malloc(2 * n * sizeof *dst);
+    REQUIRE(all && dst);
+    for (uint32_t t = 1; t <= 4; t += 3) {
+        vx_svo_model_reader* rd = NULL;
+        vx_compact_paged pf;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        REQUIRE(vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp, .threads = t}, rd, &pf, &err) == VX_OK);
+        CHECK(pf.threads == t && pf.page_count == n);
+        vx_compact_page_cache* pc = NULL;
+        REQUIRE(vx_compact_page_cache_create(&pf, bytes / 5, NULL, &pc, &err) == VX_OK);
+        /* every page at once, in reverse order (the cache sorts them by model) */
+        for (uint32_t k = 0; k < n; k++) all[k] = n - 1 - k, dst[k] = calloc(pm.pages[n - 1 - k].words, 4);
+        vx_result r = vx_compact_page_cache_get(pc, all, n, dst, &err);
+        CHECKF(r == VX_OK, "%u threads: %s", t, err.msg);
+        uint32_t wrong = 0;
+        for (uint32_t k = 0; k < n; k++) {
+            const vx_compact_page* pg = &pm.pages[all[k]];
+            wrong += r || memcmp(dst[k], pm.data + pg->offset, 4ull * pg->words) != 0;
+            free(dst[k]);
+        }
+        CHECKF(wrong == 0, "%u threads, all %u pages at once: %u images differ", t, n, wrong);
+        /* cut ahead: the odd pages; then asked for all of them (the odd ones from the cuts ahead, or the
+         * cache), twice (the second time the cache holds some) */
+        uint32_t h = 0, seed = 11 + t;
+        for (uint32_t k = 1; k < n; k += 2) all[h++] = k;
+        for (int round = 0; round < 2 && !r; round++) {
+            vx_compact_page_cache_prefetch(pc, all, h);
+            uint32_t m = 0;
+            for (uint32_t k = 0; k < n; k++)
+                if (ts_rng(&seed) % 3) all[h + m++] = k; /* a page may come twice in one call: once ahead, once not */
+            for (uint32_t k = 0; k < h + m; k++) dst[k] = calloc(pm.pages[all[k]].words, 4);
+            r = vx_compact_page_cache_get(pc, all, h + m, dst, &err);
+            CHECKF(r == VX_OK, "%u threads, round %d: %s", t, round, err.msg);
+            wrong = 0;
+            for (uint32_t k = 0; k < h + m; k++) {
+                const vx_compact_page* pg = &pm.pages[all[k]];
+                wrong += r || memcmp(dst[k], pm.data + pg->offset, 4ull * pg->words) != 0;
+                free(dst[k]);
+            }
+            CHECKF(wrong == 0, "%u threads, round %d: %u of %u images differ", t, round, wrong, h + m);
+        }
+        /* a cut ahead left unused (the next call asks for other pages, or none), a page past the table */
+        vx_compact_page_cache_prefetch(pc, all, h);
+        uint32_t none = n, *d0 = NULL;
+        CHECK(vx_compact_page_cache_get(pc, &none, 1, &d0, &err) == VX_ERR_INVALID_ARG);
+        vx_compact_page_cache_prefetch(pc, all, h);
+        vx_compact_cache_stats cs;
+        vx_compact_page_cache_stats(pc, &cs);
+        CHECKF(cs.prefetched > 0 && cs.evictions > 0 && cs.peak_bytes <= bytes / 5,
+               "%u threads: %llu cut ahead and used, %llu evictions, peak %llu of %llu", t, (unsigned long long)cs.prefetched,
+               (unsigned long long)cs.evictions, (unsigned long long)cs.peak_bytes, (unsigned long long)(bytes / 5));
+        printf("  parallel cuts, %u threads: %u pages (%.1f KB); %llu cut from the file (%llu model reads), %llu of them "
+               "ahead, %llu from the cache\n",
+               t, n, bytes / 1e3, (unsigned long long)cs.file_pages, (unsigned long long)cs.models,
+               (unsigned long long)cs.prefetched, (unsigned long long)cs.hits);
+        vx_compact_page_cache_destroy(pc); /* with a cut ahead still running: joined */
+        vx_compact_paged_free(&pf);
+        vx_svo_reader_close(rd);
+    }
+    free(all);
+    free(dst);
+    if (gpu_skip) {
+        vx_compact_paged_free(&pm);
+        vx_compact_free(&c);
+        vx_svo_scene_free(&s);
+        SKIP(gpu_skip);
+    }
+    /* on the GPU: a close-up needing many pages at once */
+    vx_render_scene* rs = NULL;
+    vx_compact_gpu* full = NULL;
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+            VX_OK);
+    REQUIRE(vx_compact_gpu_create(rs, &s, &c, &full, &err) == VX_OK);
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    vx_render_desc d = tp_view(lo, hi, 0.6, true);
+    d.width = 128, d.height = 96;
+    vx_render_image ref = {0};
+    REQUIRE(vx_compact_gpu_frame(full, &d, &ref, &err) == VX_OK);
+    for (int big = 0; big < 2; big++) {
+        vx_compact_paged pmc, pf;
+        REQUIRE(vx_compact_page_build(&c, lp, NULL, &pmc, &err) == VX_OK);
+        vx_svo_model_reader* rd = NULL;
+        REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+        REQUIRE(vx_compact_page_build_reader(&(vx_compact_page_desc){.page_level = lp, .threads = 4}, rd, &pf, &err) == VX_OK);
+        /* small: an eighth of the pages' bytes (less than the view needs); big: all of them */
+        uint64_t pool = big ? bytes + bytes / 4 : bytes / 8;
+        if (pool < 4ull * pmc.max_page_words) pool = 4ull * pmc.max_page_words;
+        vx_compact_gpu *cm = NULL, *cf = NULL;
+        REQUIRE(vx_compact_gpu_create_paged(rs, &s, &pmc, pool, &cm, &err) == VX_OK);
+        REQUIRE(vx_compact_gpu_create_paged_ex(rs, vx_svo_reader_scene(rd), &pf, pool, bytes / 6, &cf, &err) == VX_OK);
+        uint32_t wrong = 0, stats_differ = 0, most = 0, refused = 0, f = 0;
+        vx_compact_page_stats sa = {0}, sb = {0};
+        vx_render_image b = {0};
+        vx_result r = VX_OK;
+        for (; f < 24 && !r; f++) {
+            char what[64];
+            snprintf(what, sizeof what, "parallel, pool %llu, frame %u", (unsigned long long)pool, f);
+            vx_render_image_free(&b);
+            r = frame_pair(cm, cf, &d, what, &wrong, &stats_differ, &sa, &sb, &b);
+            if (!r) {
+                if (sb.loaded > most) most = sb.loaded;
+                refused += sb.refused;
+            }
+            if (f > 2 && sb.loaded == 0) break; /* steady: nothing more fits, or all resident */
+        }
+        CHECKF(wrong == 0 && stats_differ == 0, "pool %llu: %u pixels and %u frames' page counts differ from the in-memory pager's",
+               (unsigned long long)pool, wrong, stats_differ);
+        CHECKF(most > 40, "pool %llu: at most %u pages loaded in one service", (unsigned long long)pool, most);
+        if (big) {
+            uint32_t w = r ? 1 : tp_differ(&ref, &b, "whole layout", "file");
+            CHECKF(sb.coarse == 0 && refused == 0 && w == 0, "converged: %u coarse, %u refused, %u pixels differ", sb.coarse,
+                   refused, w);
+        } else {
+            CHECKF(refused > 0 && sb.coarse > 0, "pool %llu: %u refused, %u coarse (the view should need more than the pool)",
+                   (unsigned long long)pool, refused, sb.coarse);
+        }
+        printf("  parallel, pool %.1f KB: %u frames, up to %u pages loaded in one service, %u refused in all, %u coarse at "
+               "the end; %llu cut from the file (%llu model reads), %llu of them ahead\n",
+               pool / 1e3, f + 1, most, refused, sb.coarse, (unsigned long long)sb.file_pages, (unsigned long long)sb.file_models,
+               (unsigned long long)sb.file_prefetched);
+        vx_render_image_free(&b);
+        vx_compact_gpu_destroy(cf);
+        vx_compact_gpu_destroy(cm);
+        vx_compact_paged_free(&pf);
+        vx_compact_paged_free(&pmc);
+        vx_svo_reader_close(rd);
+    }
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    vx_render_image_free(&ref);
+    vx_compact_gpu_destroy(full);
+    vx_render_scene_destroy(rs);
+    vx_compact_paged_free(&pm);
+    vx_compact_free(&c);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     snprintf(g_dir, sizeof g_dir, "/tmp/vx_pagefileXXXXXX");
     if (!mkdtemp(g_dir)) return 1;
@@ -363,6 +548,7 @@ int main(void) {
     RUN(test_images);
     RUN(test_fly);
     RUN(test_render_scene);
+    RUN(test_parallel);
     vx_gpu_destroy(gpu);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", g_dir);

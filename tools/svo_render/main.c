@@ -457,9 +457,11 @@ static vx_result render_sequence(options* o, vx_render_scene* rs, const vx_svo_s
 /* -v: the file source's host cache (--host-budget) */
 static void print_host_cache(const vx_render_page_stats* ps) {
     printf("paging from the file: host cache %.3f MB of %.3f MB (peak %.3f MB); %llu pages cut from the file (%llu "
-           "model reads), %llu from the cache, %llu evicted from it\n",
+           "model reads), %llu of them cut ahead, %llu from the cache, %llu evicted from it; %llu moved pages read back from "
+           "the pool\n",
            ps->host_bytes / 1e6, ps->host_budget / 1e6, ps->host_peak_bytes / 1e6, (unsigned long long)ps->file_pages,
-           (unsigned long long)ps->file_models, (unsigned long long)ps->host_hits, (unsigned long long)ps->host_evictions);
+           (unsigned long long)ps->file_models, (unsigned long long)ps->file_prefetched, (unsigned long long)ps->host_hits,
+           (unsigned long long)ps->host_evictions, (unsigned long long)ps->moved_from_pool);
 }
 
 /* --fly N: frames of a camera around the scene's centre at three distances,
@@ -493,10 +495,10 @@ static vx_result fly_frames(const options* o, vx_render_scene* rs, const vx_svo_
         vx_render_scene_page_stats(rs, &ps);
         coarse += ps.coarse;
         if (!r && o->verbose && paged)
-            printf("fly %u: %.2f ms (%.3f ms GPU); pages: %u coarse, %u loaded, %u evicted, %u refused, %u resident; "
-                   "host cache %.3f MB, %llu cut from the file so far\n",
-                   f, ms[f], gpu_ms[f], ps.coarse, ps.loaded, ps.evicted, ps.refused, ps.resident, ps.host_bytes / 1e6,
-                   (unsigned long long)ps.file_pages);
+            printf("fly %u: %.2f ms (%.3f ms GPU); pages: %u coarse, %u loaded, %u evicted, %u refused, %u resident, "
+                   "%u moved; host cache %.3f MB, %llu cut from the file so far\n",
+                   f, ms[f], gpu_ms[f], ps.coarse, ps.loaded, ps.evicted, ps.refused, ps.resident, ps.moved,
+                   ps.host_bytes / 1e6, (unsigned long long)ps.file_pages);
         else if (!r && o->verbose)
             printf("fly %u: %.2f ms (%.3f ms GPU)\n", f, ms[f], gpu_ms[f]);
         if (o->verbose) fflush(stdout); /* a run stopped by a time limit keeps its lines */
