@@ -1085,8 +1085,8 @@ vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, 
     }
     /* the beam pass for the rays from the probes (H200, Cornell box, 512 probes at R=128, 64 spp, with
      * probe.comp's 8x4 texel tiles: GPU trace 0.544 -> 0.493 s; the camera rays alone 0.136 -> 0.091 s) */
-    /* (not in the compact layout: probe_beam.comp reads the plain node words) */
-    if (!r && !d.no_beam && !vx__render_scene_compact(rs)) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
+    /* (either layout: probe_beam.comp walks the compact one's slots where the scene is in it) */
+    if (!r && !d.no_beam) b->c.spec[VX__SPEC_COUNT + SPEC_BEAM] = BAKE_BEAM;
     if (!r) b->c.strat = !d.independent_bounce, b->c.kernel = d.kernel;
     /* the bounces a constant of the bake's kernel (PCONST bits 16-23) */
     if (!r && ps->bounces < 255) b->c.bounces = ps->bounces + 1;

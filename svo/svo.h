@@ -686,6 +686,15 @@ vx_result vx_svo_reader_rewind(vx_svo_model_reader* r, vx_error* err);
  * error of next or finish, for an index past the models. Thread-safe, also
  * beside a later pass's next; concurrent calls share the CPUs as next's do. */
 vx_result vx_svo_reader_model(vx_svo_model_reader* r, uint32_t index, vx_svo_model* out, vx_error* err);
+/* The bounds of s (bounds_min, bounds_max), a scene of the reader's models
+ * (its graph, a copy, or a view of one of its frames: vx_svo_scene_frame),
+ * from s's instances and the cells' boxes of the models as the reader's pass
+ * found them: what vx_svo_scene_update_bounds(s) computes from the trees of
+ * the whole read (an animation's frame N > 0 read by the reader, which holds
+ * no tree). Refused (VX_ERR_INVALID_ARG, s untouched) before a pass that
+ * finish accepted and for a scene of another model count. Thread-safe, also
+ * beside a later pass. */
+vx_result vx_svo_reader_update_bounds(vx_svo_model_reader* r, vx_svo_scene* s, vx_error* err);
 /* A copy of the graph as it is now (models without arrays, their checks and
  * the bounds as far as read), allocated with alloc and owned by the caller
  * (vx_svo_scene_free): for code that keeps the scene graph past the reader,

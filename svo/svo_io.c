@@ -1479,6 +1479,23 @@ vx_result vx_svo_reader_copy_graph(const vx_svo_model_reader* r, const vx_alloca
     return VX_OK;
 }
 
+vx_result vx_svo_reader_update_bounds(vx_svo_model_reader* r, vx_svo_scene* s, vx_error* err) {
+    if (!r || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo: null argument");
+    /* the extents are the first pass's, written before its finish set indexed and never again (a later pass
+     * compares), so they are read here without the lock, beside a later pass too */
+    pthread_mutex_lock(&r->lock);
+    bool indexed = r->indexed;
+    pthread_mutex_unlock(&r->lock);
+    if (!indexed)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the models' boxes are known after a pass that finish accepted",
+                       r->path);
+    if (s->model_count != r->s.model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: the scene has %u models, the file %u", r->path,
+                       s->model_count, r->s.model_count);
+    vx__svo_scene_bounds_ext(s, r->ext, s->bounds_min, s->bounds_max);
+    return VX_OK;
+}
+
 void vx_svo_reader_close(vx_svo_model_reader* r) { reader_free(r); }
 
 /* ---- writing ------------------------------------------------------------------------------ */

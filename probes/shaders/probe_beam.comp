@@ -15,7 +15,99 @@
 // of beam.comp with radius 0 + r1 s.
 #extension GL_GOOGLE_include_directive : require
 
-#include "beam_body.glsl" // beam.comp: trace_common.glsl (BEAM_PASS), beam_model, beam_s[] (binding 10)
+#include "beam_body.glsl" // beam.comp: trace_common.glsl (BEAM_PASS), beam_model_plain, beam_s[] (binding 10)
+
+// The compact layout's node (render/compact.h, compact_attr.glsl) of level lvl as a descriptor in the file's
+// form (valid mask << 8 | leaf mask): level >= 3 its slot's word 0 (the bits above 16 are its rank or the
+// dictionary's flag), level 2 a brick of 4^3 cells (its level-1 octants that hold cells, none a leaf), level 1
+// octant o of the brick (its cells, all leaves).
+uint beam_cdesc(int lvl, uvec2 cnd, uint o) {
+    return lvl >= 3 ? cnd.x & 0xFFFFu : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, o));
+}
+
+// beam_model_plain's walk over the compact layout (COMPACT: the bake of a scene read by the model reader,
+// svo_bake --load models): the same tube, the same order and budget, the same stops (a leaf, here a solid
+// cube of the geometry whatever its colours, or a node at most BEAM_STOP radii wide), so its distance bounds
+// the cells' from below as the plain walk's does. The two layouts' distances may differ (the compact geometry
+// merges solid cubes that colours split in the plain one, so the walks spend the budget differently), which
+// the bake's walk does not see: it finds its hits in cells from any start before them (CELL_HITS; the bytes
+// checked against the plain layout's bake, test_svo_bake.sh).
+bool beam_model_compact(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
+    CModel cm = cmodels[mi];
+    if (cm.root == ROOT_EMPTY) return false;
+    float side = exp2(float(cm.depth));
+    float pad = 1e-3 + 4e-6 * (side + max(max(abs(o.x), abs(o.y)), abs(o.z)));
+    float ra = g_ra * scale * 1.0001 + pad, rb = g_rb * scale * 1.0001;
+    Tube T = tube_setup(o, d, ra, rb);
+    vec2 tr = tube_box(T, vec3(0.0), vec3(side));
+    float tlo = max(tr.x, t0), best = h.t;
+    if (!(tlo <= tr.y && tlo < best)) return false;
+    if (cm.root == ROOT_LEAF || side <= BEAM_STOP * (ra + rb * tlo)) {
+        h.t = tlo;
+        return true;
+    }
+    // the node: its level, its slot's words (level 2: the brick; level 1: the brick it is an octant of)
+    int lvl = int(cm.depth);
+    uvec2 cnd = cslots[cm.root];
+    uint desc = beam_cdesc(lvl, cnd, 0u); // (a depth-1 model's root: octant 0 of its slot)
+    uint mirror = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
+    uint rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
+    uvec2 stk_cnd[S_MAX];
+    uint stk_desc[S_MAX], stk_rem[S_MAX];
+    int sp = 0;
+    vec3 lo = vec3(0.0);
+    float size = side;
+    bool found = false;
+    while (true) {
+        if (--g_budget < 0) {
+            best = tlo;
+            found = true;
+            break;
+        }
+        if (rem != 0u) {
+            uint c = uint(findLSB(rem)) ^ mirror, cbit = 1u << c;
+            rem &= rem - 1u;
+            float hs = 0.5 * size;
+            vec3 clo = lo + vec3(float(c & 1u), float((c >> 1) & 1u), float((c >> 2) & 1u)) * hs;
+            vec2 tc = tube_box(T, clo, clo + hs);
+            float te = max(tc.x, tlo);
+            if (!(te <= tc.y && te < best)) continue;
+            if ((desc & cbit) != 0u || hs <= BEAM_STOP * (ra + rb * te)) {
+                best = te;
+                found = true;
+                continue;
+            }
+            stk_cnd[sp] = cnd;
+            stk_desc[sp] = desc;
+            stk_rem[sp] = rem;
+            sp++;
+            if (lvl >= 3) // the child's slot in the block (level 3 with the dictionary: through its index word)
+                cnd = cslots[ca_child(lvl, cnd.x, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))))];
+            lvl--;
+            desc = beam_cdesc(lvl, cnd, c);
+            rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
+            lo = clo;
+            size = hs;
+        } else {
+            if (sp == 0) break;
+            sp--;
+            cnd = stk_cnd[sp];
+            desc = stk_desc[sp];
+            rem = stk_rem[sp];
+            lvl++;
+            size *= 2.0;
+            lo = floor(lo / size) * size;
+        }
+    }
+    if (!found) return false;
+    h.t = best;
+    return true;
+}
+
+// trace_common.glsl's model walk of the tube (trace_instance): the scene's layout's
+bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
+    return COMPACT ? beam_model_compact(mi, o, d, scale, t0, h) : beam_model_plain(mi, o, d, scale, t0, h);
+}
 
 layout(push_constant) uniform Push {
     uint res, blk, first, count; // map side, block side in texels, the batch's first probe, its probes

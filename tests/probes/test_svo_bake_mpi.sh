@@ -1,7 +1,8 @@
 #!/bin/sh
 # svo_bake under MPI (issue 22): mpirun -n 1, 2 and 3 bakes equal the
 # single-process bake byte for byte, and so does --shard + --merge; the same
-# on the GPU (lavapipe) where a Vulkan device exists; a rank killed after its
+# on the GPU (lavapipe) where a Vulkan device exists, also --load models (the
+# model reader on every rank); a rank killed after its
 # first batch (or failing with an error) ends the job nonzero with no output
 # file, and the rerun continues from the checkpoint to the same bytes; the
 # same from the ranks' batch checkpoints (OUT.probes.ckpt/), also on another
@@ -92,6 +93,10 @@ if "$BIN/svo_bake" "$T/demo.svo" "$T/g.probes" $G >/dev/null 2>&1; then
     run $n "$BIN/svo_bake" "$T/demo.svo" "$T/g$n.probes" $G >"$T/g$n.out" 2>&1 || { cat "$T/g$n.out"; fail "GPU mpirun -n $n"; }
     cmp -s "$T/g.probes" "$T/g$n.probes" || fail "GPU: mpirun -n $n differs from the single bake"
   done
+  # --load models: each rank builds the compact layout from the model reader and places the probes from it
+  run 2 "$BIN/svo_bake" "$T/demo.svo" "$T/gm.probes" $G --load models -v >"$T/gm.out" 2>&1 || { cat "$T/gm.out"; fail "GPU mpirun -n 2 --load models"; }
+  grep -q "load models: the layout, the placement and the device" "$T/gm.out" || { cat "$T/gm.out"; fail "--load models under mpirun: not over the reader"; }
+  cmp -s "$T/g.probes" "$T/gm.probes" || fail "GPU: mpirun -n 2 --load models differs from the single bake"
 else
   echo "no Vulkan device: GPU checks skipped"
 fi

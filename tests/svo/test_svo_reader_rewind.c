@@ -5,7 +5,9 @@
  * finish checks NODE again; a rewind before finish, mid-pass or after an
  * error is refused; a file cut between the passes fails the second pass
  * naming the file; a file changed in place between the passes (a model with
- * other colours, the same bytes long) fails naming the model. */
+ * other colours, the same bytes long) fails naming the model. And the
+ * bounds of an animation's frames from the models' boxes of a pass
+ * (vx_svo_reader_update_bounds). */
 #define _POSIX_C_SOURCE 200809L
 #include <fcntl.h>
 #include <stdio.h>
@@ -129,10 +131,73 @@ static void test_changed_between_passes(void) {
     vx_svo_scene_free(&a);
 }
 
+/* vx_svo_reader_update_bounds (issue 18, branch rdr4: svo_bake --load models --frame N): each frame of an
+ * animation whose frames move, hide and turn instances gets, from the models' cells' boxes the reader's pass
+ * found, the bounds vx_svo_scene_update_bounds gives the whole read's frame from the trees; refused before a
+ * finished pass, and for a scene of other models. */
+static void test_frame_bounds(void) {
+    enum { NM = 5, NF = 4 };
+    vx_svo_scene s;
+    vx_error err = {0};
+    tr_make_scene(&s, &(tr_scene_desc){.models = NM, .spacing = 32, .bump = UINT32_MAX});
+    REQUIRE(vx_svo_scene_alloc_frames(&s, NF, &err) == VX_OK);
+    for (uint32_t f = 1; f < NF; f++) {
+        vx_svo_instance* in = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, f);
+        REQUIRE(in);
+        in[NM - 1].xform[3] += 17.0 * f, in[NM - 1].xform[11] -= 5.0 * f; /* the last moves out and down */
+        if (f == 2) in[0].flags |= VX_SVO_INSTANCE_HIDDEN; /* the first hidden: the box starts later */
+        if (f == 3) {                                        /* model 2 a quarter turn about z, lifted */
+            double* x = in[2].xform;
+            x[0] = 0, x[1] = -1, x[4] = 1, x[5] = 0, x[11] = 40;
+        }
+    }
+    char path[128];
+    snprintf(path, sizeof path, "%s/frames.svo", g_dir);
+    REQUIRE(vx_svo_write_file(NULL, &s, path, &err) == VX_OK);
+    vx_svo_scene whole, graph;
+    REQUIRE(vx_svo_read_file(NULL, path, &whole, &err) == VX_OK);
+    vx_svo_model_reader* rd = NULL;
+    REQUIRE(vx_svo_reader_open(NULL, path, &rd, &err) == VX_OK);
+    REQUIRE(vx_svo_reader_copy_graph(rd, NULL, &graph, &err) == VX_OK);
+    vx_svo_scene gv;
+    REQUIRE(vx_svo_scene_frame(&graph, 1, &gv));
+    CHECKF(vx_svo_reader_update_bounds(rd, &gv, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, path), "%s", err.msg);
+    seen got[NM];
+    uint32_t taken = 0;
+    REQUIRE(pass(rd, got, NM, &taken, &err) == VX_OK);
+    double b0[6];
+    for (uint32_t f = 0; f < NF; f++) {
+        vx_svo_scene wv;
+        REQUIRE(vx_svo_scene_frame(&whole, f, &wv) && vx_svo_scene_frame(&graph, f, &gv));
+        vx_svo_scene_update_bounds(&wv);
+        memset(gv.bounds_min, 0, sizeof gv.bounds_min), memset(gv.bounds_max, 0, sizeof gv.bounds_max);
+        CHECKF(vx_svo_reader_update_bounds(rd, &gv, &err) == VX_OK, "%s", err.msg);
+        bool same = !memcmp(wv.bounds_min, gv.bounds_min, sizeof gv.bounds_min) &&
+                    !memcmp(wv.bounds_max, gv.bounds_max, sizeof gv.bounds_max);
+        CHECKF(same, "frame %u: reader %g,%g,%g..%g,%g,%g, trees %g,%g,%g..%g,%g,%g", f, gv.bounds_min[0], gv.bounds_min[1],
+               gv.bounds_min[2], gv.bounds_max[0], gv.bounds_max[1], gv.bounds_max[2], wv.bounds_min[0], wv.bounds_min[1],
+               wv.bounds_min[2], wv.bounds_max[0], wv.bounds_max[1], wv.bounds_max[2]);
+        double b[6] = {gv.bounds_min[0], gv.bounds_min[1], gv.bounds_min[2], gv.bounds_max[0], gv.bounds_max[1], gv.bounds_max[2]};
+        if (f == 0) memcpy(b0, b, sizeof b0);
+        else CHECKF(memcmp(b, b0, sizeof b0) != 0, "frame %u has frame 0's bounds (the test moves nothing)", f);
+    }
+    /* the graph itself (frame 0's instances) and a scene of other models */
+    vx_svo_scene g0 = graph;
+    CHECK(vx_svo_reader_update_bounds(rd, &g0, &err) == VX_OK && !memcmp(g0.bounds_max, b0 + 3, sizeof g0.bounds_max));
+    g0.model_count = NM - 1;
+    CHECKF(vx_svo_reader_update_bounds(rd, &g0, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "models"), "%s", err.msg);
+    CHECK(vx_svo_reader_update_bounds(NULL, &g0, &err) == VX_ERR_INVALID_ARG);
+    vx_svo_reader_close(rd);
+    vx_svo_scene_free(&graph);
+    vx_svo_scene_free(&whole);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     if (!tr_dir_make(g_dir, "rewind")) return 1;
     RUN(test_passes);
     RUN(test_changed_between_passes);
+    RUN(test_frame_bounds);
     tr_dir_remove(g_dir);
     return vx_test_finish();
 }

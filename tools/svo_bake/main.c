@@ -74,13 +74,14 @@ _Noreturn static void usage(int status) {
             "                     never whole: one pass builds the GPU's compact layout from the models in turn,\n"
             "                     the probes are placed from the layout, then the device is made; the host holds\n"
             "                     the layout and a model per thread, not the scene and the placement's CPU caster\n"
-            "                     (about 60 bytes a cell). The same bytes as whole (the bake's walk finds its hits\n"
-            "                     in cells in either GPU layout; checked on lavapipe and an H200), but slower on\n"
-            "                     the GPU (no beam pass over the compact layout: an H200's bake of 512 probes at\n"
-            "                     R=128, 64 spp took 0.50 s against 0.27 s), so not the default. The GPU bake of\n"
-            "                     frame 0 in one process only: --cpu casts on the scene's trees, --frame N > 0 and\n"
-            "                     mpirun (whose ranks place and open the device on threads beside MPI's start) read\n"
-            "                     it whole. An interrupted run resumes from OUT.probes.partial either way\n"
+            "                     (about 60 bytes a cell). The same bytes as whole on lavapipe and on an H200's\n"
+            "                     Cornell box (the bake's walk finds its hits in cells in either GPU layout), not\n"
+            "                     on every scene on an H200 (a few thousand of 105 M bytes), and slower on the GPU\n"
+            "                     (no sun depth map over the compact layout, and its walk: an H200's bake of 512\n"
+            "                     probes at R=128, 64 spp took 0.50 s against 0.26 s), so not the default. The\n"
+            "                     GPU bake only (--cpu casts on the scene's trees), any --frame; each MPI rank\n"
+            "                     (mpirun) builds the layout and places the probes itself. An interrupted run\n"
+            "                     resumes from OUT.probes.partial either way\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
@@ -293,10 +294,16 @@ int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
     if (vx_compact_build_reader(&cd, j->rd, &c, &err)) return read_error(j, who, &err);
     double t_build = vx_time_now() - t;
     j->t_pass[0] = t_build;
-    /* the graph with the first pass's bounds: what the placement's grid and the bake read of the scene */
+    /* the graph with the first pass's bounds: what the placement's grid and the bake read of the scene; frame N > 0
+     * with its own bounds, from the models' boxes the pass found (bake_job_open's vx_svo_scene_update_bounds) */
     vx_result r = vx_svo_reader_copy_graph(j->rd, A, &j->file, &err);
-    if (!r && !vx_svo_scene_frame(&j->file, 0, &j->scene))
-        r = vx_fail(&err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "no frame 0");
+    if (!r && !vx_svo_scene_frame(&j->file, j->o.frame, &j->scene)) {
+        vx_compact_free(&c);
+        fprintf(stderr, "%s: %s%s: no frame %u (the scene has %u)\n", vx_tool_name, who, j->in, j->o.frame,
+                vx_svo_scene_frames(&j->file));
+        return 1;
+    }
+    if (!r && j->o.frame) r = vx_svo_reader_update_bounds(j->rd, &j->scene, &err);
     /* the placement from the layout: its geometry answers the caster's test, so no second pass over the file and
      * no caster (VX_BAKE_PLACE=reader: a second pass with vx_probe_place_reader, each model's caster in turn; the
      * same probes, kept to measure against) */
@@ -323,6 +330,8 @@ int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
         return 1;
     }
     r = vx_render_scene_create_compact(j->gpu, j->rd, &c, t_build, NULL, &j->rs, &err);
+    /* the GPU scene was made with the graph's instances (frame 0): frame N's from the copy of the graph */
+    if (!r && j->o.frame) r = vx_render_scene_set_frame(j->rs, &j->file, j->o.frame, &err);
     j->t_device = vx_time_now() - t;
     j->t_scene = j->t_device - j->t_vk;
     vx_svo_reader_close(j->rd); /* its buffers and the file: the layout is on the GPU */
@@ -707,6 +716,10 @@ static int bake_single(bake_job* j) {
     const char* kenv = getenv("VX_BAKE_KERNEL");
     if (kenv && !strcmp(kenv, "inline")) bd.kernel = VX_PROBE_KERNEL_INLINE;
     if (kenv && !strcmp(kenv, "one")) bd.kernel = VX_PROBE_KERNEL_ONE_WALK;
+    /* VX_BAKE_BEAM=off: the camera rays walk from their probe (vx_probe_bake_desc.no_beam; the same bytes), to
+     * measure the beam pass and to test that its start distances change nothing, in either layout */
+    const char* benv = getenv("VX_BAKE_BEAM");
+    if (benv && !strcmp(benv, "off")) bd.no_beam = true;
     vx_probe_bake_stats st = {0};
     if (o->verbose && j->gpu) bd.stats = &st;
     if (show) bd.progress = (vx_progress){eta_func, &e};
@@ -969,7 +982,6 @@ int main(int argc, char** argv) {
     if ((o.b.grid[0] || o.b.grid[1] || o.b.grid[2]) && o.b.spacing) usage_error("%s", "give --grid or --spacing, not both");
     if (o.cpu && o.device) usage_error("%s", "--cpu conflicts with --device");
     if (o.load_models && o.cpu) usage_error("%s", "--load models is for the GPU bake (--cpu casts on the scene's trees: --load whole)");
-    if (o.load_models && o.frame) usage_error("%s", "--load models bakes frame 0 (--frame N > 0: --load whole)");
     o.b.threads = o.threads;
     if (o.verbose)
         printf("%s %s %s --res %u --spp %u --bounces %d --seed %llu --shard %u/%u --threads %u\n", vx_tool_name, pos[0],
@@ -978,9 +990,6 @@ int main(int argc, char** argv) {
 #ifdef VX_HAVE_MPI
     if (vx_tool_mpi_launched() && o.shards > 1)
         usage_error("%s", "--shard is for separate processes; under mpirun the ranks share the probes");
-    if (vx_tool_mpi_launched() && o.load_models)
-        usage_error("%s", "--load models is for one process; under mpirun each rank reads the scene whole (its "
-                          "placement and device start on threads beside MPI's start)");
     vx_tool_mpi_unmute(saved);
     if (vx_tool_mpi_launched()) return bake_mpi(&o, pos[0], pos[1]);
 #endif

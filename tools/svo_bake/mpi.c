@@ -837,7 +837,11 @@ int bake_mpi(options* o, const char* in, const char* out) {
      * ranks starting together the device took 0.52-0.64 s after an MPI_Init
      * of 0.26 s (H200 x2) */
     int lr = vx_tool_mpi_env_local_rank();
-    bool early = o->cpu || o->device || lr >= 0;
+    /* --load models: after MPI_Init, each rank builds the compact layout from the reader, places the probes from
+     * it and makes the device on this thread (bake_job_models: the layout first, an idle device lowers the clock),
+     * on the rank's GPU (the launcher's local rank, else MPI's) */
+    bool models = o->load_models;
+    bool early = !models && (o->cpu || o->device || lr >= 0);
     /* the rank's driver sees only the rank's GPU (vx_tool_mpi_gpu_only: every
      * rank attaching every GPU made the ranks' Vulkan starts wait for each other) */
     int node = -1;
@@ -857,14 +861,20 @@ int bake_mpi(options* o, const char* in, const char* out) {
     o->b.threads = o->threads;
     j.o.threads = o->threads, j.o.b.threads = o->threads;
     snprintf(who, sizeof who, "rank %d (%s): ", g_mpi.rank, g_mpi.host);
-    if (!early) open_rc = bake_job_open(&j, vx_tool_mpi_device(g_mpi.local_rank, o->device, o->cpu, device), who);
+    if (!early && !models) open_rc = bake_job_open(&j, vx_tool_mpi_device(g_mpi.local_rank, o->device, o->cpu, device), who);
+    if (models) {
+        j.o.device = vx_tool_mpi_device(g_mpi.local_rank, o->device, o->cpu, device);
+        double t = vx_time_now();
+        open_rc = bake_job_models(&j, &pj.ps, who);
+        pj.seconds = vx_time_now() - t; /* (the layout, the placement and the device) */
+    }
     if (open_rc) {
         fflush(stderr);
         MPI_Abort(MPI_COMM_WORLD, 1);
     }
     vx_error err = {0};
     if (pj.started) pthread_join(pj.thread, NULL);
-    else place_main(&pj);
+    else if (!models) place_main(&pj);
     if (pj.r) die("%s: %s", in, pj.err.msg);
     vx_probe_set ps = pj.ps;
     tl[2] = vx_time_now();
@@ -1000,7 +1010,9 @@ int bake_mpi(options* o, const char* in, const char* out) {
             printf("rank 0 outside the bake: scene %.3f s, MPI_Init %.3f s, placement %.3f s (%s; waited %.3f s), "
                    "device %.3f s on its thread (Vulkan %.3f s; %s; waited %.3f s), output file %.3f s, to the start %.3f s; after "
                    "it: writing %.3f s, batch files removed %.3f s; %.3f s from start to MPI_Finalize\n",
-                   tl[0] - t_in, tl[1] - tl[0], pj.seconds, pj.started ? "on a thread while MPI starts" : "after it",
+                   tl[0] - t_in, tl[1] - tl[0], pj.seconds,
+                   models ? "--load models: the layout, the placement and the device after it"
+                          : pj.started ? "on a thread while MPI starts" : "after it",
                    tl[2] - tl[1], j.t_device, j.t_vk, early ? "from the start" : "after MPI_Init", j.t_wait, tl[4] - tl[3],
                    t_start - tl[4], t_write, t_rm, vx_time_now() - t_in);
         }

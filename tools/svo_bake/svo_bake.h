@@ -64,12 +64,15 @@ int bake_job_open(bake_job* j, const char* device, const char* who);
  * from it (vx_probe_place_compact, j->o.b's grid; VX_BAKE_PLACE=reader: a
  * second pass, vx_probe_place_reader), then
  * the device is made and the GPU scene is the built layout
- * (vx_render_scene_create_compact); j->scene is the graph (no model arrays),
- * which the GPU bake needs beside the layout (materials, instances, bounds).
- * The host holds the layout, a model per build thread and the graph; the
- * device is made after the placement (an idle device lowers its clock, branch
- * load2). Frame 0 and the GPU only (the CPU bake casts on the scene's
- * trees). On failure prints one line as bake_job_open and returns 1. */
+ * (vx_render_scene_create_compact); j->scene is the view of frame j->o.frame
+ * of the graph (no model arrays), which the GPU bake needs beside the layout
+ * (materials, instances, bounds): frame N > 0 with its own bounds from the
+ * models' boxes of the pass (vx_svo_reader_update_bounds) and its instances
+ * set on the GPU scene (vx_render_scene_set_frame). The host holds the
+ * layout, a model per build thread and the graph; the device is made after
+ * the placement (an idle device lowers its clock, branch load2). The GPU only
+ * (the CPU bake casts on the scene's trees). On failure prints one line as
+ * bake_job_open and returns 1. */
 int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who);
 /* Waits for the device (nothing to wait for with --cpu); on failure prints
  * one line as bake_job_open and returns 1. */
