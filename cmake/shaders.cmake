@@ -32,9 +32,10 @@ endfunction()
 # branch prec2) are trace.comp and trace_precise, the single-shader tracers of vx_render_frame and the primary-ray
 # benchmarks (trace.comp non-contracted cost 2.7% on eph_monu1's close-up on the H200; test_passes compares its colour
 # mode with the passes bit for bit, and on the H200 they agreed with its walk contractible), trace_compact.comp (its
-# own walk, which the define does not reach) and the probe bake's kernels (probe, probe_one: their hits are cell hits, CELL_HITS, and their
-# .probes bytes agree between the layouts on the H200 as they are). The path tracer's render kernel (probes/,
-# probe_pt) walks non-contracted through its own PT_PRECISE.
+# own walk, which the define does not reach) and probe.comp's kernels (probes/: the bake's probe and probe_one, the
+# render passes' probe_pt), which walk non-contracted through their own define (probe.comp: their path too; the
+# bake's walk contractible gave the animated demo's plain and compact bakes 150 hit distances one float step apart
+# on the H200, issue 18, branch rdr4).
 set(VX_WALK_PRECISE_KERNELS gbuffer frame frame_display direct ao cone_voxelize cone_inject cone_trace photon)
 
 # Appends -DWALK_PRECISE to the list defs_var where name (the embedded array's) is in VX_WALK_PRECISE_KERNELS.

@@ -320,8 +320,8 @@ static uint64_t probe_desc(gctx* c, uint32_t pmode, bool one, vx_gpu_compute_pip
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
         (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
-    /* the render passes' floats precise (probe.comp's PT_PRECISE: their images the same bits whatever the
-     * kernel's variant), the bake's as they were (its .probes bytes) */
+    /* the bake's kernels (bake(), bake_one()) and the render passes' (PT_PRECISE: render()); every float
+     * operation of each precise (probe.comp: the same bits whatever the pipeline's constants) */
     bool bake = pmode == PMODE_BAKE;
     const uint32_t* code = bake ? vx__probe_spv_arr : vx__probe_pt_spv_arr;
     size_t code_size = bake ? sizeof vx__probe_spv_arr : sizeof vx__probe_pt_spv_arr;

@@ -16,10 +16,11 @@ if(VX_WITH_VULKAN)
       COMMENT "glslangValidator ${name}.comp"
       VERBATIM)
   endforeach()
-  # probe.comp three times: probe, the bake's kernel (as it was); probe_one, the bake's one-walk kernel
-  # (bake_one(), scenes without lights, emitters, metal or glass: the driver compiles one walk instead of
-  # four); probe_pt, the render passes' (GPU path tracer, GI, light field), every float operation of its
-  # path and walk precise (PT_PRECISE: the same bits with and without the sun's depth map on NVIDIA)
+  # probe.comp three times: probe, the bake's kernel; probe_one, the bake's one-walk kernel (bake_one(),
+  # scenes without lights, emitters, metal or glass: the driver compiles one walk instead of four); probe_pt,
+  # the render passes' (GPU path tracer, GI, light field: PT_PRECISE). Every float operation of each one's path
+  # and walk is precise (probe.comp says why: the same bits with and without the sun's depth map and in both
+  # layouts on NVIDIA)
   # (NAME:FILE[:DEFINE], as render/render.cmake's list: cmake/shaders.cmake)
   foreach(spec probe:probe probe_pt:probe:PT_PRECISE probe_one:probe:VX_ONE_WALK)
     vx_shader_spec(${spec} name file defs)

@@ -9,9 +9,9 @@
 //   ems[] (emissive voxels, five vec4 each, layout of probes/probe_gpu.c),
 // and define uvec2 rng_seed() (the seed's two words) somewhere in the shader.
 uvec2 rng_seed();
-// PT_PREC: `precise` where the includer defines it so (probe.comp's render kernel, PT_PRECISE: every float
-// operation of the path as written, no contraction into fused multiply-adds, so that its kernel variants
-// give the same bits on NVIDIA), else nothing
+// PT_PREC: `precise` where the includer defines it so, with PATH_PRECISE (probe.comp's kernels: every float
+// operation of the path as written, no contraction into fused multiply-adds, so that its pipelines give the
+// same bits on NVIDIA), else nothing (photon.comp)
 #ifndef PT_PREC
 #define PT_PREC
 #endif
@@ -205,7 +205,7 @@ bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, PT_PREC out vec3 wi_w
     weight = 1.0;
     refracted = true;
     wi_w = -wo_w;
-#ifdef PT_PRECISE
+#ifdef PATH_PRECISE
     precise float em1 = eta - 1.0;
     if (abs(em1) < 1e-6) return true; // index-matched: no interface
 #else
@@ -326,7 +326,7 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         vec3 wi;
         bool refr;
         float w;
-#ifdef PT_PRECISE
+#ifdef PATH_PRECISE
         precise float eta = 1.0 / ior;
         if (!dielectric(-nf, -d, eta, alpha, wi, refr, w)) return false;
 #else
@@ -359,7 +359,7 @@ void emitter_point(uint count, PT_PREC out vec3 y, out vec3 n, out vec3 rad, out
     rad = ems[5u * lo + 4u].xyz;
     PT_PREC float fa0 = 2.0 * length(cross(ax[1], ax[2])), fa1 = 2.0 * length(cross(ax[2], ax[0]));
     PT_PREC float pick = rnd() * c0.w;
-#ifdef PT_PRECISE
+#ifdef PATH_PRECISE
     precise float fa01 = fa0 + fa1;
     int a = pick < fa0 ? 0 : (pick < fa01 ? 1 : 2);
 #else

@@ -33,16 +33,18 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// PT_PRECISE (probes.cmake: the render passes' kernel, probe_pt): every float operation of the path
-// and of the octree walk is precise (PT_PREC, path_common.glsl; WPREC, trace_common.glsl): with the
-// sun's depth map (SMAP) and without it the NVIDIA compiler (driver 580) contracted them into fused
-// multiply-adds differently, and 54 of 2,073,600 values of a path-traced Cornell box image differed
-// (issue 21, H200; lavapipe gave the same bits; with the path precise and not the walk, 45). The bake
-// keeps its float operations as they were (probe: its .probes bytes); its variants agree already.
-#ifdef PT_PRECISE
+// Every kernel of probe.comp (probes.cmake: the bake's probe and probe_one, the render passes' probe_pt, PT_PRECISE)
+// computes every float operation of the path and of the octree walk precise (PT_PREC, path_common.glsl; WPREC,
+// trace_common.glsl), so the driver may not contract them into fused multiply-adds. The NVIDIA compiler (driver
+// 580) compiles each pipeline on its own and contracted them differently: with the sun's depth map (SMAP) and
+// without it 54 of 2,073,600 values of a path-traced Cornell box image differed (issue 21, H200; with the path
+// precise and not the walk, 45), eph_monu1's bake 88 bytes of its .probes, and the plain and the compact layout's
+// bakes of the animated demo 150 hit distances one step apart (issue 18, H200, branch rdr4; lavapipe, which never
+// contracts, gave the same bits each time). The map only clips shadow rays (render/shaders/smap_lookup.glsl: its
+// margin keeps the clip conservative), so with the arithmetic fixed the bytes are the same (branch bakeq).
 #define PT_PREC precise
 #define WALK_PRECISE
-#endif
+#define PATH_PRECISE
 // CELL_HITS (trace_common.glsl): the bake's walks find their hits in cell-level leaves, so that the plain and
 // the compact layout's bakes give the same bytes (a leaf of the plain layout can be a cube of cells that the
 // compact geometry cuts otherwise; issue 18, branch bakex). Not in the render passes' kernel (PT_PRECISE).
@@ -184,12 +186,8 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, PT_PREC out float pdf) {
             if (!(t > 0.0)) continue;
             PT_PREC vec3 y = o + d * t - a.xyz, t2 = cross(b.xyz, e.xyz);
             PT_PREC float area = dd.w * e.w;
-#ifdef PT_PRECISE
             precise float hd = 0.5 * dd.w, he = 0.5 * e.w;
             if (!(area > 0.0) || abs(dot(y, e.xyz)) > hd || abs(dot(y, t2)) > he) continue;
-#else
-            if (!(area > 0.0) || abs(dot(y, e.xyz)) > 0.5 * dd.w || abs(dot(y, t2)) > 0.5 * e.w) continue;
-#endif
             p = t * t / (area * -dn);
         } else {
             continue;
@@ -282,12 +280,8 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         if (dist > 0.0) {
             PT_PREC vec3 l = v / dist;
             PT_PREC float cy = -dot(l, n), cs = dot(s.n, l);
-#ifdef PT_PRECISE
             precise float tl = dist - 1e-3 * edge;
             if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, tl)) {
-#else
-            if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, dist - 1e-3 * edge)) {
-#endif
                 float pdf = lum(rad) / P.pt.x * d2 / cy;
                 vec3 f = bsdf_eval(B, wo, l, bp);
                 float w = mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf;
@@ -335,12 +329,8 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
                 if (uint(a.w) != 0u || !(dd.z >= 1e-6)) continue;
                 PT_PREC float hh = 0.5 * dd.z, sn = sin(hh), sq = sin(0.5 * hh), omc = 2.0 * sq * sq;
                 vec3 cr = cross(b.xyz, d);
-#ifdef PT_PRECISE
                 precise float sn2 = sn * sn;
                 if (!(dot(b.xyz, d) > 0.0 && dot(cr, cr) < sn2)) continue;
-#else
-                if (!(dot(b.xyz, d) > 0.0 && dot(cr, cr) < sn * sn)) continue;
-#endif
                 acc += thr * c.xyz / (PI * sn * sn) * (prev_pdf > 0.0 ? mis(prev_pdf, 1.0 / (2.0 * PI * omc)) : 1.0);
             }
             break;
@@ -790,7 +780,8 @@ void bake() {
     if (s0 >= spp) return;
     uint i = texel % res, j = texel / res;
     vec3 o = pr.xyz;
-    vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0); // acc.w: distance (-1: none)
+    precise vec4 acc = vec4(0.0, 0.0, 0.0, -1.0);
+    vec4 geo = vec4(0.0); // acc.w: distance (-1: none)
     if (s0 != 0u) acc = outv[at]; // a later dispatch: the sum so far (the distance and normal stay stored)
     uint s = s0;
     // the camera and centre rays start at their texel block's beam distance (path(): the first ray only)
@@ -811,18 +802,21 @@ void bake() {
     // (H200, Cornell box, 512 probes at R=128, 64 spp: GPU trace 0.492 s independent, 0.376 s without
     // jitter, 0.402 s with half a stratum, 0.421 s with a whole one; irradiance noise against the
     // independent estimator's at R=128 on lavapipe: 1.6x, 0.38x and 0.15x; docs/PERFORMANCE.md)
-    vec2 shift = vec2(0.0);
+    precise vec2 shift = vec2(0.0);
     if (STRAT) {
         uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
         uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
-        float side = 0.5 / ceil(sqrt(float(spp)));
+        precise float side = 0.5 / ceil(sqrt(float(spp)));
         shift = fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + vec2(kl.xy >> 8) * (side / 16777216.0));
     }
     for (; s < s1; s++) {
         rng_init(probe, texel, s);
         // the s-th Hammersley point (s / spp, the radical inverse of s), shifted on the torus
-        if (STRAT) g_bounce_u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
-        vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
+        if (STRAT) {
+            precise vec2 u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
+            g_bounce_u = u;
+        }
+        precise vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
         bool hit;
 #ifdef PT_PRECISE
         acc.xyz += path(o, oct_decode(uv), P.a.z, false, hit);
@@ -870,15 +864,16 @@ void bake_one() {
     if (s0 >= spp) return;
     uint i = texel % res, j = texel / res;
     vec3 o = pr.xyz;
-    vec4 acc = vec4(0.0, 0.0, 0.0, -1.0), geo = vec4(0.0);
+    precise vec4 acc = vec4(0.0, 0.0, 0.0, -1.0);
+    vec4 geo = vec4(0.0);
     if (s0 != 0u) acc = outv[at];
     uint s = s0;
     float tskip0 = beam_start(probe, i, j, res);
-    vec2 shift = vec2(0.0);
+    precise vec2 shift = vec2(0.0);
     if (STRAT) {
         uvec4 kt = pcg4d(uvec4(probe, tile, 0x5354u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
         uvec4 kl = pcg4d(uvec4(probe, texel, 0x4A49u, P.seed.x ^ (P.seed.y * 0x9E3779B9u)));
-        float side = 0.5 / ceil(sqrt(float(spp)));
+        precise float side = 0.5 / ceil(sqrt(float(spp)));
         shift = fract(vec2(kt.xy >> 8) * (1.0 / 16777216.0) + vec2(kl.xy >> 8) * (side / 16777216.0));
     }
     uint bounces = BAKE_BOUNCES != 0u ? BAKE_BOUNCES - 1u : P.a.z;
@@ -894,8 +889,8 @@ void bake_one() {
         rskip = tskip0;
     }
     // the path's state (path())
-    vec3 thr = vec3(1.0), pacc = vec3(0.0), sun_f = vec3(0.0), thr_v = vec3(1.0), w = vec3(0.0), nd = vec3(0.0);
-    float prev_pdf = 0.0;
+    precise vec3 thr = vec3(1.0), pacc = vec3(0.0), sun_f = vec3(0.0), thr_v = vec3(1.0), w = vec3(0.0), nd = vec3(0.0);
+    precise float prev_pdf = 0.0;
     uint depth = 0u;
     int events = 0;
     bool sun_ray = false, last = false, sampled = false;
@@ -904,8 +899,11 @@ void bake_one() {
         if (st == W_START) {
             if (s >= s1) break;
             rng_init(probe, texel, s);
-            if (STRAT) g_bounce_u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
-            vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
+            if (STRAT) {
+                precise vec2 u = fract(vec2(float(s) / float(spp), float(bitfieldReverse(s)) * (1.0 / 4294967296.0)) + shift);
+                g_bounce_u = u;
+            }
+            precise vec2 uv = (2.0 * (vec2(i, j) + vec2(rnd(), rnd()))) / float(res) - 1.0;
             ro = o, rd = oct_decode(uv), rt = BIG, rany = false, rskip = tskip0;
             thr = vec3(1.0), pacc = vec3(0.0), prev_pdf = 0.0, depth = 0u, events = 0;
             st = W_RAY;

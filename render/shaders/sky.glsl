@@ -21,7 +21,7 @@ PT_PREC vec3 sky_eval(vec4 zen, vec4 hor, vec4 gnd, vec4 map, vec3 d) {
     PT_PREC float u = (phi - map.x) / (2.0 * 3.14159265358979), v = acos(clamp(d.z, -1.0, 1.0)) / 3.14159265358979;
     u -= floor(u);
     uint w = uint(map.y), h = uint(map.z);
-#ifdef PT_PRECISE
+#ifdef PATH_PRECISE
     precise float xf = max(u, 0.0) * map.y, yf = max(v, 0.0) * map.z;
     uint x = min(uint(xf), w - 1u), y = min(uint(yf), h - 1u);
 #else
