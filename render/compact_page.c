@@ -638,10 +638,19 @@ static void prefetch_join(vx_compact_page_cache* pc) {
     if (!pc->running) return;
     pthread_join(pc->thread, NULL);
     pc->running = false;
-    for (uint32_t g = 0; g < pc->ahead.ngroups; g++) {
-        const cut_group* cg = &pc->ahead.groups[g];
+    cut_batch* b = &pc->ahead;
+    for (uint32_t g = 0; g < b->ngroups; g++) {
+        const cut_group* cg = &b->groups[g];
         pc->st.models++; /* read, whether or not it cut */
-        if (!cg->r) pc->st.file_pages += cg->n;
+        if (!cg->r) {
+            pc->st.file_pages += cg->n;
+            continue;
+        }
+        /* a group that failed has no images: its pages are cut again when asked for */
+        for (uint32_t i = cg->at; i < cg->at + cg->n; i++) {
+            vx_free(pc->a, b->dst[i]);
+            b->dst[i] = NULL;
+        }
     }
 }
 
@@ -862,7 +871,8 @@ void vx_compact_page_cache_prefetch(vx_compact_page_cache* pc, const uint32_t* p
     else batch_free(pc->a, &pc->ahead, true);
 }
 
-/* The image of page k cut ahead (a group that succeeded), or NULL. */
+/* The image of page k cut ahead, or NULL (not cut ahead, or its group
+ * failed: prefetch_join dropped its images). */
 static const uint32_t* ahead_image(const vx_compact_page_cache* pc, uint32_t k) {
     const cut_batch* b = &pc->ahead;
     uint32_t lo = 0, hi = b->n;
@@ -871,10 +881,7 @@ static const uint32_t* ahead_image(const vx_compact_page_cache* pc, uint32_t k) 
         if (b->pages[mid] < k) lo = mid + 1;
         else hi = mid;
     }
-    if (lo == b->n || b->pages[lo] != k) return NULL;
-    for (uint32_t g = 0; g < b->ngroups; g++)
-        if (lo >= b->groups[g].at && lo < b->groups[g].at + b->groups[g].n) return b->groups[g].r ? NULL : b->dst[lo];
-    return NULL;
+    return lo < b->n && b->pages[lo] == k ? b->dst[lo] : NULL;
 }
 
 vx_result vx_compact_page_cache_get(vx_compact_page_cache* pc, const uint32_t* pages, uint32_t n, uint32_t* const* dst,
