@@ -77,6 +77,11 @@ _Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, .
     exit(2); /* usage() does not return; this keeps the contract if it ever did */
 }
 
+const char* vx_tool_arg(int argc, char** argv, int* i, void (*usage)(int status)) {
+    if (*i + 1 >= argc) vx_tool_usage_error(usage, "option %s needs an argument", argv[*i]);
+    return argv[++*i];
+}
+
 /* ---- progress bar ---------------------------------------------------------- */
 
 /* The bar's state: the library reports progress from one thread at a time
