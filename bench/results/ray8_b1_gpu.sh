@@ -10,14 +10,8 @@
 # walk, an idea for the multi-instance views' registers; t_bvhshv: only o, d and 1/d so) for the colour frame's pixels compared in one process.
 # Payload: A_render_bench.gz, B_render_bench.gz, k.tgz (t_main.spv, t_bvh.spv, t_bvhsh.spv, t_bvhshv.spv), the five corpus .vox, A_COMMIT.
 # SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=96x54 RUNS=1 WU=0 TS=20).
-s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
-T=/tmp/ray8; rm -rf $T; mkdir -p $T; for x in A B; do gunzip -c ${x}_render_bench.gz > $T/$x; chmod +x $T/$x; done
-tar xzf k.tgz -C $T
+BINS="A B"; . "${RAY8_LIB:-$(dirname "$0")/ray8_gpu_lib.sh}" # (the payload had these lines inline)
 SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-15}; WU=${WU:-0.2}
-smi() { nvidia-smi --query-gpu=clocks.sm,clocks.max.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader 2>/dev/null | head -1; }
-stamp() { while IFS= read -r l; do printf '%s %s\n' "$(date -u +%T.%2N)" "$l"; done; }
-flt() { sed -u -E "s|$T/||g; s/  *\[warps[^]]*\]//; s/^(.{330}).*/\1/"; }
-F='^scene|^eph|^ogt|^terrain|^  \(|px differ|^device|^render_bench'
 echo "== ray8 batch 1 on $(nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null | head -1) $(nproc) CPUs $(date -u +%T); A = main $(cat A_COMMIT), B = A with the BVH kernels' lean walk (the push's ray-end test kept)"
 nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader -lms 200 > $T/smi.log 2>/dev/null &
 smipid=$!
