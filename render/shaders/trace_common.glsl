@@ -257,8 +257,18 @@ uint g_path = 0xFFFFu;
 // that paid there (its LEAN).
 // (the choice by the preprocessor: glslang 12 wrote invalid SPIR-V, an
 // undefined id, for a const bool combined with the spec constants here)
+// trace.comp's rebased walk (DEEP 2) too (TRACE_LEAN_DEEP2): scale_exp2 is
+// 2^(scale - S_MAX) in both of its frames, and the rebased frame's ray end
+// is the model frame's, scaled. terrain4096's depth kernel 56 -> 48
+// registers, 5.7-7.3% more primary rays/s on the H200 (its colour kernel
+// stays at 48, 0.5-1% fewer pixels/s; issue 21, ray8)
+#ifdef TRACE_LEAN_DEEP2
+#define LEAN_DEEP_MAX 2
+#else
+#define LEAN_DEEP_MAX 1
+#endif
 #if defined(TRACE_LEAN) && !defined(PRECISE) && defined(TRACE_LEAN_BVH)
-const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !LOD && DEEP <= 1 && !NODES_FILE;
+const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !LOD && DEEP <= LEAN_DEEP_MAX && !NODES_FILE;
 #elif defined(TRACE_LEAN) && !defined(PRECISE)
 // (the G-buffer's BVH kernels: not measured with the lean walk)
 const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && !LOD && DEEP <= 1 && !NODES_FILE;
