@@ -34,6 +34,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/compact.h"
 #include "render/render_internal.h"
 #include "render/trace.h"
 #include "smap.comp.h"
@@ -130,6 +131,63 @@ static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
     }
 }
 
+/* The same list from a compact layout's geometry (render/compact.h): the
+ * same cubes of cells at `level` and the leaves above it. The level-1 and
+ * level-2 nodes are bricks: their octants read from the 64-bit mask, a full
+ * octant a solid cube (a plain model lists it as a node unless its cells
+ * are one leaf: the same cells, so either list bounds the same rays). */
+static void list_compact_model(const vx_compact_scene* c, uint32_t mi, uint32_t level, node_list* l) {
+    const vx_compact_model* m = &c->models[mi];
+    if (m->root == VX_SVO_ROOT_EMPTY) return;
+    if (m->root == VX_SVO_ROOT_LEAF || level >= m->depth) {
+        list_add(l, 0, 0, 0, m->depth | (m->root == VX_SVO_ROOT_LEAF ? SOLID : 0));
+        return;
+    }
+    typedef struct item {
+        uint32_t slot, x, y, z, lv;
+    } item;
+    item stack[8 * 33];
+    int sp = 0;
+    stack[sp++] = (item){m->root, 0, 0, 0, m->depth};
+    while (sp > 0 && l->n <= l->limit) {
+        item it = stack[--sp];
+        if (it.slot >= c->slot_count) continue; /* a bad slot: its subtree is not listed (a layout is built valid) */
+        const uint32_t* sl = c->geom + 2 * (size_t)it.slot;
+        if (it.lv <= 2) {
+            /* a brick (level < it.lv here): octant o2's cells in bits 8 o2 .. 8 o2 + 7 */
+            uint64_t mask = sl[0] | (uint64_t)sl[1] << 32;
+            if (it.lv == 1) mask &= 0xFFu; /* a model of depth 1: bits 0..7 */
+            uint32_t n2 = it.lv == 2 ? 8 : 1;
+            for (uint32_t o2 = 0; o2 < n2; o2++) {
+                uint32_t oct = (uint32_t)(mask >> (8 * o2)) & 0xFFu;
+                if (!oct) continue;
+                uint32_t bx = it.x + (o2 & 1u) * 2, by = it.y + ((o2 >> 1) & 1u) * 2, bz = it.z + ((o2 >> 2) & 1u) * 2;
+                if (it.lv == 2 && level >= 1) {
+                    list_add(l, bx, by, bz, 1 | (oct == 0xFFu ? SOLID : 0));
+                    continue;
+                }
+                for (uint32_t o1 = 0; o1 < 8; o1++)
+                    if ((oct >> o1) & 1u) list_add(l, bx + (o1 & 1u), by + ((o1 >> 1) & 1u), bz + ((o1 >> 2) & 1u), SOLID);
+            }
+            continue;
+        }
+        uint32_t valid = (sl[0] >> 8) & 0xFFu, leaf = sl[0] & 0xFFu;
+        uint32_t cl = it.lv - 1, half = 1u << cl;
+        uint32_t k = 0;
+        for (uint32_t o = 0; o < 8; o++) {
+            if (!((valid >> o) & 1u)) continue;
+            uint32_t cx = it.x + (o & 1u) * half, cy = it.y + ((o >> 1) & 1u) * half, cz = it.z + ((o >> 2) & 1u) * half;
+            if ((leaf >> o) & 1u) {
+                list_add(l, cx, cy, cz, cl | SOLID);
+                continue;
+            }
+            uint32_t cs = vx__compact_child(c, it.lv, sl[1], k++);
+            if (cl <= level) list_add(l, cx, cy, cz, cl);
+            else if (sp < (int)(sizeof stack / sizeof stack[0])) stack[sp++] = (item){cs, cx, cy, cz, cl};
+        }
+    }
+}
+
 void vx__smap_free(vx_gpu* g, vx__smap* sm) {
     if (!sm) return;
     vx__buffer_destroy(g, &sm->nodes);
@@ -148,13 +206,15 @@ static double scene_diag(const double lo[3], const double hi[3]) {
 /* The host's part of vx__smap_list: sm's side, diagonal, model starts and
  * levels, and the node list into *nodes (NULL where there is none; the
  * caller frees it). */
-static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                                const uint32_t* inst_model,
                                 const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                                 uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, smap_node** nodes,
                                 vx_error* err) {
     *nodes = NULL;
     sm->alloc = alloc;
-    if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
+    uint32_t mc = c ? c->model_count : s->model_count;
+    if (side == 1 || inst_count == 0 || mc == 0) return VX_OK;
     double t0 = vx_time_now();
     double diag = scene_diag(lo, hi);
     if (!(diag > 0) || !isfinite(diag)) return VX_OK;
@@ -176,7 +236,6 @@ static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s
     /* the node side in the world: about a texel (the map spans at most the diagonal) */
     double tau = diag / side;
     /* per model the smallest cell of its instances */
-    uint32_t mc = s->model_count;
     sm->model_first = vx_calloc(alloc, 2 * (size_t)mc + 1, sizeof *sm->model_first);
     double* mcell = vx_calloc(alloc, mc, sizeof *mcell);
     if (!sm->model_first || !mcell) {
@@ -204,7 +263,8 @@ static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s
             double q = log2(tau / mcell[mi]);
             int lv = (q > 0 ? (int)floor(q) : 0) + coarser;
             lev[mi] = (uint32_t)(lv > 31 ? 31 : lv);
-            list_model(&s->models[mi], lev[mi], &l);
+            if (c) list_compact_model(c, mi, lev[mi], &l);
+            else list_model(&s->models[mi], lev[mi], &l);
         }
         if (l.nomem || l.n <= VX__SMAP_MAX_NODES) break;
     }
@@ -247,12 +307,13 @@ static vx_result smap_list_upload(vx_gpu* g, vx__smap* sm, smap_node* nodes, vx_
     return VX_OK;
 }
 
-vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                        const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                         uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
     vx__smap_free(g, sm);
     smap_node* nodes = NULL;
-    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, sm,
+    vx_result r = smap_list_host(alloc, s, c, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, sm,
                                  &nodes, err);
     return r ? r : smap_list_upload(g, sm, nodes, err);
 }
@@ -266,14 +327,15 @@ struct vx__smap_pre {
     const vx_allocator* alloc;
 };
 
-vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                            const uint32_t* inst_model,
                             const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                             uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap_pre** out, vx_error* err) {
     *out = NULL;
     vx__smap_pre* p = vx_calloc(alloc, 1, sizeof *p);
     if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     p->side_req = side, p->per_cell = per_cell, p->max_side = max_side, p->alloc = alloc;
-    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, &p->sm,
+    vx_result r = smap_list_host(alloc, s, c, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, &p->sm,
                                  &p->nodes, err);
     if (r) {
         vx__smap_pre_free(p);

@@ -283,6 +283,13 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     return 0;
 }
 
+/* Whether the GPU bake of ps builds the sun's depth map (probe_gpu.c ctx_sun_map: a sun, a light direction). */
+static bool bake_uses_sun_map(const vx_probe_bake_desc* b, const vx_probe_set* ps) {
+    bool sun = ps->sun[0] > 0 || ps->sun[1] > 0 || ps->sun[2] > 0;
+    bool dir = ps->light_dir[0] != 0 || ps->light_dir[1] != 0 || ps->light_dir[2] != 0;
+    return !b->no_shadow_map && sun && dir;
+}
+
 int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
     vx_error err = {0};
     const vx_allocator* A = job_start(j);
@@ -329,7 +336,16 @@ int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
         fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
         return 1;
     }
+    /* the sun's depth map's node list from the host's layout before it goes (the scene would read its geometry
+     * back from the GPU at the map's first build) */
+    vx_render_sun_nodes* sun_nodes = NULL;
+    if (bake_uses_sun_map(&j->o.b, ps))
+        vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE,
+                                 .cpu_device = vx_gpu_is_cpu(j->gpu), .layout = &c}, &sun_nodes,
+                                 NULL); /* none made: the build lists them */
     r = vx_render_scene_create_compact(j->gpu, j->rd, &c, t_build, NULL, &j->rs, &err);
+    if (!r) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
+    else vx_render_sun_nodes_free(sun_nodes);
     /* the GPU scene was made with the graph's instances (frame 0): frame N's from the copy of the graph */
     if (!r && j->o.frame) r = vx_render_scene_set_frame(j->rs, &j->file, j->o.frame, &err);
     j->t_device = vx_time_now() - t;
@@ -629,13 +645,6 @@ static void huge_free(void* user, void* ptr) {
 
 static const vx_allocator huge_allocator = {huge_alloc, huge_free, NULL};
 
-/* Whether the GPU bake of ps builds the sun's depth map (probe_gpu.c ctx_sun_map: a sun, a light direction). */
-static bool bake_uses_sun_map(const vx_probe_bake_desc* b, const vx_probe_set* ps) {
-    bool sun = ps->sun[0] > 0 || ps->sun[1] > 0 || ps->sun[2] > 0;
-    bool dir = ps->light_dir[0] != 0 || ps->light_dir[1] != 0 || ps->light_dir[2] != 0;
-    return !b->no_shadow_map && sun && dir;
-}
-
 static int bake_single(bake_job* j) {
     options* o = &j->o;
     vx_error err = {0};
@@ -682,7 +691,7 @@ static int bake_single(bake_job* j) {
         bake_job_close(j);
         return 1;
     }
-    if (j->rs) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
+    if (j->rs && sun_nodes) vx_render_scene_take_sun_nodes(j->rs, sun_nodes); /* (--load models took its own) */
     else vx_render_sun_nodes_free(sun_nodes);
     if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
     /* the host's peak so far: the scene (or the layout from the reader's passes), the placement, the GPU scene (on a
