@@ -339,17 +339,19 @@ int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
     /* the sun's depth map's node list from the host's layout before it goes (the scene would read its geometry
      * back from the GPU at the map's first build) */
     vx_render_sun_nodes* sun_nodes = NULL;
+    j->t_sun = vx_time_now();
     if (bake_uses_sun_map(&j->o.b, ps))
         vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE,
                                  .cpu_device = vx_gpu_is_cpu(j->gpu), .layout = &c}, &sun_nodes,
                                  NULL); /* none made: the build lists them */
+    j->t_sun = vx_time_now() - j->t_sun;
     r = vx_render_scene_create_compact(j->gpu, j->rd, &c, t_build, NULL, &j->rs, &err);
     if (!r) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
     else vx_render_sun_nodes_free(sun_nodes);
     /* the GPU scene was made with the graph's instances (frame 0): frame N's from the copy of the graph */
     if (!r && j->o.frame) r = vx_render_scene_set_frame(j->rs, &j->file, j->o.frame, &err);
     j->t_device = vx_time_now() - t;
-    j->t_scene = j->t_device - j->t_vk;
+    j->t_scene = j->t_device - j->t_vk - j->t_sun;
     vx_svo_reader_close(j->rd); /* its buffers and the file: the layout is on the GPU */
     j->rd = NULL;
     if (r) {
@@ -684,7 +686,7 @@ static int bake_single(bake_job* j) {
     if (j->opening && bake_uses_sun_map(&o->b, &ps))
         vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE}, &sun_nodes,
                                  NULL); /* none made: the build lists them */
-    t_ahead = vx_time_now() - t_ahead;
+    t_ahead = o->load_models ? j->t_sun : vx_time_now() - t_ahead;
     if (bake_job_device(j, "")) {
         vx_render_sun_nodes_free(sun_nodes);
         vx_probe_set_free(&ps);
