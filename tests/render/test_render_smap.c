@@ -279,9 +279,9 @@ static void test_instances(void) {
 
 /* The node list from the compact layout (issue 18, branch smap3: what a scene built from a model reader lists,
  * svo_bake --load models), taken by a plain scene: the frames with the map the bits of those without, on the
- * instances and on a solid block of a colour per cell (full bricks: full octants are solid cubes of level 1 in
- * the compact list), models of depth 1 and 2 (a brick as the root), turned and mirrored; the bricks in their
- * blocks and in the dictionary (take_compact_list). */
+ * instances and on a solid block of a colour per cell (full bricks: solid cubes of 4^3 cells in the compact
+ * list), one whose every brick lacks a cell, models of depth 1 and 2 (a brick as the root), turned and mirrored;
+ * the bricks in their blocks and in the dictionary (take_compact_list). */
 static void test_compact_list(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -291,20 +291,23 @@ static void test_compact_list(void) {
     smap_stats st = {0};
     check_scene("instances, compact list", &s, cams, 1, sides, 3, true, true, &st);
     vx_svo_scene_free(&s);
-    vx_svo_model m[4];
+    vx_svo_model m[5];
     REQUIRE(ts_random_model(&m[0], 16, 16, 16, 100, 5) == VX_OK);
+    REQUIRE(ts_seam_model(&m[4]) == VX_OK); /* every brick lacks one cell: none is a solid cube */
     REQUIRE(ts_random_model(&m[1], 2, 2, 2, 60, 9) == VX_OK);
     REQUIRE(ts_random_model(&m[2], 4, 4, 3, 55, 13) == VX_OK);
     REQUIRE(ts_random_model(&m[3], 14, 12, 10, 35, 17) == VX_OK);
     CHECK(m[1].depth == 1 && m[2].depth == 2);
     const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
-    vx_svo_instance in[6] = {ts_inst(0, NULL, 0, 0, 0),       ts_inst(1, NULL, 4, 20, 2), ts_inst(2, quarter, 10, 22, 1),
-                             ts_inst(2, mirror, 20, 18, 9),   ts_inst(3, NULL, 18, -2, 0), ts_inst(0, quarter, 40, 4, 6)};
-    ts_scene(&s, m, 4, in, 6);
-    vx_render_camera views[2] = {{0}, persp(60, -30, 40, 18, 10, 4)};
-    check_scene("blocks, compact list", &s, views, 2, sides, 3, true, true, &st);
-    /* the same cubes from either source (a full octant of a brick is one solid cube of level 1 in the compact
-     * list, a node of level 1 in the plain one): as many nodes, the layout's list taken */
+    vx_svo_instance in[7] = {ts_inst(0, NULL, 0, 0, 0),       ts_inst(1, NULL, 4, 20, 2), ts_inst(2, quarter, 10, 22, 1),
+                             ts_inst(2, mirror, 20, 18, 9),   ts_inst(3, NULL, 18, -2, 0), ts_inst(0, quarter, 40, 4, 6),
+                             ts_inst(4, NULL, -34, 0, 0)};
+    ts_scene(&s, m, 5, in, 7);
+    vx_render_camera views[3] = {{0}, persp(60, -30, 40, 18, 10, 4), persp(-60, -40, 50, -18, 16, 16)};
+    check_scene("blocks, compact list", &s, views, 3, sides, 3, true, true, &st);
+    /* the block's full bricks are solid cubes of 4^3 cells in the compact list, 16^3 cells of other colours in
+     * the plain one (a list at level 0 on a CPU device, 2 texels a cell; at level 1 or 2 on a GPU): fewer nodes,
+     * the layout's list taken */
     vx_error err = {0};
     vx_render_scene *rp = NULL, *rc = NULL;
     vx_render_image img = {0};
@@ -316,7 +319,7 @@ static void test_compact_list(void) {
     frames_with_map(rp, L, &img, &a);
     frames_with_map(rc, L, &img, &b);
     printf("blocks: %u nodes listed from the plain models, %u from the compact layout\n", a.nodes, b.nodes);
-    CHECK(a.used && b.used && b.ahead_seconds > 0 && b.nodes == a.nodes && a.side == b.side);
+    CHECK(a.used && b.used && b.ahead_seconds > 0 && b.nodes < a.nodes && a.side == b.side);
     vx_render_image_free(&img);
     vx_render_scene_destroy(rp);
     vx_render_scene_destroy(rc);
