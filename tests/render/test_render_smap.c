@@ -269,6 +269,8 @@ static void test_instances(void) {
     static const uint32_t sides[] = {0, 16, 61};
     smap_stats st = {0};
     check_scene("instances", &s, cams, 2, sides, 3, true, false, &st);
+    /* the node list from the compact layout (test_compact_list) */
+    check_scene("instances, compact list", &s, cams, 1, sides, 3, true, true, &st);
     check_texel_edges("instances", &s, 61, &st);
     check_texel_edges("instances", &s, 16, &st);
     printf("instances: %zu frames, %zu shadow rays, %.2f -> %.2f steps each\n", st.frames, st.cast,
@@ -279,18 +281,14 @@ static void test_instances(void) {
 
 /* The node list from the compact layout (issue 18, branch smap3: what a scene built from a model reader lists,
  * svo_bake --load models), taken by a plain scene: the frames with the map the bits of those without, on the
- * instances and on a solid block of a colour per cell (full bricks: solid cubes of 4^3 cells in the compact
+ * instances (test_instances) and on a solid block of a colour per cell (full bricks: solid cubes of 4^3 cells in the compact
  * list), one whose every brick lacks a cell, models of depth 1 and 2 (a brick as the root), turned and mirrored;
  * the bricks in their blocks and in the dictionary (take_compact_list). */
 static void test_compact_list(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
-    REQUIRE(instance_scene(&s) == VX_OK);
-    vx_render_camera cams[2] = {{0}, persp(50, -20, 30, 16, 16, 4)};
     static const uint32_t sides[] = {0, 16, 61};
     smap_stats st = {0};
-    check_scene("instances, compact list", &s, cams, 1, sides, 3, true, true, &st);
-    vx_svo_scene_free(&s);
     vx_svo_model m[5];
     REQUIRE(ts_random_model(&m[0], 16, 16, 16, 100, 5) == VX_OK);
     REQUIRE(ts_seam_model(&m[4]) == VX_OK); /* every brick lacks one cell: none is a solid cube */
