@@ -1,7 +1,9 @@
 # A compute kernel's spec in the shader lists of render/render.cmake and
 # probes/probes.cmake: NAME:FILE[:DEFINE] -> the embedded kernel's name, its
 # source FILE.comp and the glslangValidator define (-DDEFINE, or empty); the
-# kernels of VX_WALK_PRECISE_KERNELS get -DWALK_PRECISE too (vx_walk_defs).
+# kernels of VX_WALK_PRECISE_KERNELS get -DWALK_PRECISE too (vx_walk_defs). With a
+# fifth argument, the folder the embedded header NAME.comp.h is written to, a
+# listed kernel's header is recorded for test_spirv_precise (vx_walk_defs).
 function(vx_shader_spec spec name_var file_var defs_var)
   string(REPLACE ":" ";" parts ${spec})
   list(GET parts 0 name)
@@ -12,7 +14,11 @@ function(vx_shader_spec spec name_var file_var defs_var)
     list(GET parts 2 def)
     set(defs -D${def})
   endif()
-  vx_walk_defs(${name} defs)
+  if(ARGC GREATER 4)
+    vx_walk_defs(${name} defs ${ARGV4}/${name}.comp.h)
+  else()
+    vx_walk_defs(${name} defs)
+  endif()
   set(${name_var} ${name} PARENT_SCOPE)
   set(${file_var} ${file} PARENT_SCOPE)
   set(${defs_var} ${defs} PARENT_SCOPE)
@@ -27,8 +33,9 @@ endfunction()
 # passes and the merged frame.comp walks non-contracted: the pass pipeline's G-buffer, direct (shadow rays) and AO
 # passes and the merged frame (and its display form), the cones' voxelization, injection (shadow rays) and gi
 # pass, and the photons' kernel. Names are the embedded arrays' (vx__NAME_spv_arr); test_spirv_precise checks each
-# listed kernel's walk for the marks (VX_WALK_PRECISE_KERNELS reaches it as a define) and fails on a name it
-# cannot check. So the rule is this list, not "every walking kernel": not listed (docs/PERFORMANCE.md, issue 18,
+# listed kernel's walk for the marks, through a table generated from this list and the headers the kernels' build
+# rules record (vx_walk_defs' third argument), so a kernel added here is checked without editing the test; it fails
+# on a listed name whose header no rule recorded (not built here, or its rule does not pass the header). So the rule is this list, not "every walking kernel": not listed (docs/PERFORMANCE.md, issue 18,
 # branch prec2) are trace.comp and trace_precise, the single-shader tracers of vx_render_frame and the primary-ray
 # benchmarks (trace.comp non-contracted cost 2.7% on eph_monu1's close-up on the H200; test_passes compares its colour
 # mode with the passes bit for bit, and on the H200 they agreed with its walk contractible), trace_compact.comp (its
@@ -38,9 +45,15 @@ endfunction()
 # on the H200, issue 18, branch rdr4).
 set(VX_WALK_PRECISE_KERNELS gbuffer frame frame_display direct ao cone_voxelize cone_inject cone_trace photon)
 
-# Appends -DWALK_PRECISE to the list defs_var where name (the embedded array's) is in VX_WALK_PRECISE_KERNELS.
+# Appends -DWALK_PRECISE to the list defs_var where name (the embedded array's) is in VX_WALK_PRECISE_KERNELS;
+# the optional third argument, the kernel's embedded header (absolute path), is then recorded in the global
+# property VX_WALK_PRECISE_HEADERS as NAME=HEADER (read by tests/render/render.cmake's table for
+# test_spirv_precise).
 function(vx_walk_defs name defs_var)
   if(name IN_LIST VX_WALK_PRECISE_KERNELS)
     set(${defs_var} ${${defs_var}} -DWALK_PRECISE PARENT_SCOPE)
+    if(ARGC GREATER 2)
+      set_property(GLOBAL APPEND PROPERTY VX_WALK_PRECISE_HEADERS "${name}=${ARGV2}")
+    endif()
   endif()
 endfunction()

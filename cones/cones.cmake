@@ -11,7 +11,7 @@ if(VX_WITH_VULKAN)
       set(var trace)
     endif()
     set(defs)
-    vx_walk_defs(cone_${var} defs) # cmake/shaders.cmake: the walk non-contracted
+    vx_walk_defs(cone_${var} defs ${VX_CONES_SPV_DIR}/${name}.comp.h) # cmake/shaders.cmake: the walk non-contracted
     add_custom_command(
       OUTPUT ${VX_CONES_SPV_DIR}/${name}.comp.h
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders

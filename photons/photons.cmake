@@ -7,7 +7,7 @@ if(VX_WITH_VULKAN)
   set(VX_PHOTONS_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_PHOTONS_SPV_DIR})
   set(defs)
-  vx_walk_defs(photon defs) # cmake/shaders.cmake: the walk non-contracted
+  vx_walk_defs(photon defs ${VX_PHOTONS_SPV_DIR}/photon.comp.h) # cmake/shaders.cmake: the walk non-contracted
   add_custom_command(
     OUTPUT ${VX_PHOTONS_SPV_DIR}/photon.comp.h
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders

@@ -33,7 +33,7 @@ if(VX_WITH_VULKAN)
                display:display display_image:display:TO_IMAGE
                frame_display:frame:DISPLAY_OUT resolve_display:resolve:DISPLAY_OUT post_display:post:DISPLAY_OUT
                refit:refit inst_rows:inst_rows trace_compact:trace_compact smap:smap)
-    vx_shader_spec(${spec} shader file defs)
+    vx_shader_spec(${spec} shader file defs ${VX_RENDER_SPV_DIR})
     set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${file}.comp)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
     add_custom_command(

@@ -478,6 +478,24 @@ static uint8_t* scene_bytes(const ved* e, const vx_svo_scene* s, size_t* n) {
     return r ? NULL : b;
 }
 
+/* Undoes every step of e: s saves as the n0 bytes b0 again; with redo, then redoes every step: s saves as it did
+ * before the undo. */
+static void check_undo_redo(ved* e, const vx_svo_scene* s, const uint8_t* b0, size_t n0, bool redo) {
+    size_t n1 = 0, n2, n3;
+    uint8_t* b1 = redo ? scene_bytes(e, s, &n1) : NULL;
+    CHECK(!redo || b1);
+    while (ved_undo(e, NULL)) {}
+    uint8_t* b2 = scene_bytes(e, s, &n2);
+    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
+    if (redo && b1) {
+        while (ved_redo(e, NULL)) {}
+        uint8_t* b3 = scene_bytes(e, s, &n3);
+        CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
+        vx_free(NULL, b3);
+    }
+    vx_free(NULL, b1), vx_free(NULL, b2);
+}
+
 /* The corpus scene with two lights and a gradient sky (lights allocated as
  * the reader does, so the editor's undo may swap them). */
 static bool scene_with_lights(vx_svo_scene* s) {
@@ -695,18 +713,9 @@ static void test_editor_voxels(void) {
     b = (vvx_brush){0};
     REQUIRE(vvx_apply(&e, 0, VVX_REMOVE, &b, (int64_t[3]){100, 0, 0}, &changed, NULL) == VX_OK);
     CHECK(changed == 0 && e.undo_count == steps);
-    size_t n1;
-    uint8_t* b1 = scene_bytes(&e, &s, &n1);
-    REQUIRE(b1);
     /* undo to the start: the original bytes; redo: the edited ones */
-    while (ved_undo(&e, NULL)) {}
-    size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&e, &s, &n2);
-    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
-    while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&e, &s, &n3);
-    CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
-    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    check_undo_redo(&e, &s, b0, n0, true);
+    vx_free(NULL, b0);
     ved_free(&e);
     vx_svo_scene_free(&s);
     vx_svo_scene_free(&orig);
@@ -761,11 +770,8 @@ static void test_editor_frames(void) {
     vx_svo_scene back;
     CHECK(b1 && vx_svo_read(NULL, b1, n1, &back, NULL) == VX_OK && back.frame_count == 4 && back.instance_count == 2);
     if (b1) vx_svo_scene_free(&back);
-    while (ved_undo(&e, NULL)) {}
-    size_t n2;
-    uint8_t* b2 = scene_bytes(&e, &s, &n2);
-    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
-    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2);
+    check_undo_redo(&e, &s, b0, n0, false);
+    vx_free(NULL, b0), vx_free(NULL, b1);
     ved_free(&e);
     vx_svo_scene_free(&s);
     vx_svo_scene_free(&orig);
@@ -807,17 +813,8 @@ static void test_editor_random(void) {
         else ved_hide(&s, i, (r >> 9) & 1);
     }
     CHECK(edits > 100);
-    size_t n1;
-    uint8_t* b1 = scene_bytes(&e, &s, &n1);
-    REQUIRE(b1);
-    while (ved_undo(&e, NULL)) {}
-    size_t n2, n3;
-    uint8_t* b2 = scene_bytes(&e, &s, &n2);
-    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
-    while (ved_redo(&e, NULL)) {}
-    uint8_t* b3 = scene_bytes(&e, &s, &n3);
-    CHECK(b3 && n3 == n1 && !memcmp(b3, b1, n1));
-    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    check_undo_redo(&e, &s, b0, n0, true);
+    vx_free(NULL, b0);
     ved_free(&e);
     vx_svo_scene_free(&s);
 }
@@ -895,15 +892,8 @@ static void test_editor_incremental(void) {
     }
     CHECKF(bad == 0, "%u of 120 edits differ from the rebuild", bad);
     CHECK(edits > 60);
-    size_t n1, n2, n3;
-    uint8_t* b1 = scene_bytes(&e[0], &s[0], &n1);
-    while (ved_undo(&e[0], NULL)) {}
-    uint8_t* b2 = scene_bytes(&e[0], &s[0], &n2);
-    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
-    while (ved_redo(&e[0], NULL)) {}
-    uint8_t* b3 = scene_bytes(&e[0], &s[0], &n3);
-    CHECK(b1 && b3 && n3 == n1 && !memcmp(b3, b1, n1));
-    vx_free(NULL, b0), vx_free(NULL, b1), vx_free(NULL, b2), vx_free(NULL, b3);
+    check_undo_redo(&e[0], &s[0], b0, n0, true);
+    vx_free(NULL, b0);
     for (int k = 0; k < 2; k++) {
         ved_free(&e[k]);
         vx_svo_scene_free(&s[k]);
@@ -1061,11 +1051,8 @@ static void test_editor_face(void) {
     uint32_t steps_before = e.undo_count;
     CHECK(vvx_apply(&e, 0, VVX_ADD, &b, (int64_t[3]){0, 3, 1}, NULL, NULL) == VX_ERR_LIMIT);
     CHECK(e.undo_count == steps_before && fg_diff(&s.models[0], &g) == 0);
-    while (ved_undo(&e, NULL)) {}
-    size_t n2;
-    uint8_t* b2 = scene_bytes(&e, &s, &n2);
-    CHECK(b2 && n2 == n0 && !memcmp(b2, b0, n0));
-    vx_free(NULL, b0), vx_free(NULL, b2);
+    check_undo_redo(&e, &s, b0, n0, false);
+    vx_free(NULL, b0);
     ved_free(&e);
     vx_svo_scene_free(&s);
 }

@@ -20,15 +20,10 @@ vx_tool_conv vx_tool_conv_defaults(void) {
     return c;
 }
 
-static const char* value(int argc, char** argv, int* i, void (*usage)(int)) {
-    if (*i + 1 >= argc) vx_tool_usage_error(usage, "option %s needs an argument", argv[*i]);
-    return argv[++*i];
-}
-
 bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*usage)(int)) {
     const char* a = argv[*i];
     if (!strcmp(a, "--frame")) {
-        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->frame))
+        if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, i, usage), &c->frame))
             vx_tool_usage_error(usage, "bad --frame value '%s'", argv[*i]);
         c->frame_set = true;
     } else if (!strcmp(a, "--keep-hidden")) c->keep_hidden = true;
@@ -36,29 +31,30 @@ bool vx_tool_conv_option(int argc, char** argv, int* i, vx_tool_conv* c, void (*
     else if (!strcmp(a, "--no-collapse")) c->no_collapse = true;
     else if (!strcmp(a, "--no-dag")) c->no_dag = true;
     else if (!strcmp(a, "--res")) {
-        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->res) || c->res < 1 || c->res > VX_CONV_MESH_RES_MAX)
+        if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, i, usage), &c->res) || c->res < 1 ||
+            c->res > VX_CONV_MESH_RES_MAX)
             vx_tool_usage_error(usage, "bad --res value '%s' (1 to %u)", argv[*i], VX_CONV_MESH_RES_MAX);
     } else if (!strcmp(a, "--region")) {
         uint32_t v = 0;
-        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &v) || v < 64 || v > 65536 || (v & (v - 1)))
+        if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, i, usage), &v) || v < 64 || v > 65536 || (v & (v - 1)))
             vx_tool_usage_error(usage, "bad --region value '%s' (a power of two from 64 to 65536)", argv[*i]);
         c->region = v;
     } else if (!strcmp(a, "--scene")) {
-        if (!vx_tool_parse_u32(value(argc, argv, i, usage), &c->scene))
+        if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, i, usage), &c->scene))
             vx_tool_usage_error(usage, "bad --scene value '%s'", argv[*i]);
         c->scene_set = true;
     } else if (!strcmp(a, "--solid")) c->solid = true;
     else if (!strcmp(a, "--normals")) c->normals = true;
     else if (!strcmp(a, "--y-up")) c->y_up = true;
-    else if (!strcmp(a, "--grid")) c->grid = value(argc, argv, i, usage);
+    else if (!strcmp(a, "--grid")) c->grid = vx_tool_arg(argc, argv, i, usage);
     else if (!strcmp(a, "--threshold")) {
-        if (!vx_tool_parse_double(value(argc, argv, i, usage), &c->threshold))
+        if (!vx_tool_parse_double(vx_tool_arg(argc, argv, i, usage), &c->threshold))
             vx_tool_usage_error(usage, "bad --threshold value '%s'", argv[*i]);
         c->threshold_set = true;
     } else if (!strcmp(a, "--density")) c->density = true;
-    else if (!strcmp(a, "--color")) c->color = value(argc, argv, i, usage);
+    else if (!strcmp(a, "--color")) c->color = vx_tool_arg(argc, argv, i, usage);
     else if (!strcmp(a, "--max-memory")) {
-        if (!vx_tool_parse_bytes(value(argc, argv, i, usage), &c->max_memory) || !c->max_memory)
+        if (!vx_tool_parse_bytes(vx_tool_arg(argc, argv, i, usage), &c->max_memory) || !c->max_memory)
             vx_tool_usage_error(usage, "bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[*i]);
     }
     else return false;

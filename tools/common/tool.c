@@ -56,25 +56,33 @@ int vx_tool_error_budget(const char* file, const vx_error* err, const vx_budget*
     return 1;
 }
 
+/* "tool: <message>" and a newline on stderr */
+static void error_line(const char* fmt, va_list ap) {
+    fprintf(stderr, "%s: ", vx_tool_name);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
 int vx_tool_errorf(const char* fmt, ...) {
     va_list ap;
-    fprintf(stderr, "%s: ", vx_tool_name);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    error_line(fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
     return 1;
 }
 
 _Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, ...) {
     va_list ap;
-    fprintf(stderr, "%s: ", vx_tool_name);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    error_line(fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
     usage(2);
     exit(2); /* usage() does not return; this keeps the contract if it ever did */
+}
+
+const char* vx_tool_arg(int argc, char** argv, int* i, void (*usage)(int status)) {
+    if (*i + 1 >= argc) vx_tool_usage_error(usage, "option %s needs an argument", argv[*i]);
+    return argv[++*i];
 }
 
 /* ---- progress bar ---------------------------------------------------------- */

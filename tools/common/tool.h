@@ -33,6 +33,11 @@ _Noreturn void vx_tool_usage_error(void (*usage)(int status), const char* fmt, .
 #endif
     ;
 
+/* The argument of the option argv[*i] (the option loops' one rule for it): argv[*i + 1], *i advanced to it;
+ * where none is left, the usage error "option X needs an argument" (vx_tool_usage_error, which does not
+ * return). So an error about the value can name it as argv[*i] afterwards. */
+const char* vx_tool_arg(int argc, char** argv, int* i, void (*usage)(int status));
+
 /* Progress bar on stderr when it is a terminal (quiet disables it). */
 vx_progress vx_tool_progress(bool quiet);
 void vx_tool_progress_done(void);

@@ -87,8 +87,7 @@ static options parse(int argc, char** argv) {
         } else if (!strcmp(a, "--verify")) o.verify = true;
         else if (!strcmp(a, "--dump")) o.dump = true;
         else if (!strcmp(a, "--max-memory")) {
-            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
-            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+            if (!vx_tool_parse_bytes(vx_tool_arg(argc, argv, &i, usage), &o.max_memory) || !o.max_memory)
                 usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         }
         else if (!strcmp(a, "--all")) o.all = true;
@@ -98,16 +97,10 @@ static options parse(int argc, char** argv) {
             o.frame_set = true;
             i++;
         }
-        else if (!strcmp(a, "--to-vox")) {
-            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
-            o.to_vox = argv[++i];
-        } else if (!strcmp(a, "--to-glb")) {
-            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
-            o.to_glb = argv[++i];
-        } else if (!strcmp(a, "--to-vdb")) {
-            if (i + 1 >= argc) usage_error("option %s needs an argument", a);
-            o.to_vdb = argv[++i];
-        } else if (!strcmp(a, "--vdb-models")) o.vdb_models = true;
+        else if (!strcmp(a, "--to-vox")) o.to_vox = vx_tool_arg(argc, argv, &i, usage);
+        else if (!strcmp(a, "--to-glb")) o.to_glb = vx_tool_arg(argc, argv, &i, usage);
+        else if (!strcmp(a, "--to-vdb")) o.to_vdb = vx_tool_arg(argc, argv, &i, usage);
+        else if (!strcmp(a, "--vdb-models")) o.vdb_models = true;
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (!o.in) o.in = a;

@@ -579,59 +579,47 @@ int main(int argc, char** argv) {
     int npos = 0;
     for (int i = 1; i < argc; i++) {
         const char* a = argv[i];
-#define NEED()                                                          \
-    do {                                                                \
-        if (i + 1 >= argc) usage_error("option %s needs an argument", a); \
-    } while (0)
+/* the option's argument, argv[i] after it (vx_tool_arg: a usage error where none is left) */
+#define ARG() vx_tool_arg(argc, argv, &i, usage)
         if (!strcmp(a, "-h") || !strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
         else if (!strcmp(a, "-version") || !strcmp(a, "--version")) {
             printf("%s %s (svo format %u, max octree depth %u)\n", prog, VX_VERSION_STRING, VX_SVO_FORMAT_VERSION,
                    VX_RENDER_MAX_DEPTH);
             return 0;
         } else if (!strcmp(a, "--mode")) {
-            NEED();
-            ++i;
+            const char* m = ARG();
             o.probe_mode = false;
-            if (!vx_render_mode_parse(argv[i], &o.r.mode)) {
-                if (!vx_probe_render_mode_parse(argv[i], &o.p.mode)) usage_error("unknown mode '%s'", argv[i]);
+            if (!vx_render_mode_parse(m, &o.r.mode)) {
+                if (!vx_probe_render_mode_parse(m, &o.p.mode)) usage_error("unknown mode '%s'", m);
                 o.probe_mode = true;
             }
         } else if (!strcmp(a, "--probes")) {
-            NEED();
-            o.probes = argv[++i];
+            o.probes = ARG();
         } else if (!strcmp(a, "--photons")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.photons.photons) || !o.photons.photons || o.photons.photons > (1u << 26))
+            if (!parse_uint(ARG(), &o.photons.photons) || !o.photons.photons || o.photons.photons > (1u << 26))
                 usage_error("bad photon count '%s' (1..2^26)", argv[i]);
         } else if (!strcmp(a, "--final-gather")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.photons.final_gather) || o.photons.final_gather > 1024)
+            if (!parse_uint(ARG(), &o.photons.final_gather) || o.photons.final_gather > 1024)
                 usage_error("bad final gather rays '%s' (0..1024)", argv[i]);
         } else if (!strcmp(a, "--radius") || !strcmp(a, "--photon-radius")) { /* the name, the old one */
-            NEED();
             char* end;
-            o.photons.radius = strtod(argv[++i], &end);
+            o.photons.radius = strtod(ARG(), &end);
             if (*end || !(o.photons.radius > 0) || !isfinite(o.photons.radius))
                 usage_error("bad %s '%s'", a, argv[i]);
         } else if (!strcmp(a, "--bounces")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
+            if (!parse_uint(ARG(), &o.p.bounces) || !o.p.bounces || o.p.bounces > 64)
                 usage_error("bad bounces '%s' (1..64)", argv[i]);
         } else if (!strcmp(a, "--cone-res")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.cone.res) || o.cone.res < 2 || o.cone.res > VX_CONE_RES_MAX)
+            if (!parse_uint(ARG(), &o.cone.res) || o.cone.res < 2 || o.cone.res > VX_CONE_RES_MAX)
                 usage_error("bad cone resolution '%s' (2..%u)", argv[i], VX_CONE_RES_MAX);
         } else if (!strcmp(a, "--cones")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.cone.cones) || !o.cone.cones || o.cone.cones > VX_CONE_CONES_MAX)
+            if (!parse_uint(ARG(), &o.cone.cones) || !o.cone.cones || o.cone.cones > VX_CONE_CONES_MAX)
                 usage_error("bad cone count '%s' (1..%u)", argv[i], VX_CONE_CONES_MAX);
         } else if (!strcmp(a, "--cone-aperture")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.cone.aperture, 1) || !(o.cone.aperture > 0 && o.cone.aperture < 89))
+            if (!parse_vec(ARG(), &o.cone.aperture, 1) || !(o.cone.aperture > 0 && o.cone.aperture < 89))
                 usage_error("bad cone aperture '%s' (degrees, above 0 and below 89)", argv[i]);
         } else if (!strcmp(a, "--cone-bounces")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.cone.bounces) || !o.cone.bounces || o.cone.bounces > 4)
+            if (!parse_uint(ARG(), &o.cone.bounces) || !o.cone.bounces || o.cone.bounces > 4)
                 usage_error("bad cone bounces '%s' (1..4)", argv[i]);
         } else if (!strcmp(a, "--cone-isotropic")) {
             o.cone.isotropic = true;
@@ -644,71 +632,57 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--cone-no-specular")) {
             o.cone.no_specular = true;
         } else if (!strcmp(a, "--cone-sun-angle")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.cone.sun_angle, 1) || !(o.cone.sun_angle > 0 && o.cone.sun_angle < 30))
+            if (!parse_vec(ARG(), &o.cone.sun_angle, 1) || !(o.cone.sun_angle > 0 && o.cone.sun_angle < 30))
                 usage_error("bad sun angle '%s' (degrees, above 0 and below 30)", argv[i]);
         } else if (!strcmp(a, "--seed")) {
-            NEED();
             uint32_t sd;
-            if (!parse_uint(argv[++i], &sd)) usage_error("bad seed '%s'", argv[i]);
+            if (!parse_uint(ARG(), &sd)) usage_error("bad seed '%s'", argv[i]);
             o.p.seed = sd;
             o.fd.seed = sd;
         } else if (!strcmp(a, "--threads")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.p.threads) || !o.p.threads || o.p.threads > 64)
+            if (!parse_uint(ARG(), &o.p.threads) || !o.p.threads || o.p.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
         } else if (!strcmp(a, "--load")) {
-            NEED();
-            const char* l = argv[++i];
+            const char* l = ARG();
             if (!strcmp(l, "whole")) o.load_models = false;
             else if (!strcmp(l, "models")) o.load_models = true;
             else usage_error("bad --load '%s' (models or whole)", l);
         } else if (!strcmp(a, "--layout")) {
-            NEED();
-            const char* l = argv[++i];
+            const char* l = ARG();
             if (!strcmp(l, "auto")) o.scene_desc.layout = VX_RENDER_LAYOUT_AUTO;
             else if (!strcmp(l, "plain")) o.scene_desc.layout = VX_RENDER_LAYOUT_PLAIN;
             else if (!strcmp(l, "compact")) o.scene_desc.layout = VX_RENDER_LAYOUT_COMPACT;
             else usage_error("bad --layout '%s' (auto, plain or compact)", l);
         } else if (!strcmp(a, "--page-level")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.scene_desc.page_level) || o.scene_desc.page_level < 3 ||
+            if (!parse_uint(ARG(), &o.scene_desc.page_level) || o.scene_desc.page_level < 3 ||
                 o.scene_desc.page_level > 31)
                 usage_error("bad --page-level '%s' (3..31)", argv[i]);
         } else if (!strcmp(a, "--buffer-range")) {
-            NEED();
-            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.max_buffer_range) || o.scene_desc.max_buffer_range < 64)
+            if (!vx_tool_parse_bytes(ARG(), &o.scene_desc.max_buffer_range) || o.scene_desc.max_buffer_range < 64)
                 usage_error("bad --buffer-range value '%s' (bytes, at least 64, e.g. 1M)", argv[i]);
         } else if (!strcmp(a, "--gpu-budget")) {
-            NEED();
-            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
+            if (!vx_tool_parse_bytes(ARG(), &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
                 usage_error("bad --gpu-budget value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--host-budget")) {
-            NEED();
-            if (!vx_tool_parse_bytes(argv[++i], &o.scene_desc.host_budget) || !o.scene_desc.host_budget)
+            if (!vx_tool_parse_bytes(ARG(), &o.scene_desc.host_budget) || !o.scene_desc.host_budget)
                 usage_error("bad --host-budget value '%s' (bytes, e.g. 64M)", argv[i]);
         } else if (!strcmp(a, "--fly")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.fly) || !o.fly || o.fly > 100000) usage_error("bad --fly '%s' (frames)", argv[i]);
+            if (!parse_uint(ARG(), &o.fly) || !o.fly || o.fly > 100000) usage_error("bad --fly '%s' (frames)", argv[i]);
         } else if (!strcmp(a, "--max-memory")) {
-            NEED();
-            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+            if (!vx_tool_parse_bytes(ARG(), &o.max_memory) || !o.max_memory)
                 usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--size")) {
-            NEED();
             unsigned w, h;
             char c;
-            if (sscanf(argv[++i], "%ux%u%c", &w, &h, &c) != 2 || !w || !h || w > 16384 || h > 16384)
+            if (sscanf(ARG(), "%ux%u%c", &w, &h, &c) != 2 || !w || !h || w > 16384 || h > 16384)
                 usage_error("bad size '%s' (WxH, at most 16384 each)", argv[i]);
             o.r.width = w, o.r.height = h;
         } else if (!strcmp(a, "--spp") || !strcmp(a, "--passes-count")) { /* gi=photons: one pass a sample */
-            NEED();
-            if (!parse_uint(argv[++i], &o.r.spp) || !o.r.spp || o.r.spp > (1u << 24)) usage_error("bad %s '%s'", a, argv[i]);
+            if (!parse_uint(ARG(), &o.r.spp) || !o.r.spp || o.r.spp > (1u << 24)) usage_error("bad %s '%s'", a, argv[i]);
             o.spp_given = true;
         } else if (!strcmp(a, "--camera")) {
-            NEED();
             double v[6];
-            if (!parse_vec(argv[++i], v, 6)) usage_error("bad camera '%s' (EX,EY,EZ,TX,TY,TZ)", argv[i]);
+            if (!parse_vec(ARG(), v, 6)) usage_error("bad camera '%s' (EX,EY,EZ,TX,TY,TZ)", argv[i]);
             o.r.camera.set = true;
             memcpy(o.r.camera.eye, v, sizeof o.r.camera.eye);
             memcpy(o.r.camera.target, v + 3, sizeof o.r.camera.target);
@@ -721,11 +695,9 @@ int main(int argc, char** argv) {
             memcpy(o.view2.target, v + 3, sizeof o.view2.target);
             o.view2_out = argv[++i];
         } else if (!strcmp(a, "--up")) {
-            NEED();
-            if (!parse_vec(argv[++i], o.r.camera.up, 3)) usage_error("bad up vector '%s'", argv[i]);
+            if (!parse_vec(ARG(), o.r.camera.up, 3)) usage_error("bad up vector '%s'", argv[i]);
         } else if (!strcmp(a, "--light")) {
-            NEED();
-            if (strchr(argv[++i], ':')) {
+            if (strchr(ARG(), ':')) {
                 if (o.light_count >= 64) usage_error("%s", "at most 64 --light lights");
                 char why[160];
                 if (!vx_tool_parse_light(argv[i], &o.lights[o.light_count], why, sizeof why))
@@ -743,32 +715,26 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--voxel-lights")) {
             o.voxel_lights = true;
         } else if (!strcmp(a, "--sky")) {
-            NEED();
             char why[256];
-            if (!vx_tool_parse_sky(argv[++i], &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
+            if (!vx_tool_parse_sky(ARG(), &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
             if (o.sky.type == VX_SKY_CONSTANT) memcpy(o.fd.sky, o.sky.color, sizeof o.fd.sky);
             o.sky_given = true;
         } else if (!strcmp(a, "--light-culling")) {
-            NEED();
-            if (!vx_light_culling_parse(argv[++i], &o.fd.light_culling))
+            if (!vx_light_culling_parse(ARG(), &o.fd.light_culling))
                 usage_error("bad light culling '%s' (auto, brute, tiled, clustered)", argv[i]);
         } else if (!strcmp(a, "--shadow-lights")) {
-            NEED();
             uint32_t n;
-            if (!parse_uint(argv[++i], &n) || n > VX_SHADOW_LIGHTS_MAX)
+            if (!parse_uint(ARG(), &n) || n > VX_SHADOW_LIGHTS_MAX)
                 usage_error("bad shadow light count '%s' (0..%d)", argv[i], VX_SHADOW_LIGHTS_MAX);
             o.fd.shadow_lights = n ? (int32_t)n : -1;
         } else if (!strcmp(a, "--light-cutoff")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.fd.light_cutoff, 1) || !(o.fd.light_cutoff > 0 && o.fd.light_cutoff < 1e30))
+            if (!parse_vec(ARG(), &o.fd.light_cutoff, 1) || !(o.fd.light_cutoff > 0 && o.fd.light_cutoff < 1e30))
                 usage_error("bad light cut-off '%s' (irradiance > 0)", argv[i]);
         } else if (!strcmp(a, "--fov")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.r.camera.fov, 1) || !(o.r.camera.fov > 0 && o.r.camera.fov < 180))
+            if (!parse_vec(ARG(), &o.r.camera.fov, 1) || !(o.r.camera.fov > 0 && o.r.camera.fov < 180))
                 usage_error("bad fov '%s' (degrees in (0,180))", argv[i]);
         } else if (!strcmp(a, "--ambient")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.r.ambient, 1) || !(o.r.ambient >= 0 && o.r.ambient <= 1))
+            if (!parse_vec(ARG(), &o.r.ambient, 1) || !(o.r.ambient >= 0 && o.r.ambient <= 1))
                 usage_error("bad ambient '%s' (0..1)", argv[i]);
         } else if (!strcmp(a, "--ortho")) {
             o.r.camera.ortho = true;
@@ -783,39 +749,31 @@ int main(int argc, char** argv) {
                     usage_error("bad lod pixels '%s'", argv[i]);
             }
         } else if (!strcmp(a, "--passes")) {
-            NEED();
-            o.passes = argv[++i];
+            o.passes = ARG();
             o.passes_given = true;
         } else if (!strcmp(a, "--show")) {
-            NEED();
-            if (!vx_show_parse(argv[++i], &o.fd.show)) usage_error("unknown image '%s' for --show", argv[i]);
+            if (!vx_show_parse(ARG(), &o.fd.show)) usage_error("unknown image '%s' for --show", argv[i]);
             o.show_given = true;
         } else if (!strcmp(a, "--ao-radius")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.fd.ao_radius, 1) || !(o.fd.ao_radius > 0 && o.fd.ao_radius < 1e30))
+            if (!parse_vec(ARG(), &o.fd.ao_radius, 1) || !(o.fd.ao_radius > 0 && o.fd.ao_radius < 1e30))
                 usage_error("bad ao radius '%s'", argv[i]);
         } else if (!strcmp(a, "--ao-rays")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.fd.ao_rays) || !o.fd.ao_rays || o.fd.ao_rays > 4096)
+            if (!parse_uint(ARG(), &o.fd.ao_rays) || !o.fd.ao_rays || o.fd.ao_rays > 4096)
                 usage_error("bad ao rays '%s' (1..4096)", argv[i]);
         } else if (!strcmp(a, "--aperture")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.fd.aperture, 1) || !(o.fd.aperture > 0 && o.fd.aperture < 1e30))
+            if (!parse_vec(ARG(), &o.fd.aperture, 1) || !(o.fd.aperture > 0 && o.fd.aperture < 1e30))
                 usage_error("bad aperture '%s'", argv[i]);
         } else if (!strcmp(a, "--focus")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.fd.focus, 1) || !(o.fd.focus > 0 && o.fd.focus < 1e30))
+            if (!parse_vec(ARG(), &o.fd.focus, 1) || !(o.fd.focus > 0 && o.fd.focus < 1e30))
                 usage_error("bad focus distance '%s'", argv[i]);
         } else if (!strcmp(a, "--exposure")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.fd.exposure, 1) || !(fabs(o.fd.exposure) <= 64))
+            if (!parse_vec(ARG(), &o.fd.exposure, 1) || !(fabs(o.fd.exposure) <= 64))
                 usage_error("bad exposure '%s' (stops, -64..64)", argv[i]);
         } else if (!strcmp(a, "--separate-passes")) {
             o.fd.separate_passes = true;
             o.passes_given = true;
         } else if (!strcmp(a, "--timings")) {
-            NEED();
-            o.timings = argv[++i];
+            o.timings = ARG();
         } else if (!strcmp(a, "--frames") && i + 1 < argc && strstr(argv[i + 1], "..")) {
             const char* v = argv[++i];
             char a0[16] = {0};
@@ -825,21 +783,17 @@ int main(int argc, char** argv) {
                 usage_error("bad frame range '%s' (A..B with A <= B)", v);
             o.sequence = true;
         } else if (!strcmp(a, "--frame")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.frame_first)) usage_error("bad frame number '%s'", argv[i]);
+            if (!parse_uint(ARG(), &o.frame_first)) usage_error("bad frame number '%s'", argv[i]);
             o.frame_last = o.frame_first;
         } else if (!strcmp(a, "--frames")) {
-            NEED();
-            if (!parse_uint(argv[++i], &o.frames) || !o.frames || o.frames > 100000)
+            if (!parse_uint(ARG(), &o.frames) || !o.frames || o.frames > 100000)
                 usage_error("bad frame count '%s'", argv[i]);
         } else if (!strcmp(a, "--warm-up")) {
-            NEED();
             char* end = NULL;
-            o.warm_up = strtod(argv[++i], &end);
+            o.warm_up = strtod(ARG(), &end);
             if (!end || *end || !(o.warm_up >= 0 && o.warm_up <= 60)) usage_error("bad --warm-up '%s' (seconds, 0..60)", argv[i]);
         } else if (!strcmp(a, "--device")) {
-            NEED();
-            o.device = argv[++i];
+            o.device = ARG();
         } else if (!strcmp(a, "--list-devices")) o.list = true;
         else if (!strcmp(a, "--validate") || !strcmp(a, "-validate")) o.validate = true;
         else if (!strcmp(a, "--cpu")) o.cpu = true;
@@ -847,7 +801,7 @@ int main(int argc, char** argv) {
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (npos < 2) pos[npos++] = a;
         else usage_error("unexpected argument '%s'", a);
-#undef NEED
+#undef ARG
     }
     if (o.list) {
         vx_error err = {0};

@@ -177,6 +177,9 @@ vx_result sv_load_probes(app* a, const char* path, vx_error* err);
 void sv_probe_bake_step(app* a);
 /* The gi methods (probes, cones, photons) destroyed: made again at the next frame that needs one. */
 void sv_drop_gi(app* a);
+/* The loaded probe set (where there is one) freed, with what was made for it or borrows it: the probes' and
+ * the photons' gi methods (the cones' stays) and the probe modes' GPU maps. */
+void sv_drop_probes(app* a);
 /* The pipeline's objects bound to rs (and its gi method bound to the probes) destroyed. */
 void sv_drop_passes(app* a);
 /* After an edit of instances only: the render scene's instance tables again (scene.c). */

@@ -271,7 +271,7 @@ static int app_free(app* a, int status) {
     sv_panels_destroy(a);
     vx_display_destroy(a->disp);
     vx_render_image_free(&a->img);
-    vx_probe_gpu_destroy(a->probes_gpu);
+    sv_drop_probes(a);
     sv_drop_passes(a);
     vx_render_scene_destroy(a->rs);
     uint32_t gpu_errors = vx_gpu_validation_errors(a->gpu);
@@ -284,7 +284,6 @@ static int app_free(app* a, int status) {
         fprintf(n ? stderr : stdout, "%s: %u Vulkan validation error%s\n", vx_tool_name, n, n == 1 ? "" : "s");
         if (n && !status) status = 1;
     }
-    if (a->have_probes) vx_probe_set_free(&a->probes);
     if (a->bake.active) vx_probe_set_free(&a->bake.ps);
     ved_free(&a->ed);
     vx_svo_scene_free(&a->scene);

@@ -124,11 +124,6 @@ _Noreturn static void usage(int status) {
 
 #define usage_error(...) vx_tool_usage_error(usage, __VA_ARGS__)
 
-static const char* need_arg(int argc, char** argv, int* i) {
-    if (*i + 1 >= argc) usage_error("option %s needs an argument", argv[*i]);
-    return argv[++*i];
-}
-
 static bool parse_size(const char* s, uint32_t* w, uint32_t* h) {
     unsigned a, b;
     char c;
@@ -148,55 +143,56 @@ options sv_options_parse(int argc, char** argv) {
             printf("%s %s (.svo format version %u; reads .svo, .vox, .gltf/.glb, .vdb)\n", vx_tool_name,
                    VX_VERSION_STRING, VX_SVO_FORMAT_VERSION);
             exit(0);
-        } else if (!strcmp(a, "--screenshot")) o.screenshot = need_arg(argc, argv, &i);
+        } else if (!strcmp(a, "--screenshot")) o.screenshot = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--size")) {
-            if (!parse_size(need_arg(argc, argv, &i), &o.width, &o.height))
+            if (!parse_size(vx_tool_arg(argc, argv, &i, usage), &o.width, &o.height))
                 usage_error("bad --size '%s' (WxH, at most 16384 each)", argv[i]);
         } else if (!strcmp(a, "--window")) {
-            if (!parse_size(need_arg(argc, argv, &i), &o.win_w, &o.win_h))
+            if (!parse_size(vx_tool_arg(argc, argv, &i, usage), &o.win_w, &o.win_h))
                 usage_error("bad --window '%s' (WxH)", argv[i]);
             window_set = true;
         } else if (!strcmp(a, "--mode")) {
-            const char* m = need_arg(argc, argv, &i);
+            const char* m = vx_tool_arg(argc, argv, &i, usage);
             o.gi = !strcmp(m, "gi") || !strcmp(m, "lightfield");
             if (o.gi) vx_probe_render_mode_parse(m, &o.pmode);
             if (!o.gi && !vx_render_mode_parse(m, &o.mode))
                 usage_error("unknown mode '%s' (color|albedo|normal|depth|instance|iterations|gi|lightfield)", m);
         } else if (!strcmp(a, "--probes")) {
-            o.probes = need_arg(argc, argv, &i);
+            o.probes = vx_tool_arg(argc, argv, &i, usage);
         } else if (!strcmp(a, "--passes")) {
-            o.passes = need_arg(argc, argv, &i);
+            o.passes = vx_tool_arg(argc, argv, &i, usage);
             vx_pass_list pl;
             vx_error perr = {0};
             if (vx_pass_list_parse(o.passes, &pl, &perr)) usage_error("--passes: %s", perr.msg);
         } else if (!strcmp(a, "--fov")) {
-            if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fov) || !(o.fov > 0 && o.fov < 180))
+            if (!vx_tool_parse_double(vx_tool_arg(argc, argv, &i, usage), &o.fov) || !(o.fov > 0 && o.fov < 180))
                 usage_error("bad --fov '%s' (degrees in (0,180))", argv[i]);
-        } else if (!strcmp(a, "--script")) o.script = need_arg(argc, argv, &i);
-        else if (!strcmp(a, "--save")) o.save = need_arg(argc, argv, &i);
+        } else if (!strcmp(a, "--script")) o.script = vx_tool_arg(argc, argv, &i, usage);
+        else if (!strcmp(a, "--save")) o.save = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--bench")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.bench) || !o.bench || o.bench > 100000)
+            if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, &i, usage), &o.bench) || !o.bench || o.bench > 100000)
                 usage_error("bad --bench '%s' (1 to 100000 frames)", argv[i]);
         } else if (!strcmp(a, "--fps")) {
-            if (!vx_tool_parse_double(need_arg(argc, argv, &i), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
+            if (!vx_tool_parse_double(vx_tool_arg(argc, argv, &i, usage), &o.fps) || !(o.fps > 0 && o.fps <= 1000))
                 usage_error("bad --fps '%s' (frames per second in (0,1000])", argv[i]);
         } else if (!strcmp(a, "--present")) {
-            o.present = need_arg(argc, argv, &i);
+            o.present = vx_tool_arg(argc, argv, &i, usage);
             if (strcmp(o.present, "auto") && strcmp(o.present, "gpu") && strcmp(o.present, "host"))
                 usage_error("bad --present '%s' (auto, gpu or host)", o.present);
         } else if (!strcmp(a, "--undo-limit")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.undo_limit) || !o.undo_limit || o.undo_limit > 1000000)
+            if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, &i, usage), &o.undo_limit) || !o.undo_limit ||
+                o.undo_limit > 1000000)
                 usage_error("bad --undo-limit '%s' (1 to 1000000 steps)", argv[i]);
         } else if (!strcmp(a, "--undo-memory")) {
-            if (!vx_tool_parse_bytes(need_arg(argc, argv, &i), &o.undo_bytes) || !o.undo_bytes)
+            if (!vx_tool_parse_bytes(vx_tool_arg(argc, argv, &i, usage), &o.undo_bytes) || !o.undo_bytes)
                 usage_error("bad --undo-memory '%s' (bytes, e.g. 512M, 4G)", argv[i]);
         } else if (!strcmp(a, "--batch")) {
-            const char* v = need_arg(argc, argv, &i);
+            const char* v = vx_tool_arg(argc, argv, &i, usage);
             if (!strcmp(v, "auto")) o.batch = 0;
             else if (!vx_tool_parse_u32(v, &o.batch) || o.batch < 1 || 2 * o.batch > VX_DISPLAY_SLOTS)
                 usage_error("bad --batch '%s' (auto, or 1 to %d frames a submission)", v, VX_DISPLAY_SLOTS / 2);
         } else if (!strcmp(a, "--batch-latency")) {
-            const char* v = need_arg(argc, argv, &i);
+            const char* v = vx_tool_arg(argc, argv, &i, usage);
             char* end;
             o.batch_latency = strtod(v, &end);
             if (end == v || *end || !(o.batch_latency > 0) || o.batch_latency > 1e6)
@@ -205,7 +201,7 @@ options sv_options_parse(int argc, char** argv) {
         else if (!strcmp(a, "--gpu-panels")) o.gpu_panels = true;
         else if (!strcmp(a, "--vsync")) o.vsync = true;
         else if (!strcmp(a, "--hidden")) o.hidden = true;
-        else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
+        else if (!strcmp(a, "--device")) o.device = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--validate") || !strcmp(a, "-validate")) o.validate = true;
         else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
         else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) o.verbose = true;

@@ -23,13 +23,7 @@ vx_result sv_load_probes(app* a, const char* path, vx_error* err) {
         vx_probe_set_free(&ps);
         return r;
     }
-    vx_probe_gpu_destroy(a->probes_gpu);
-    a->probes_gpu = NULL;
-    vx_probe_gi_destroy(a->pgi); /* made for the old set */
-    a->pgi = NULL;
-    vx_photon_gi_destroy(a->phgi); /* borrows the old set's sun and sky */
-    a->phgi = NULL;
-    if (a->have_probes) vx_probe_set_free(&a->probes);
+    sv_drop_probes(a);
     a->probes = ps;
     a->have_probes = true;
     snprintf(a->probes_path, sizeof a->probes_path, "%s", path);
@@ -117,11 +111,7 @@ void sv_probe_bake_step(app* a) {
     b->step = want < 1 ? 1 : want > 4096 ? 4096 : (uint32_t)want;
     if (ps->count < ps->probe_count) return;
     /* done: the set replaces the loaded probes (the gi method and the probes' GPU maps follow) */
-    vx_probe_gpu_destroy(a->probes_gpu);
-    a->probes_gpu = NULL;
-    vx_probe_gi_destroy(a->pgi);
-    a->pgi = NULL;
-    if (a->have_probes) vx_probe_set_free(&a->probes);
+    sv_drop_probes(a);
     a->probes = *ps;
     memset(ps, 0, sizeof *ps);
     a->have_probes = true;

@@ -38,13 +38,26 @@ const char* sv_mode_name(const app* a) {
     return a->gi ? vx_probe_render_mode_name(a->pmode) : vx_render_mode_name(a->mode);
 }
 
-void sv_drop_gi(app* a) {
+/* The gi methods made with the probe set: the probes' is made for it, the photons' borrows its sun and sky. */
+static void drop_probe_gi(app* a) {
     vx_probe_gi_destroy(a->pgi);
     a->pgi = NULL;
-    vx_cone_gi_destroy(a->cgi);
-    a->cgi = NULL;
     vx_photon_gi_destroy(a->phgi);
     a->phgi = NULL;
+}
+
+void sv_drop_gi(app* a) {
+    drop_probe_gi(a);
+    vx_cone_gi_destroy(a->cgi);
+    a->cgi = NULL;
+}
+
+void sv_drop_probes(app* a) {
+    drop_probe_gi(a); /* the cones' volume does not depend on the probes: it stays */
+    vx_probe_gpu_destroy(a->probes_gpu);
+    a->probes_gpu = NULL;
+    if (a->have_probes) vx_probe_set_free(&a->probes);
+    a->have_probes = false;
 }
 
 /* The pipeline's objects bound to rs (and its gi method bound to the probes). */
@@ -178,14 +191,7 @@ void sv_open(app* a, const char* path) {
     /* probes describe the light of the scene they were baked in */
     bool had = a->have_probes;
     if (had) {
-        vx_probe_gpu_destroy(a->probes_gpu);
-        a->probes_gpu = NULL;
-        vx_probe_gi_destroy(a->pgi);
-        a->pgi = NULL;
-        vx_photon_gi_destroy(a->phgi);
-        a->phgi = NULL;
-        vx_probe_set_free(&a->probes);
-        a->have_probes = false;
+        sv_drop_probes(a);
         a->gi = false;
     }
     sv_message(a, false, "opened %s: %u models, %u instances%s", path, a->scene.model_count, a->scene.instance_count,

@@ -140,11 +140,6 @@ _Noreturn static void usage(int status) {
 
 #define usage_error(...) vx_tool_usage_error(usage, __VA_ARGS__)
 
-static const char* need_arg(int argc, char** argv, int* i) {
-    if (*i + 1 >= argc) usage_error("option %s needs an argument", argv[*i]);
-    return argv[++*i];
-}
-
 static options parse(int argc, char** argv) {
     options o = default_options();
     int npos = 0;
@@ -156,17 +151,17 @@ static options parse(int argc, char** argv) {
                    VX_SVO_FORMAT_VERSION);
             exit(0);
         } else if (vx_tool_conv_option(argc, argv, &i, &o.conv, usage)) continue;
-        else if (!strcmp(a, "--write-demo")) o.write_demo = need_arg(argc, argv, &i);
+        else if (!strcmp(a, "--write-demo")) o.write_demo = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--chunked")) o.chunked = true;
         else if (!strcmp(a, "--chunked-fast")) o.chunked = o.chunk_fast = true;
         else if (!strcmp(a, "--chunked-deflate")) o.chunked = o.chunk_deflate = true;
         else if (!strcmp(a, "--range-coded")) o.range_coded = true;
 #ifdef VX_HAVE_MESH_GPU
         else if (!strcmp(a, "--gpu")) o.gpu = true;
-        else if (!strcmp(a, "--device")) o.device = need_arg(argc, argv, &i);
+        else if (!strcmp(a, "--device")) o.device = vx_tool_arg(argc, argv, &i, usage);
 #endif
         else if (!strcmp(a, "--demo-frames")) {
-            if (!vx_tool_parse_u32(need_arg(argc, argv, &i), &o.demo_frames) || o.demo_frames > 4096)
+            if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, &i, usage), &o.demo_frames) || o.demo_frames > 4096)
                 usage_error("bad --demo-frames value '%s' (0 to 4096)", argv[i]);
         }
         else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) o.quiet = true;
