@@ -17,7 +17,9 @@
  * Nodes: per model, the octree's nodes at the level whose side is about one
  * texel in the world (and collapsed leaves above it), listed once, at the
  * scene's first build (render_scene.c reads the words back from the GPU:
- * the scene keeps no host copy of the models); each build
+ * the scene keeps no host copy of the models), from the plain node words
+ * or the compact layout's geometry (list_tree: either gives the same
+ * cells), or made ahead on the host (vx_render_sun_nodes_make); each build
  * projects every drawn instance's copy of its model's list. A build is one
  * submission (a fill, two dispatches) per light direction and instances.
  *
