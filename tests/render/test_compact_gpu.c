@@ -273,12 +273,32 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+/* s in a render scene forced to the plain layout (trace.comp) and in the
+ * compact layout beside it (trace_compact.comp); false, with nothing left
+ * behind, where either fails */
+static bool plain_and_compact(const vx_svo_scene* s, vx_render_scene** rs, vx_compact_gpu** cg) {
+    vx_error err = {0};
+    vx_compact_scene c;
+    *rs = NULL, *cg = NULL;
+    vx_result r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, rs, &err);
+    if (!r && !(r = vx_compact_build(&(vx_compact_desc){0}, s, &c, &err))) {
+        r = vx_compact_gpu_create(*rs, s, &c, cg, &err);
+        vx_compact_free(&c);
+    }
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) {
+        vx_render_scene_destroy(*rs);
+        *rs = NULL;
+    }
+    return r == VX_OK;
+}
+
 /* Cameras inside leaf cubes (the block of 16^3 cells at the model's corner
  * made of leaf cubes of 8^3 cells, each of its colour): every ray starts in
  * the cube it hits, whose cell is then the one holding the ray's start, not
- * one on the cube's entry face (trace_compact.comp keeps the "ray starts
- * inside the model" flag on its stack, issue 18, lean5), so every pixel hits
- * and must hold trace.comp's cell, t and colour, albedo and shaded. */
+ * one on the cube's entry face (trace_compact.comp's `te <= t0` after the
+ * walk; untested before issue 18's lean5), so every pixel hits and must
+ * hold trace.comp's cell, t and colour, albedo and shaded. */
 static void test_inside_leaf(void) {
     if (gpu_skip) SKIP(gpu_skip);
     uint64_t keys[9];
@@ -297,14 +317,9 @@ static void test_inside_leaf(void) {
     vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
     vx_svo_scene s;
     ts_scene(&s, &m, 1, &in, 1);
-    vx_render_scene* rs = NULL;
-    vx_compact_scene c;
-    vx_compact_gpu* cg = NULL;
-    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
-            VX_OK);
-    REQUIRE(vx_compact_build(NULL, &s, &c, &err) == VX_OK);
-    CHECKF(vx_compact_gpu_create(rs, &s, &c, &cg, &err) == VX_OK, "%s", err.msg);
-    vx_compact_free(&c);
+    vx_render_scene* rs;
+    vx_compact_gpu* cg;
+    REQUIRE(plain_and_compact(&s, &rs, &cg));
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(&s, lo, hi);
     /* the eye (fractions of the box; the block is its first half) and the direction */
@@ -497,20 +512,15 @@ static void test_uniform_cubes(void) {
         vx_svo_model only = s.models[k];
         vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
         ts_scene(&s1, &only, 1, &i1, 1);
-        vx_render_scene* rs = NULL;
-        vx_compact_scene c;
-        vx_compact_gpu* cg = NULL;
-        REQUIRE(vx_render_scene_create_ex(gpu, &s1, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
-                VX_OK);
-        REQUIRE(vx_compact_build(&(vx_compact_desc){0}, &s1, &c, &err) == VX_OK);
-        CHECKF(vx_compact_gpu_create(rs, &s1, &c, &cg, &err) == VX_OK, "%s", err.msg);
+        vx_render_scene* rs;
+        vx_compact_gpu* cg;
+        REQUIRE(plain_and_compact(&s1, &rs, &cg));
         uint64_t marked = vx__compact_gpu_uniform_entries(cg), entries = vx__compact_gpu_table_bytes(cg) / 8;
         CHECKF(marked > entries / 4 && marked < entries, "model %u: %llu of %llu entries uniform", k,
                (unsigned long long)marked, (unsigned long long)entries);
         printf("  model %u: %llu of %llu start-table entries uniform\n", k, (unsigned long long)marked,
                (unsigned long long)entries);
         vx_compact_gpu_destroy(cg);
-        vx_compact_free(&c);
         vx_render_scene_destroy(rs);
         s1.models[0] = (vx_svo_model){0};
         vx_svo_scene_free(&s1);
