@@ -457,6 +457,11 @@ uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg);
  * kernels bind one attribute buffer and refuse it). */
 #define VX_COMPACT_ATTR_PARTS 8
 uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg);
+/* Internal (render_scene.c, the sun's depth map's node list): the whole
+ * layout's geometry read back into *out (geom, slot and brick counts, the
+ * dictionary flag, each model's root and depth; no attributes), freed with
+ * vx_compact_free; VX_ERR_UNSUPPORTED for a paged layout. */
+vx_result vx__compact_gpu_geometry(vx_compact_gpu* cg, vx_compact_scene* out, vx_error* err);
 
 /* The paged layout on the GPU: the top of *p and a pool of pool_bytes for
  * its pages (one buffer; at least the largest page). It takes *p (zeroed).

@@ -74,6 +74,8 @@ struct vx_compact_gpu {
     vx__path_model* paths;
     uint32_t path_count;
     uint32_t start_min; /* the fewest pushes a start skips (vx__compact_gpu_start_min; 0: START_MIN) */
+    /* the whole layout's geometry words (the first of geom's) and slots, for a read-back (vx__compact_gpu_geometry) */
+    uint32_t geom_words, slot_count, brick_count;
 };
 
 /* A start below the root skips at least this many pushes: on the H200 one
@@ -526,6 +528,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     }
     vx_free(&g->alloc, pm);
     cg->cm = cm, cg->cm_count = (uint32_t)mcount;
+    cg->geom_words = c->geom_words, cg->slot_count = c->slot_count, cg->brick_count = c->brick_count;
     if (!r) path_lists(cg, cm, c->models, s->model_count, c->geom, c->slot_count);
     if (r) {
         vx_compact_gpu_destroy(cg);
@@ -549,6 +552,26 @@ uint64_t vx__compact_gpu_record_bytes(const vx_compact_gpu* cg) { return cg ? cg
 uint64_t vx__compact_gpu_uniform_entries(const vx_compact_gpu* cg) { return cg ? cg->uniform_entries : 0; }
 
 uint32_t vx__compact_gpu_attr_parts(const vx_compact_gpu* cg) { return cg ? cg->attr_parts : 0; }
+
+vx_result vx__compact_gpu_geometry(vx_compact_gpu* cg, vx_compact_scene* out, vx_error* err) {
+    if (!cg || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    memset(out, 0, sizeof *out);
+    if (cg->pg) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "the paged layout's geometry is not all resident");
+    out->alloc = cg->gpu->alloc;
+    out->model_count = cg->cm_count;
+    out->models = vx_calloc(&out->alloc, cg->cm_count ? cg->cm_count : 1, sizeof *out->models);
+    out->geom = vx_alloc(&out->alloc, (size_t)(cg->geom_words ? cg->geom_words : 1) * 4);
+    vx_result r = out->models && out->geom ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r && cg->geom_words) r = vx__buffer_download(cg->gpu, &cg->geom, out->geom, (VkDeviceSize)cg->geom_words * 4, err);
+    if (r) {
+        vx_compact_free(out);
+        return r;
+    }
+    for (uint32_t i = 0; i < cg->cm_count; i++) out->models[i].root = cg->cm[i].root, out->models[i].depth = cg->cm[i].depth;
+    out->geom_words = cg->geom_words, out->slot_count = cg->slot_count, out->brick_count = cg->brick_count;
+    out->brick_dict = cg->dict != 0;
+    return VX_OK;
+}
 
 bool vx__compact_gpu_bind(vx_compact_gpu* cg, vx__buffer* bufs[7]) {
     if (!cg || cg->pg || cg->attr_parts > 1) return false;

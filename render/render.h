@@ -556,9 +556,9 @@ double vx_render_scene_bvh_seconds(const vx_render_scene* rs);
  * whose projection touches it, and a shadow ray's walk ends where it passes
  * that distance (or is skipped where it starts beyond it). The image is the
  * same as without (vx_render_desc.no_shadow_map). The nodes are listed at
- * the first build (plain layout, float variant; from the node words on the
- * GPU, read back: a scene that never builds a map has no list and no
- * buffer); the map is built on the
+ * the first build (float variant; from the node words on the GPU, or the
+ * compact layout's geometry, read back: a scene that never builds a map has
+ * no list and no buffer; a paged compact layout has none); the map is built on the
  * GPU at a colour frame whose light direction and instances the colour
  * frame before had too (a light or an animation that changes every frame
  * would pay a build, build_seconds, for one frame's shadow rays; such
@@ -595,6 +595,12 @@ typedef struct vx_render_sun_nodes_desc {
     uint32_t shadow_map_side;  /* the render scene's vx_render_scene_desc.shadow_map_side */
     uint32_t max_side;         /* the build's largest side: 0 a frame's (2048), the probe bake's VX_PROBE_SUN_MAP_SIDE */
     bool cpu_device;           /* for a CPU device (2 texels a cell instead of 8) */
+    /* NULL: the nodes of s's models (their trees); else this compact layout
+     * of them (render/compact.h; its geometry read, s gives the instances
+     * and box): a scene built from a model reader, which holds no trees
+     * (svo_bake --load models), lists its nodes before the layout goes to
+     * the GPU instead of reading the geometry back at the first build */
+    const struct vx_compact_scene* layout;
 } vx_render_sun_nodes_desc;
 vx_result vx_render_sun_nodes_make(const vx_svo_scene* s, const vx_render_sun_nodes_desc* desc, vx_render_sun_nodes** out,
                                    vx_error* err);

@@ -140,10 +140,14 @@ typedef struct vx__smap {
 const uint32_t* vx__spirv_smap(size_t* bytes);
 /* Lists the nodes of s's models (at about one texel of a side-texel map
  * over the box lo, hi; inst_model and inst_cell: the drawn instances' models
- * and cell sizes) and makes the GPU buffers. side 0: per_cell texels a side
+ * and cell sizes) and makes the GPU buffers. c not NULL: the models are
+ * compact layout c's (its geometry read, s unused; a compact scene's map
+ * bounds the same cells). side 0: per_cell texels a side
  * of the finest cell, a power of two in 64..max_side (0: VX__SMAP_SIDE). With no map
  * possible (side 1, no instance, too many nodes) sm->side stays 0. */
-vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+struct vx_compact_scene;
+vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const struct vx_compact_scene* c,
+                        const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                         uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err);
 /* The host's part of vx__smap_list made ahead, without a device (its
@@ -152,7 +156,8 @@ vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene
  * instances, models and box the caller compares), vx__smap_pre_use makes
  * sm's GPU buffers from it (emptying it). */
 typedef struct vx__smap_pre vx__smap_pre;
-vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const struct vx_compact_scene* c,
+                            const uint32_t* inst_model,
                             const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                             uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap_pre** out, vx_error* err);
 bool vx__smap_pre_fits(const vx__smap_pre* p, uint32_t side, uint32_t per_cell, uint32_t max_side);

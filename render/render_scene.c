@@ -165,9 +165,9 @@ struct vx_render_scene {
     bool smap_used;
     /* the map's node list (SMAP_*); smap_side_req: the side asked for */
     enum {
-        SMAP_LATER, /* made at the first build, from the node words read back */
+        SMAP_LATER, /* made at the first build, from the node words (or compact geometry) read back */
         SMAP_MADE,  /* made (smap.side 0: no map possible) */
-        SMAP_NEVER  /* shadow_map_side 1, the compact layout, float64, an edited model */
+        SMAP_NEVER  /* shadow_map_side 1, the paged compact layout, float64, an edited model */
     } smap_state;
     uint32_t smap_side_req;
     /* a node list made on the host ahead (vx_render_scene_take_sun_nodes), for the first build where it fits */
@@ -698,8 +698,10 @@ void vx_render_scene_page_stats(const vx_render_scene* rs, vx_render_page_stats*
     vx_compact_gpu_page_stats(rs ? rs->compact : NULL, out);
 }
 
-/* The shadow map's node list for the drawn instances (shadow_map.c). */
-static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t side, uint32_t max_side, vx_error* err) {
+/* The shadow map's node list for the drawn instances (shadow_map.c): s's
+ * models, or compact layout c's where c is not NULL. */
+static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c, uint32_t side,
+                           uint32_t max_side, vx_error* err) {
     uint32_t n = rs->inst_count;
     uint32_t* model = vx_calloc(&rs->alloc, n ? n : 1, sizeof *model);
     float* cell = vx_calloc(&rs->alloc, n ? n : 1, sizeof *cell);
@@ -707,7 +709,7 @@ static vx_result smap_list(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     if (!model || !cell) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     for (uint32_t i = 0; !r && i < n; i++) model[i] = rs->inst[i].model, cell[i] = rs->inst[i].cell;
     uint32_t per_cell = rs->gpu->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL;
-    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, model, cell, n, rs->lo, rs->hi, side, per_cell, max_side, &rs->smap, err);
+    if (!r) r = vx__smap_list(rs->gpu, &rs->alloc, s, c, model, cell, n, rs->lo, rs->hi, side, per_cell, max_side, &rs->smap, err);
     vx_free(&rs->alloc, model);
     vx_free(&rs->alloc, cell);
     return r;
@@ -718,7 +720,7 @@ vx_result vx__render_scene_smap_side(vx_render_scene* rs, const vx_svo_scene* s,
     vx__smap_free(rs->gpu, &rs->smap);
     rs->smap_state = SMAP_MADE;
     if (rs->compact || rs->precise || side == 1) return VX_OK;
-    return smap_list(rs, s, side, 0, err);
+    return smap_list(rs, s, NULL, side, 0, err);
 }
 
 /* A sun map's node list made on the host ahead of its render scene (render.h). */
@@ -745,6 +747,9 @@ vx_result vx_render_sun_nodes_make(const vx_svo_scene* s, const vx_render_sun_no
     if (!s || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     *out = NULL;
     vx_render_sun_nodes_desc d = desc ? *desc : (vx_render_sun_nodes_desc){0};
+    if (d.layout && d.layout->model_count != s->model_count)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "the compact layout has %u models, the scene %u",
+                       d.layout->model_count, s->model_count);
     double t0 = vx_time_now();
     vx_render_sun_nodes* n = vx_calloc(d.alloc, 1, sizeof *n);
     if (!n) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
@@ -764,7 +769,7 @@ vx_result vx_render_sun_nodes_make(const vx_svo_scene* s, const vx_render_sun_no
     n->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, n->lo, n->hi);
     if (!r)
-        r = vx__smap_pre_make(d.alloc, s, n->model, n->cell, n->inst_count, n->lo, n->hi, d.shadow_map_side,
+        r = vx__smap_pre_make(d.alloc, s, d.layout, n->model, n->cell, n->inst_count, n->lo, n->hi, d.shadow_map_side,
                               d.cpu_device ? VX__SMAP_PER_CELL_CPU : VX__SMAP_PER_CELL, d.max_side, &n->pre, err);
     if (r) {
         vx_render_sun_nodes_free(n);
@@ -810,6 +815,16 @@ static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error*
     }
     vx_render_sun_nodes_free(rs->smap_pre);
     rs->smap_pre = NULL;
+    if (rs->compact) {
+        /* the compact layout's geometry words: the same cells (smap_compact_state) */
+        double t0 = vx_time_now();
+        vx_compact_scene c;
+        vx_result r = vx__compact_gpu_geometry(rs->compact, &c, err);
+        if (!r) r = smap_list(rs, NULL, &c, rs->smap_side_req, max_side, err);
+        vx_compact_free(&c);
+        if (!r && rs->smap.side) rs->smap.list_seconds = vx_time_now() - t0;
+        return r;
+    }
     uint64_t words = 0;
     for (uint32_t i = 0; i < rs->model_count; i++)
         if (rs->wreg[i].have && (uint64_t)rs->wreg[i].off + rs->wreg[i].have > words) words = (uint64_t)rs->wreg[i].off + rs->wreg[i].have;
@@ -830,7 +845,7 @@ static vx_result smap_list_gpu(vx_render_scene* rs, uint32_t max_side, vx_error*
         m[i].root = rs->gm[i].root;
     }
     vx_svo_scene v = {.model_count = rs->model_count, .models = m};
-    if (!r) r = smap_list(rs, &v, rs->smap_side_req, max_side, err);
+    if (!r) r = smap_list(rs, &v, NULL, rs->smap_side_req, max_side, err);
     if (!r && rs->smap.side) rs->smap.list_seconds = vx_time_now() - t0;
     vx_free(&rs->alloc, w);
     vx_free(&rs->alloc, m);
@@ -911,6 +926,16 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
     rs->layout = *li;
     return rs;
+}
+
+/* A compact scene's sun map, as a plain one's, is listed at its first build,
+ * from the geometry read back (smap_list_gpu) or a list made ahead from the
+ * host's layout (vx_render_sun_nodes_desc.layout): the same cells, so the
+ * same shadow rays' answers. A paged layout's geometry is not all on the
+ * GPU: no map there. */
+static void smap_compact_state(vx_render_scene* rs, const vx_render_scene_desc* desc) {
+    rs->smap_side_req = desc ? desc->shadow_map_side : 0;
+    rs->smap_state = rs->layout.pages || rs->smap_side_req == 1 ? SMAP_NEVER : SMAP_LATER;
 }
 
 /* What -v and vx_render_scene_layout report of a compact build that took
@@ -998,6 +1023,7 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
             vx_render_scene_destroy(rs);
             return r;
         }
+        smap_compact_state(rs, desc);
         rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
         rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
     }
@@ -1103,6 +1129,7 @@ static vx_result from_built(vx_gpu* gpu, vx_svo_model_reader* rd, const vx_svo_s
     }
     rs->layout.bytes = vx_compact_gpu_bytes(rs->compact);
     rs->layout.attr_parts = vx__compact_gpu_attr_parts(rs->compact);
+    smap_compact_state(rs, desc);
     *out = rs;
     return VX_OK;
 }

@@ -17,7 +17,9 @@
  * Nodes: per model, the octree's nodes at the level whose side is about one
  * texel in the world (and collapsed leaves above it), listed once, at the
  * scene's first build (render_scene.c reads the words back from the GPU:
- * the scene keeps no host copy of the models); each build
+ * the scene keeps no host copy of the models), from the plain node words
+ * or the compact layout's geometry (list_tree: either gives the same
+ * cells), or made ahead on the host (vx_render_sun_nodes_make); each build
  * projects every drawn instance's copy of its model's list. A build is one
  * submission (a fill, two dispatches) per light direction and instances.
  *
@@ -34,6 +36,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "render/compact.h"
 #include "render/render_internal.h"
 #include "render/trace.h"
 #include "smap.comp.h"
@@ -87,33 +90,95 @@ static void list_add(node_list* l, uint32_t x, uint32_t y, uint32_t z, uint32_t 
     l->n++;
 }
 
-/* The nodes of m at `level` (cubes of 2^level cells) and its leaves above
- * it, into l. Children are read as svo/svo.h documents the words; a word
- * out of range ends that branch (the scene was validated when read). */
-static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
-    if (m->root == VX_SVO_ROOT_EMPTY) return;
-    if (m->root == VX_SVO_ROOT_LEAF || level >= m->depth) {
-        list_add(l, 0, 0, 0, m->depth | (m->root == VX_SVO_ROOT_LEAF ? SOLID : 0));
+/* A model's tree as the listing reads it: a plain model's node words
+ * (svo/svo.h), or model mi of a compact layout (render/compact.h), whose
+ * nodes are slots and whose level-1 and level-2 nodes are bricks. */
+typedef struct tree {
+    const vx_svo_model* m; /* plain, else NULL */
+    const vx_compact_scene* c;
+    uint32_t root, depth, count; /* the root's word or slot; node words or slots */
+} tree;
+
+/* Node `at` (of a level above 2 in a compact tree): its valid and leaf
+ * masks and the reference of its inner children (UINT32_MAX: none). */
+static void tree_node(const tree* t, uint32_t at, uint32_t* valid, uint32_t* leaf, uint32_t* blk) {
+    uint32_t desc = t->m ? t->m->nodes[at] : t->c->geom[2 * (size_t)at];
+    *valid = (desc >> 8) & 0xFFu, *leaf = desc & 0xFFu;
+    if (!t->m) {
+        *blk = t->c->geom[2 * (size_t)at + 1];
+        return;
+    }
+    uint32_t p = desc >> 17;
+    *blk = UINT32_MAX;
+    if ((*valid & ~*leaf) && p >= 1 && p <= at) {
+        *blk = at - p;
+        if (desc & 0x10000u) *blk = t->m->nodes[*blk];
+    }
+}
+
+/* Inner child k (in octant order) of a level-lv node whose tree_node blk is blk. */
+static uint32_t tree_child(const tree* t, uint32_t lv, uint32_t blk, uint32_t k) {
+    if (t->m) return blk == UINT32_MAX ? UINT32_MAX : blk + k;
+    return vx__compact_child(t->c, lv, blk, k);
+}
+
+/* A compact brick (level lv <= 2, above `level`) at x, y, z: its cells a
+ * 64-bit mask, octant o2's in bits 8 o2 .. 8 o2 + 7 (a model of depth 1:
+ * bits 0..7). A full brick or full octant is a solid cube listed as it is
+ * (what a plain model's leaf of that size is: the compact geometry keeps
+ * cubes of 4^3 and 2^3 cells as masks, however the model's colours
+ * collapsed them; eph_monu1's list at 512 texels: 61,770 nodes without
+ * this, 16,984 with it, 26,308 from the plain model), else its octants or
+ * cells at `level`. */
+static void list_brick(const uint32_t* sl, uint32_t x, uint32_t y, uint32_t z, uint32_t lv, uint32_t level, node_list* l) {
+    uint64_t mask = sl[0] | (uint64_t)sl[1] << 32;
+    if (lv == 1) mask &= 0xFFu;
+    if (mask == (lv == 2 ? ~0ull : 0xFFull)) {
+        list_add(l, x, y, z, lv | SOLID);
+        return;
+    }
+    if (lv <= level) {
+        list_add(l, x, y, z, lv);
+        return;
+    }
+    for (uint32_t o2 = 0; o2 < (lv == 2 ? 8u : 1u); o2++) {
+        uint32_t oct = (uint32_t)(mask >> (8 * o2)) & 0xFFu;
+        if (!oct) continue;
+        uint32_t bx = x + (o2 & 1u) * 2, by = y + ((o2 >> 1) & 1u) * 2, bz = z + ((o2 >> 2) & 1u) * 2;
+        if (lv == 2 && (oct == 0xFFu || level >= 1)) {
+            list_add(l, bx, by, bz, 1 | (oct == 0xFFu ? SOLID : 0));
+            continue;
+        }
+        for (uint32_t o1 = 0; o1 < 8; o1++)
+            if ((oct >> o1) & 1u) list_add(l, bx + (o1 & 1u), by + ((o1 >> 1) & 1u), bz + ((o1 >> 2) & 1u), SOLID);
+    }
+}
+
+/* The nodes of tree t at `level` (cubes of 2^level cells) and its leaves
+ * above it, into l. A word or slot out of range ends that branch (the
+ * scene was validated when read, a layout is built valid). */
+static void list_tree(const tree* t, uint32_t level, node_list* l) {
+    if (t->root == VX_SVO_ROOT_EMPTY) return;
+    if (t->root == VX_SVO_ROOT_LEAF || level >= t->depth) {
+        list_add(l, 0, 0, 0, t->depth | (t->root == VX_SVO_ROOT_LEAF ? SOLID : 0));
         return;
     }
     typedef struct item {
-        uint32_t word, x, y, z, lv;
+        uint32_t at, x, y, z, lv;
     } item;
-    item stack[3 * 64 + 8];
+    item stack[8 * 33]; /* a walk in depth order holds at most 7 a level */
     int sp = 0;
-    stack[sp++] = (item){m->root, 0, 0, 0, m->depth};
+    stack[sp++] = (item){t->root, 0, 0, 0, t->depth};
     /* past the limit the caller takes a coarser level: stop at once */
     while (sp > 0 && l->n <= l->limit) {
         item it = stack[--sp];
-        if (it.word >= m->node_count) continue; /* a bad word: its subtree is not listed (conservative only for valid scenes) */
-        uint32_t desc = m->nodes[it.word];
-        uint32_t valid = (desc >> 8) & 0xFFu, leaf = desc & 0xFFu, p = desc >> 17;
-        /* the children's block, where a child has a descriptor */
-        uint32_t blk = UINT32_MAX;
-        if ((valid & ~leaf) && p >= 1 && p <= it.word) {
-            blk = it.word - p;
-            if (desc & 0x10000u) blk = m->nodes[blk];
+        if (it.at >= t->count) continue;
+        if (t->c && it.lv <= 2) {
+            list_brick(t->c->geom + 2 * (size_t)it.at, it.x, it.y, it.z, it.lv, level, l);
+            continue;
         }
+        uint32_t valid, leaf, blk;
+        tree_node(t, it.at, &valid, &leaf, &blk);
         uint32_t cl = it.lv - 1, half = 1u << cl;
         uint32_t k = 0;
         for (uint32_t o = 0; o < 8; o++) {
@@ -123,8 +188,9 @@ static void list_model(const vx_svo_model* m, uint32_t level, node_list* l) {
                 list_add(l, cx, cy, cz, cl | SOLID);
                 continue;
             }
-            uint32_t cw = blk == UINT32_MAX ? UINT32_MAX : blk + k++;
-            if (cl <= level) list_add(l, cx, cy, cz, cl);
+            uint32_t cw = tree_child(t, it.lv, blk, k++);
+            /* (a compact brick is read even at the list's level: full, it is a solid cube) */
+            if (cl <= level && !(t->c && cl <= 2)) list_add(l, cx, cy, cz, cl);
             else if (sp < (int)(sizeof stack / sizeof stack[0])) stack[sp++] = (item){cw, cx, cy, cz, cl};
         }
     }
@@ -148,13 +214,15 @@ static double scene_diag(const double lo[3], const double hi[3]) {
 /* The host's part of vx__smap_list: sm's side, diagonal, model starts and
  * levels, and the node list into *nodes (NULL where there is none; the
  * caller frees it). */
-static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                                const uint32_t* inst_model,
                                 const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                                 uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, smap_node** nodes,
                                 vx_error* err) {
     *nodes = NULL;
     sm->alloc = alloc;
-    if (side == 1 || inst_count == 0 || s->model_count == 0) return VX_OK;
+    uint32_t mc = c ? c->model_count : s->model_count;
+    if (side == 1 || inst_count == 0 || mc == 0) return VX_OK;
     double t0 = vx_time_now();
     double diag = scene_diag(lo, hi);
     if (!(diag > 0) || !isfinite(diag)) return VX_OK;
@@ -176,7 +244,6 @@ static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s
     /* the node side in the world: about a texel (the map spans at most the diagonal) */
     double tau = diag / side;
     /* per model the smallest cell of its instances */
-    uint32_t mc = s->model_count;
     sm->model_first = vx_calloc(alloc, 2 * (size_t)mc + 1, sizeof *sm->model_first);
     double* mcell = vx_calloc(alloc, mc, sizeof *mcell);
     if (!sm->model_first || !mcell) {
@@ -204,7 +271,10 @@ static vx_result smap_list_host(const vx_allocator* alloc, const vx_svo_scene* s
             double q = log2(tau / mcell[mi]);
             int lv = (q > 0 ? (int)floor(q) : 0) + coarser;
             lev[mi] = (uint32_t)(lv > 31 ? 31 : lv);
-            list_model(&s->models[mi], lev[mi], &l);
+            tree tr = {.c = c};
+            if (c) tr.root = c->models[mi].root, tr.depth = c->models[mi].depth, tr.count = c->slot_count;
+            else tr.m = &s->models[mi], tr.root = tr.m->root, tr.depth = tr.m->depth, tr.count = tr.m->node_count;
+            list_tree(&tr, lev[mi], &l);
         }
         if (l.nomem || l.n <= VX__SMAP_MAX_NODES) break;
     }
@@ -247,12 +317,13 @@ static vx_result smap_list_upload(vx_gpu* g, vx__smap* sm, smap_node* nodes, vx_
     return VX_OK;
 }
 
-vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+vx_result vx__smap_list(vx_gpu* g, const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                        const uint32_t* inst_model,
                         const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                         uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap* sm, vx_error* err) {
     vx__smap_free(g, sm);
     smap_node* nodes = NULL;
-    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, sm,
+    vx_result r = smap_list_host(alloc, s, c, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, sm,
                                  &nodes, err);
     return r ? r : smap_list_upload(g, sm, nodes, err);
 }
@@ -266,14 +337,15 @@ struct vx__smap_pre {
     const vx_allocator* alloc;
 };
 
-vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const uint32_t* inst_model,
+vx_result vx__smap_pre_make(const vx_allocator* alloc, const vx_svo_scene* s, const vx_compact_scene* c,
+                            const uint32_t* inst_model,
                             const float* inst_cell, uint32_t inst_count, const double lo[3], const double hi[3],
                             uint32_t side, uint32_t per_cell, uint32_t max_side, vx__smap_pre** out, vx_error* err) {
     *out = NULL;
     vx__smap_pre* p = vx_calloc(alloc, 1, sizeof *p);
     if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     p->side_req = side, p->per_cell = per_cell, p->max_side = max_side, p->alloc = alloc;
-    vx_result r = smap_list_host(alloc, s, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, &p->sm,
+    vx_result r = smap_list_host(alloc, s, c, inst_model, inst_cell, inst_count, lo, hi, side, per_cell, max_side, &p->sm,
                                  &p->nodes, err);
     if (r) {
         vx__smap_pre_free(p);

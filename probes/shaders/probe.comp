@@ -134,14 +134,17 @@ layout(std430, binding = 16) readonly buffer Env { float env[]; };
 
 // The sun's depth map (render/gpu.h vx__render_scene_sun_map; the bake only, SMAP: constant 11):
 // the sun's shadow rays end where nothing lies further towards the light, or are decided without a
-// walk; the same answers as the whole ray's
+// walk; the same answers as the whole ray's. Without the map's rule for a ray from the one solid cube
+// that gave the texel's bound (smap_tmax's inst, cell, entered): a ray leaving its own cube's face cannot
+// meet it, but on the H200 a few of the walked rays did (the walk's answer there), so with the rule
+// eph_monu1's bake differed in 64 of 105.6 M bytes with and without the map, 168 over the compact layout
+// (lavapipe: none), and without it in none (issue 18, branch smap3). The clip at the texel's largest
+// bound keeps the own cube inside the walk, so the map decides as the whole walk does.
 #define SMAP_BINDING 17
 #include "smap_lookup.glsl"
-uvec4 g_shit;   // the shaded vertex's hit: instance slot, cell (for smap_tmax)
-bool g_sentered; // the ray that found it started outside its cube (h.t > 0)
 bool sun_occluded(vec3 p) {
     if (SMAP) {
-        float t = smap_tmax(p, P.light.xyz, P.smo, P.smn.x, P.smn.y, g_shit.x, g_shit.yzw, g_sentered);
+        float t = smap_tmax(p, P.light.xyz, P.smo, P.smn.x, P.smn.y, NO_HIT, uvec3(0u), false);
         if (t < 0.0) return t == -2.0;
         return occluded_to(p, P.light.xyz, t);
     }
@@ -337,7 +340,6 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         }
         if (vertex == 0) hit_out = true;
         g_s = surface(o, d, h);
-        if (SMAP) g_shit = uvec4(h.inst, h.cell), g_sentered = h.t > 0.0;
         if (!skip && !(skip_lights && P.cnt.w != 0u) && (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0)) {
             PT_PREC float w = 1.0;
             if (LIGHTS && prev_pdf > 0.0 && P.cnt.y > 0u) {
@@ -939,7 +941,6 @@ void bake_one() {
                 st = W_END;
             } else {
                 g_s = surface(ro, rd, h);
-                if (SMAP) g_shit = uvec4(h.inst, h.cell), g_sentered = h.t > 0.0;
                 if (g_s.emit.x > 0.0 || g_s.emit.y > 0.0 || g_s.emit.z > 0.0) pacc += thr * g_s.emit * 1.0;
                 Bsdf B = bsdf_of(g_s);
                 vec3 wo = -rd;
@@ -966,7 +967,7 @@ void bake_one() {
                 sun_done = true;
                 if (sun_ray) {
                     float t = BIG;
-                    if (SMAP) t = smap_tmax(p_v, P.light.xyz, P.smo, P.smn.x, P.smn.y, g_shit.x, g_shit.yzw, g_sentered);
+                    if (SMAP) t = smap_tmax(p_v, P.light.xyz, P.smo, P.smn.x, P.smn.y, NO_HIT, uvec3(0u), false);
                     if (t < 0.0) {
                         occ = t == -2.0;
                     } else { // the sun's ray walks next

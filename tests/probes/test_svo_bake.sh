@@ -64,6 +64,11 @@ if [ $rc -eq 0 ]; then
   grep -q "^load: models" "$T/lm.out" || fail "--load models -v: no load line"
   grep -q "moved out of voxels" "$T/lm.out" && ! grep -q " 0 moved out of voxels" "$T/lm.out" || fail "--load models: no probe moved (the placement untested)"
   cmp -s "$T/lw.probes" "$T/lm.probes" || fail "--load models differs from --load whole"
+  # the sun's depth map over the compact layout, its nodes listed from the layout before it goes to the GPU
+  # (issue 18, branch smap3): taken, and the bytes of the bake without the map
+  grep -q "^sun map: .*(used)" "$T/lm.out" || fail "--load models -v: the sun map's list made from the layout not used"
+  "$BIN/svo_bake" "$T/demo.svo" "$T/ln.probes" $L --load models --no-shadow-map >/dev/null || fail "GPU bake, --load models --no-shadow-map"
+  cmp -s "$T/lm.probes" "$T/ln.probes" || fail "--load models differs with and without the sun map"
   # the texel centre rays of a 3x3x3 grid at R=32 meet solid cubes at their edges, where the plain layout's leaf
   # (a cube of one colour) and the compact layout's cells parted before the bake's cell walk (probe.comp
   # CELL_HITS): main eb010c8 wrote 338 bytes apart here on lavapipe (1,840 of 105.6 M on the H200's goal bake)

@@ -273,6 +273,85 @@ static void test_generated(void) {
     vx_svo_scene_free(&s);
 }
 
+/* s in a render scene forced to the plain layout (trace.comp) and in the
+ * compact layout beside it (trace_compact.comp); false, with nothing left
+ * behind, where either fails */
+static bool plain_and_compact(const vx_svo_scene* s, vx_render_scene** rs, vx_compact_gpu** cg) {
+    vx_error err = {0};
+    vx_compact_scene c;
+    *rs = NULL, *cg = NULL;
+    vx_result r = vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, rs, &err);
+    if (!r && !(r = vx_compact_build(&(vx_compact_desc){0}, s, &c, &err))) {
+        r = vx_compact_gpu_create(*rs, s, &c, cg, &err);
+        vx_compact_free(&c);
+    }
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) {
+        vx_render_scene_destroy(*rs);
+        *rs = NULL;
+    }
+    return r == VX_OK;
+}
+
+/* Cameras inside leaf cubes (the block of 16^3 cells at the model's corner
+ * made of leaf cubes of 8^3 cells, each of its colour): every ray starts in
+ * the cube it hits, whose cell is then the one holding the ray's start, not
+ * one on the cube's entry face (trace_compact.comp's `te <= t0` after the
+ * walk; untested before issue 18's lean5), so every pixel hits and must
+ * hold trace.comp's cell, t and colour, albedo and shaded. */
+static void test_inside_leaf(void) {
+    if (gpu_skip) SKIP(gpu_skip);
+    uint64_t keys[9];
+    uint32_t rgba[9];
+    uint8_t level[9];
+    for (uint32_t i = 0; i < 8; i++) {
+        keys[i] = vx_svo_morton(8 * (i & 1), 4 * (i & 2), 2 * (i & 4));
+        level[i] = 3;
+        rgba[i] = 0xFF000000u | (0x20u + 0x1Fu * i) | ((0xE0u - 0x1Bu * i) << 8) | ((0x11u * i) << 16);
+    }
+    keys[8] = vx_svo_morton(31, 31, 31), level[8] = 0, rgba[8] = 0xFF0000FFu; /* the model's box: 32 cells a side */
+    vx_error err = {0};
+    vx_svo_model m;
+    vx_svo_voxels v = {.size = {32, 32, 32}, .count = 9, .keys = keys, .level = level, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(NULL, &v, &m, NULL, &err) == VX_OK);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    vx_render_scene* rs;
+    vx_compact_gpu* cg;
+    REQUIRE(plain_and_compact(&s, &rs, &cg));
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    /* the eye (fractions of the box; the block is its first half) and the direction */
+    static const double eye[4][3] = {{0.23, 0.31, 0.17}, {0.4, 0.12, 0.33}, {0.07, 0.45, 0.26}, {0.3, 0.3, 0.3}};
+    static const double dir[4][3] = {{1, 0.2, 0.1}, {-0.3, 1, -0.2}, {0.1, -0.4, 1}, {-1, -0.7, -0.4}};
+    for (int view = 0; cg && view < 8; view++) {
+        const uint32_t w = 64, h = 48;
+        vx_render_desc d = {.width = w, .height = h, .want_hits = true, .mode = view < 4 ? VX_RENDER_ALBEDO : VX_RENDER_COLOR};
+        d.camera.set = true;
+        d.camera.fov = 70;
+        for (int k = 0; k < 3; k++) {
+            d.camera.eye[k] = lo[k] + eye[view & 3][k] * (hi[k] - lo[k]);
+            d.camera.target[k] = d.camera.eye[k] + dir[view & 3][k];
+        }
+        vx_render_image a = {0}, b = {0};
+        vx_result r = vx_render_frame(rs, &d, &a, &err);
+        if (!r) r = vx_compact_gpu_frame(cg, &d, &b, &err);
+        CHECKF(r == VX_OK, "view %d: %s", view, err.msg);
+        if (!r) {
+            uint32_t hits = 0, wrong = differ(&a, &b, "inside a leaf cube", "compact", view, &hits);
+            CHECKF(wrong == 0 && hits == w * h, "view %d: %u of %u pixels differ, %u hit", view, wrong, w * h, hits);
+            printf("  inside a leaf cube view %d: %u pixels hit, %u differ\n", view, hits, wrong);
+        }
+        vx_render_image_free(&a);
+        vx_render_image_free(&b);
+    }
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    vx_compact_gpu_destroy(cg);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 /* The compact layout's field seams (ts_seam_model: the largest counts of
  * the bricks' index words and of the level-4 ranks) in the kernel, beside
  * a rotated copy. */
@@ -433,20 +512,15 @@ static void test_uniform_cubes(void) {
         vx_svo_model only = s.models[k];
         vx_svo_instance i1 = ts_inst(0, NULL, 0, 0, 0);
         ts_scene(&s1, &only, 1, &i1, 1);
-        vx_render_scene* rs = NULL;
-        vx_compact_scene c;
-        vx_compact_gpu* cg = NULL;
-        REQUIRE(vx_render_scene_create_ex(gpu, &s1, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
-                VX_OK);
-        REQUIRE(vx_compact_build(&(vx_compact_desc){0}, &s1, &c, &err) == VX_OK);
-        CHECKF(vx_compact_gpu_create(rs, &s1, &c, &cg, &err) == VX_OK, "%s", err.msg);
+        vx_render_scene* rs;
+        vx_compact_gpu* cg;
+        REQUIRE(plain_and_compact(&s1, &rs, &cg));
         uint64_t marked = vx__compact_gpu_uniform_entries(cg), entries = vx__compact_gpu_table_bytes(cg) / 8;
         CHECKF(marked > entries / 4 && marked < entries, "model %u: %llu of %llu entries uniform", k,
                (unsigned long long)marked, (unsigned long long)entries);
         printf("  model %u: %llu of %llu start-table entries uniform\n", k, (unsigned long long)marked,
                (unsigned long long)entries);
         vx_compact_gpu_destroy(cg);
-        vx_compact_free(&c);
         vx_render_scene_destroy(rs);
         s1.models[0] = (vx_svo_model){0};
         vx_svo_scene_free(&s1);
@@ -949,6 +1023,7 @@ int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, true, &gpu);
     RUN(test_generated);
     RUN(test_seams);
+    RUN(test_inside_leaf);
     RUN(test_deep);
     RUN(test_start_table);
     RUN(test_uniform_cubes);

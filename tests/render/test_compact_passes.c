@@ -312,22 +312,32 @@ static void check_bakes(const char* name, const vx_svo_scene* s, side* p, side* 
      * compact one) gave other cells, faces or distances before the bake's cell walk (probe.comp CELL_HITS:
      * eph_monu1's differed on lavapipe, the Cornell box's on the H200; issue 18, branch bakex); and the compact
      * layout's bake without its beam pass (probe_beam.comp's walk of the compact slots, issue 18 branch rdr4:
-     * start distances that passed a cell would lose its hits) */
+     * start distances that passed a cell would lose its hits); and without the sun's depth map, which the
+     * compact scene lists from its geometry (issue 18, branch smap3: a bound below a cell would lose its shadow) */
     {
+        vx_probe_bake_stats stc = {0};
         vx_probe_bake_desc be = {.grid = {3, 3, 3}, .res = 32, .spp = 1, .bounces = 1, .seed = 5};
-        vx_probe_set ep = {0}, ec = {0}, en = {0};
-        bool ok = vx_probe_bake_gpu(p->rs, s, &be, &ep, &err) == VX_OK && vx_probe_bake_gpu(c->rs, s, &be, &ec, &err) == VX_OK;
+        vx_probe_set ep = {0}, ec = {0}, en = {0}, es = {0};
+        bool ok = vx_probe_bake_gpu(p->rs, s, &be, &ep, &err) == VX_OK;
+        be.stats = &stc;
+        ok = ok && vx_probe_bake_gpu(c->rs, s, &be, &ec, &err) == VX_OK;
+        be.stats = NULL;
         be.no_beam = true;
         ok = ok && vx_probe_bake_gpu(c->rs, s, &be, &en, &err) == VX_OK;
+        be.no_beam = false, be.no_shadow_map = true;
+        ok = ok && vx_probe_bake_gpu(c->rs, s, &be, &es, &err) == VX_OK;
         CHECKF(ok, "%s: edge bake: %s", name, err.msg);
         if (ok) {
-            bool same = probe_sets_equal(&ep, &ec), beam = probe_sets_equal(&ec, &en);
-            printf("  %-28s probe bake (%u probes at %u, edge rays): %s; compact without its beam: %s\n", name,
-                   ep.probe_count, ep.res, same ? "same bytes" : "DIFFER", beam ? "same bytes" : "DIFFER");
+            bool same = probe_sets_equal(&ep, &ec), beam = probe_sets_equal(&ec, &en), map = probe_sets_equal(&ec, &es);
+            printf("  %-28s probe bake (%u probes at %u, edge rays): %s; compact without its beam: %s, without its "
+                   "sun map (%u texels): %s\n", name, ep.probe_count, ep.res, same ? "same bytes" : "DIFFER",
+                   beam ? "same bytes" : "DIFFER", stc.sun_map_side, map ? "same bytes" : "DIFFER");
             CHECKF(same, "%s: the probe sets at R=32 differ", name);
             CHECKF(beam, "%s: the compact layout's bakes at R=32 with and without the beam differ", name);
+            CHECKF(map, "%s: the compact layout's bakes at R=32 with and without the sun map differ", name);
+            CHECKF(stc.sun_map_side > 0, "%s: the compact layout's bake had no sun map", name);
         }
-        vx_probe_set_free(&ep), vx_probe_set_free(&ec), vx_probe_set_free(&en);
+        vx_probe_set_free(&ep), vx_probe_set_free(&ec), vx_probe_set_free(&en), vx_probe_set_free(&es);
     }
     vx_probe_bake_desc bd = {.grid = {2, 2, 2}, .res = 16, .spp = 2, .bounces = 1, .seed = 5};
     vx_probe_set psp = {0}, psc = {0};

@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "bench/bench_terrain.h"
+#include "render/compact.h"
 #include "render/pipeline.h"
 #include "render/render.h"
 #include "svo/svo.h"
@@ -118,9 +119,30 @@ static const double lights[][3] = {
 };
 #define NLIGHTS (sizeof lights / sizeof lights[0])
 
-/* Every light from the given cameras, maps of the given sides. */
+static void frames_with_map(vx_render_scene* rs, const double L[3], vx_render_image* img, vx_render_shadow_map_info* mi);
+
+/* A node list made ahead from s's compact layout (render/compact.h: its geometry's nodes, full cubes of any
+ * colours as one solid node) for a scene of side `side` on this device, taken by rs. */
+static void take_compact_list(const char* name, const vx_svo_scene* s, uint32_t side, vx_render_scene* rs) {
+    vx_compact_scene c;
+    vx_error err = {0};
+    vx_render_sun_nodes* nodes = NULL;
+    /* the map of 61 texels from the brick dictionary's form (a level-3 node's bricks through index words) */
+    vx_compact_desc cd = {.bricks = side == 61 ? VX_COMPACT_BRICKS_DICT : VX_COMPACT_BRICKS_INLINE};
+    vx_result r = vx_compact_build(&cd, s, &c, &err);
+    if (!r) {
+        vx_render_sun_nodes_desc nd = {.shadow_map_side = side, .cpu_device = vx_gpu_is_cpu(gpu), .layout = &c};
+        r = vx_render_sun_nodes_make(s, &nd, &nodes, &err);
+        vx_compact_free(&c);
+    }
+    CHECKF(r == VX_OK, "%s: the compact layout's list: %s", name, err.msg);
+    vx_render_scene_take_sun_nodes(rs, nodes);
+}
+
+/* Every light from the given cameras, maps of the given sides; compact: the node list from the scene's compact
+ * layout (taken by the plain scene, whose trace.comp frames keep the one-cube rule with it). */
 static void check_scene(const char* name, const vx_svo_scene* s, const vx_render_camera* cams, size_t ncam,
-                        const uint32_t* sides, size_t nsides, bool cpu, smap_stats* st) {
+                        const uint32_t* sides, size_t nsides, bool cpu, bool compact, smap_stats* st) {
     for (size_t si = 0; si < nsides; si++) {
         vx_render_scene_desc sd = {.shadow_map_side = sides[si]};
         vx_render_scene* rs = NULL;
@@ -128,6 +150,7 @@ static void check_scene(const char* name, const vx_svo_scene* s, const vx_render
         vx_result r = vx_render_scene_create_ex(gpu, s, &sd, &rs, &err);
         CHECKF(r == VX_OK, "%s: %s", name, err.msg);
         if (r) continue;
+        if (compact) take_compact_list(name, s, sides[si], rs);
         for (size_t li = 0; li < NLIGHTS; li++)
             for (size_t c = 0; c < ncam; c++) {
                 char nm[160];
@@ -136,6 +159,9 @@ static void check_scene(const char* name, const vx_svo_scene* s, const vx_render
                 memcpy(d.light_dir, lights[li], sizeof d.light_dir);
                 check_frame(nm, rs, s, d, cpu && li < 3 && si == 0, st);
             }
+        vx_render_shadow_map_info mi;
+        vx_render_scene_shadow_map_info(rs, &mi);
+        CHECKF(!compact || mi.ahead_seconds > 0, "%s side %u: the compact layout's list was not taken", name, sides[si]);
         vx_render_scene_destroy(rs);
     }
 }
@@ -194,7 +220,7 @@ static void test_random_model(void) {
     vx_render_camera cams[2] = {{0}, persp(40, -30, 30, 12, 10, 8)};
     static const uint32_t sides[] = {0, 16, 61};
     smap_stats st = {0};
-    check_scene("random", &s, cams, 2, sides, 3, true, &st);
+    check_scene("random", &s, cams, 2, sides, 3, true, false, &st);
     check_texel_edges("random", &s, 61, &st);
     printf("random model: %zu frames, %zu shadow rays, %.2f -> %.2f steps each\n", st.frames, st.cast,
            st.cast ? st.steps_off / st.cast : 0, st.cast ? st.steps_on / st.cast : 0);
@@ -242,13 +268,73 @@ static void test_instances(void) {
     vx_render_camera cams[2] = {{0}, persp(50, -20, 30, 16, 16, 4)};
     static const uint32_t sides[] = {0, 16, 61};
     smap_stats st = {0};
-    check_scene("instances", &s, cams, 2, sides, 3, true, &st);
+    check_scene("instances", &s, cams, 2, sides, 3, true, false, &st);
+    /* the node list from the compact layout (test_compact_list) */
+    check_scene("instances, compact list", &s, cams, 1, sides, 3, true, true, &st);
     check_texel_edges("instances", &s, 61, &st);
     check_texel_edges("instances", &s, 16, &st);
     printf("instances: %zu frames, %zu shadow rays, %.2f -> %.2f steps each\n", st.frames, st.cast,
            st.cast ? st.steps_off / st.cast : 0, st.cast ? st.steps_on / st.cast : 0);
     CHECK(st.cast > 1000);
     vx_svo_scene_free(&s);
+}
+
+/* The node list from the compact layout (issue 18, branch smap3: what a scene built from a model reader lists,
+ * svo_bake --load models), taken by a plain scene: the frames with the map the bits of those without, on the
+ * instances (test_instances) and on a solid block of a colour per cell (full bricks: solid cubes of 4^3 cells in the compact
+ * list), one whose every brick lacks a cell, models of depth 1 and 2 (a brick as the root), turned and mirrored;
+ * the bricks in their blocks and in the dictionary (take_compact_list). */
+static void test_compact_list(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    static const uint32_t sides[] = {0, 16, 61};
+    smap_stats st = {0};
+    vx_svo_model m[5];
+    REQUIRE(ts_random_model(&m[0], 16, 16, 16, 100, 5) == VX_OK);
+    REQUIRE(ts_seam_model(&m[4]) == VX_OK); /* every brick lacks one cell: none is a solid cube */
+    REQUIRE(ts_random_model(&m[1], 2, 2, 2, 60, 9) == VX_OK);
+    REQUIRE(ts_random_model(&m[2], 4, 4, 3, 55, 13) == VX_OK);
+    REQUIRE(ts_random_model(&m[3], 14, 12, 10, 35, 17) == VX_OK);
+    CHECK(m[1].depth == 1 && m[2].depth == 2);
+    const double quarter[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mirror[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    vx_svo_instance in[7] = {ts_inst(0, NULL, 0, 0, 0),       ts_inst(1, NULL, 4, 20, 2), ts_inst(2, quarter, 10, 22, 1),
+                             ts_inst(2, mirror, 20, 18, 9),   ts_inst(3, NULL, 18, -2, 0), ts_inst(0, quarter, 40, 4, 6),
+                             ts_inst(4, NULL, -34, 0, 0)};
+    ts_scene(&s, m, 5, in, 7);
+    vx_render_camera views[3] = {{0}, persp(60, -30, 40, 18, 10, 4), persp(-60, -40, 50, -18, 16, 16)};
+    check_scene("blocks, compact list", &s, views, 3, sides, 3, true, true, &st);
+    /* the block's full bricks are solid cubes of 4^3 cells in the compact list, 16^3 cells of other colours in
+     * the plain one (a list at level 0 on a CPU device, 2 texels a cell; at level 1 or 2 on a GPU): fewer nodes,
+     * the layout's list taken */
+    vx_error err = {0};
+    vx_render_scene *rp = NULL, *rc = NULL;
+    vx_render_image img = {0};
+    vx_render_shadow_map_info a = {0}, b = {0};
+    const double L[3] = {0.35, -0.45, 0.82};
+    REQUIRE(vx_render_scene_create(gpu, &s, &rp, &err) == VX_OK);
+    REQUIRE(vx_render_scene_create(gpu, &s, &rc, &err) == VX_OK);
+    take_compact_list("blocks", &s, 0, rc);
+    frames_with_map(rp, L, &img, &a);
+    frames_with_map(rc, L, &img, &b);
+    printf("blocks: %u nodes listed from the plain models, %u from the compact layout\n", a.nodes, b.nodes);
+    CHECK(a.used && b.used && b.ahead_seconds > 0 && b.nodes < a.nodes && a.side == b.side);
+    vx_render_image_free(&img);
+    vx_render_scene_destroy(rp);
+    vx_render_scene_destroy(rc);
+    /* bad arguments: a layout of other models */
+    vx_compact_scene c;
+    vx_svo_scene other;
+    REQUIRE(instance_scene(&other) == VX_OK);
+    REQUIRE(vx_compact_build(NULL, &other, &c, &err) == VX_OK);
+    vx_render_sun_nodes* nodes = NULL;
+    CHECK(vx_render_sun_nodes_make(&s, &(vx_render_sun_nodes_desc){.layout = &c}, &nodes, &err) == VX_ERR_INVALID_ARG);
+    CHECK(nodes == NULL);
+    vx_compact_free(&c);
+    vx_svo_scene_free(&other);
+    printf("compact lists: %zu frames, %zu shadow rays, %.2f -> %.2f steps each\n", st.frames, st.cast,
+           st.cast ? st.steps_off / st.cast : 0, st.cast ? st.steps_on / st.cast : 0);
+    vx_svo_scene_free(&s);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
 /* The terrain 256 cells wide: the bench's close-up case, where the map must pay. */
@@ -271,8 +357,9 @@ static void test_terrain(void) {
     printf("terrain close-up: %zu shadow rays, %.2f -> %.2f steps each\n", st.cast, off, on);
     CHECK(st.cast > 1000);
     CHECKF(on <= 0.6 * off, "the map saves too little: %.2f -> %.2f steps", off, on);
-    check_scene("terrain", &s, close, 1, def, 1, false, &st);
-    check_scene("terrain", &s, views, 2, sides, 2, false, &st);
+    check_scene("terrain", &s, close, 1, def, 1, false, false, &st);
+    check_scene("terrain", &s, views, 2, sides, 2, false, false, &st);
+    check_scene("terrain, compact list", &s, views, 1, sides, 2, false, true, &st);
     check_texel_edges("terrain", &s, 61, &st);
     vx_svo_scene_free(&s);
 }
@@ -406,8 +493,9 @@ static void test_ahead(void) {
 /* The pass pipeline's direct pass (the merged kernel, frame.comp, and the
  * separate direct.comp) with the sun's rays clipped by the map, against the
  * same frames with vx_render_desc.no_shadow_map: the same bits, for the
- * random model and the instances, several lights and map sides; the frame
- * after the first with a light uses the map (vx_frame_result.shadow_map). */
+ * random model and the instances, several lights and map sides, in both
+ * layouts; the frame after the first with a light uses the map
+ * (vx_frame_result.shadow_map). */
 static void test_passes_direct(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_model m[2];
@@ -421,8 +509,11 @@ static void test_passes_direct(void) {
     static const size_t which[] = {0, 1, 3, 4, 8, 10};
     static const uint32_t sides[] = {0, 16};
     size_t frames = 0, used = 0;
-    for (size_t si = 0; si < 2; si++) {
-        vx_render_scene_desc sd = {.shadow_map_side = sides[si]};
+    /* both layouts: a compact scene lists its map's nodes from its geometry read back (issue 18, branch smap3) */
+    for (size_t si = 0; si < 4; si++) {
+        bool compact = si >= 2;
+        vx_render_scene_desc sd = {.shadow_map_side = sides[si % 2],
+                                   .layout = compact ? VX_RENDER_LAYOUT_COMPACT : VX_RENDER_LAYOUT_PLAIN};
         vx_render_scene* rs = NULL;
         vx_frame_renderer* fr = NULL;
         vx_error err = {0};
@@ -444,8 +535,8 @@ static void test_passes_direct(void) {
                 CHECKF(ok, "passes: %s", err.msg);
                 size_t n = (size_t)d.base.width * d.base.height * 4;
                 bool same = ok && a.image.pixels && b.image.pixels && !memcmp(a.image.pixels, b.image.pixels, n * sizeof(float));
-                CHECKF(same, "passes: side %u light %zu %s: the image differs with the map", sides[si], which[w],
-                       sep ? "separate" : "merged");
+                CHECKF(same, "passes: %s side %u light %zu %s: the image differs with the map",
+                       compact ? "compact" : "plain", sides[si % 2], which[w], sep ? "separate" : "merged");
                 CHECK(!b.shadow_map);
                 frames++, used += a.shadow_map;
                 vx_render_image_free(&a.image);
@@ -467,6 +558,7 @@ int main(void) {
     RUN(test_random_model);
     RUN(test_instances);
     RUN(test_terrain);
+    RUN(test_compact_list);
     RUN(test_passes_direct);
     if (gpu) CHECK(vx_gpu_validation_errors(gpu) == 0);
     if (gpu) vx_gpu_destroy(gpu);

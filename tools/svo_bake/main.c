@@ -74,14 +74,13 @@ _Noreturn static void usage(int status) {
             "                     never whole: one pass builds the GPU's compact layout from the models in turn,\n"
             "                     the probes are placed from the layout, then the device is made; the host holds\n"
             "                     the layout and a model per thread, not the scene and the placement's CPU caster\n"
-            "                     (about 60 bytes a cell). The same bytes as whole on lavapipe and on an H200's\n"
-            "                     Cornell box (the bake's walk finds its hits in cells in either GPU layout), not\n"
-            "                     on every scene on an H200 (a few thousand of 105 M bytes), and slower on the GPU\n"
-            "                     (no sun depth map over the compact layout, and its walk: an H200's bake of 512\n"
-            "                     probes at R=128, 64 spp took 0.50 s against 0.26 s), so not the default. The\n"
-            "                     GPU bake only (--cpu casts on the scene's trees), any --frame; each MPI rank\n"
-            "                     (mpirun) builds the layout and places the probes itself. An interrupted run\n"
-            "                     resumes from OUT.probes.partial either way\n"
+            "                     (about 60 bytes a cell). The same bytes as whole (lavapipe's tests; an H200's\n"
+            "                     Cornell box, eph_monu1 and animated demo; the sun's depth map over either\n"
+            "                     layout), slower on the GPU by the compact layout's walk (an H200's bake of 512\n"
+            "                     probes at R=128, 64 spp: 0.34 s against 0.27 s, a warm process 1.23x), so not\n"
+            "                     the default. The GPU bake only (--cpu casts on the scene's trees), any --frame;\n"
+            "                     each MPI rank (mpirun) builds the layout and places the probes itself. An\n"
+            "                     interrupted run resumes from OUT.probes.partial either way\n"
             "  --fresh            ignore a checkpoint from an interrupted run (under MPI: remove the\n"
             "                     batch checkpoints of OUT.probes.ckpt/)\n"
             "  --cpu              bake on the CPU (default: the GPU)\n"
@@ -283,6 +282,13 @@ int bake_job_open(bake_job* j, const char* device, const char* who) {
     return 0;
 }
 
+/* Whether the GPU bake of ps builds the sun's depth map (probe_gpu.c ctx_sun_map: a sun, a light direction). */
+static bool bake_uses_sun_map(const vx_probe_bake_desc* b, const vx_probe_set* ps) {
+    bool sun = ps->sun[0] > 0 || ps->sun[1] > 0 || ps->sun[2] > 0;
+    bool dir = ps->light_dir[0] != 0 || ps->light_dir[1] != 0 || ps->light_dir[2] != 0;
+    return !b->no_shadow_map && sun && dir;
+}
+
 int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
     vx_error err = {0};
     const vx_allocator* A = job_start(j);
@@ -329,11 +335,22 @@ int bake_job_models(bake_job* j, vx_probe_set* ps, const char* who) {
         fprintf(stderr, "%s: %sno usable Vulkan device (%s); use --cpu to bake on the CPU\n", vx_tool_name, who, err.msg);
         return 1;
     }
+    /* the sun's depth map's node list from the host's layout before it goes (the scene would read its geometry
+     * back from the GPU at the map's first build) */
+    vx_render_sun_nodes* sun_nodes = NULL;
+    j->t_sun = vx_time_now();
+    if (bake_uses_sun_map(&j->o.b, ps))
+        vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE,
+                                 .cpu_device = vx_gpu_is_cpu(j->gpu), .layout = &c}, &sun_nodes,
+                                 NULL); /* none made: the build lists them */
+    j->t_sun = vx_time_now() - j->t_sun;
     r = vx_render_scene_create_compact(j->gpu, j->rd, &c, t_build, NULL, &j->rs, &err);
+    if (!r) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
+    else vx_render_sun_nodes_free(sun_nodes);
     /* the GPU scene was made with the graph's instances (frame 0): frame N's from the copy of the graph */
     if (!r && j->o.frame) r = vx_render_scene_set_frame(j->rs, &j->file, j->o.frame, &err);
     j->t_device = vx_time_now() - t;
-    j->t_scene = j->t_device - j->t_vk;
+    j->t_scene = j->t_device - j->t_vk - j->t_sun;
     vx_svo_reader_close(j->rd); /* its buffers and the file: the layout is on the GPU */
     j->rd = NULL;
     if (r) {
@@ -629,13 +646,6 @@ static void huge_free(void* user, void* ptr) {
 
 static const vx_allocator huge_allocator = {huge_alloc, huge_free, NULL};
 
-/* Whether the GPU bake of ps builds the sun's depth map (probe_gpu.c ctx_sun_map: a sun, a light direction). */
-static bool bake_uses_sun_map(const vx_probe_bake_desc* b, const vx_probe_set* ps) {
-    bool sun = ps->sun[0] > 0 || ps->sun[1] > 0 || ps->sun[2] > 0;
-    bool dir = ps->light_dir[0] != 0 || ps->light_dir[1] != 0 || ps->light_dir[2] != 0;
-    return !b->no_shadow_map && sun && dir;
-}
-
 static int bake_single(bake_job* j) {
     options* o = &j->o;
     vx_error err = {0};
@@ -675,14 +685,14 @@ static int bake_single(bake_job* j) {
     if (j->opening && bake_uses_sun_map(&o->b, &ps))
         vx_render_sun_nodes_make(&j->scene, &(vx_render_sun_nodes_desc){.max_side = VX_PROBE_SUN_MAP_SIDE}, &sun_nodes,
                                  NULL); /* none made: the build lists them */
-    t_ahead = vx_time_now() - t_ahead;
+    t_ahead = o->load_models ? j->t_sun : vx_time_now() - t_ahead;
     if (bake_job_device(j, "")) {
         vx_render_sun_nodes_free(sun_nodes);
         vx_probe_set_free(&ps);
         bake_job_close(j);
         return 1;
     }
-    if (j->rs) vx_render_scene_take_sun_nodes(j->rs, sun_nodes);
+    if (j->rs && sun_nodes) vx_render_scene_take_sun_nodes(j->rs, sun_nodes); /* (--load models took its own) */
     else vx_render_sun_nodes_free(sun_nodes);
     if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
     /* the host's peak so far: the scene (or the layout from the reader's passes), the placement, the GPU scene (on a

@@ -50,6 +50,7 @@ typedef struct bake_job {
     double t_pass[2]; /* the compact layout (pass 1), the placement */
     bool place_passes; /* the placement by a second pass (VX_BAKE_PLACE=reader), not from the layout */
     double t_scene;   /* the GPU scene from the layout (upload) */
+    double t_sun;     /* the sun map's node list from the layout (before the upload; 0: none made) */
 } bake_job;
 
 /* Reads the scene and starts opening the device (o.device; NULL: the default
@@ -64,7 +65,9 @@ int bake_job_open(bake_job* j, const char* device, const char* who);
  * from it (vx_probe_place_compact, j->o.b's grid; VX_BAKE_PLACE=reader: a
  * second pass, vx_probe_place_reader), then
  * the device is made and the GPU scene is the built layout
- * (vx_render_scene_create_compact); j->scene is the view of frame j->o.frame
+ * (vx_render_scene_create_compact), with the sun's depth map's node list
+ * made from the layout where the bake uses the map (vx_render_sun_nodes_desc
+ * .layout); j->scene is the view of frame j->o.frame
  * of the graph (no model arrays), which the GPU bake needs beside the layout
  * (materials, instances, bounds): frame N > 0 with its own bounds from the
  * models' boxes of the pass (vx_svo_reader_update_bounds) and its instances
