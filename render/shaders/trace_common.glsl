@@ -227,8 +227,8 @@ uint g_path = 0xFFFFu;
 // times as !(tc > tc_max), so that a NaN time steps every axis and the ray
 // still leaves the root. Other kernels that include this file keep both.
 // The lean walk (TRACE_LEAN: trace.comp's kernels and the pass pipeline's
-// G-buffer, gbuffer.comp and frame.comp; GPU form, one instance, no hits or
-// ids, no LOD, DEEP 0 or 1): the primary depth kernel's loop fits 32
+// G-buffer, gbuffer.comp and frame.comp; GPU form, no hits or ids, no LOD,
+// DEEP 0 or 1): the primary depth kernel's loop fits 32
 // registers on the H200 (64 warps per SM) where main's took 39 (50 warps),
 // 2-3% more primary rays/s (issue 21, twentieth sitting); the colour kernel
 // (primary and shadow rays) went from 45 (DEEP 0; 46 DEEP 1) to 40
@@ -243,15 +243,34 @@ uint g_path = 0xFFFFu;
 // tie, might be decided otherwise than main's walk decides it); trace.comp
 // forms the pixel's index before the walk. Each alone kept the depth kernel
 // at 36-39 registers and cost 1-6%; the cells, depths and colours are main's
-// (render_bench: 0 px differ; svo_render's images byte for byte). Not in the
-// BVH kernels (several instances): there its registers stayed at 48 (depth)
-// and 64 (colour). DEEP 1 (exact models): the same loop; the hit's t comes
+// (render_bench: 0 px differ; svo_render's images byte for byte). trace.comp's
+// BVH kernels (several instances; TRACE_LEAN_BVH) too, but for the ray-end
+// test at a push (below: there t1 is the nearest hit so far, and without the
+// test a tie between two instances' faces went the other way,
+// test_many_instances): registers as main's (48 depth, 64 colour), 2-4.7%
+// more primary rays/s on the H200's multi-instance oblique and close-up
+// (issue 21, ray8). DEEP 1 (exact models): the same loop; the hit's t comes
 // from its cube's entry planes after it, as before. The compact layout's
 // G-buffer (COMPACT) too (issue 18, lean3: 0-3.5% less time a frame on the
 // H200), so that both layouts' G-buffers make the same decisions by
 // construction; trace_compact.comp keeps only its DEEP 0 push, the part
 // that paid there (its LEAN).
-#if defined(TRACE_LEAN) && !defined(PRECISE)
+// (the choice by the preprocessor: glslang 12 wrote invalid SPIR-V, an
+// undefined id, for a const bool combined with the spec constants here)
+// trace.comp's rebased walk (DEEP 2) too (TRACE_LEAN_DEEP2): scale_exp2 is
+// 2^(scale - S_MAX) in both of its frames, and the rebased frame's ray end
+// is the model frame's, scaled. terrain4096's depth kernel 56 -> 48
+// registers, 5.7-7.3% more primary rays/s on the H200 (its colour kernel
+// stays at 48, 0.5-1% fewer pixels/s; issue 21, ray8)
+#ifdef TRACE_LEAN_DEEP2
+#define LEAN_DEEP_MAX 2
+#else
+#define LEAN_DEEP_MAX 1
+#endif
+#if defined(TRACE_LEAN) && !defined(PRECISE) && defined(TRACE_LEAN_BVH)
+const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !LOD && DEEP <= LEAN_DEEP_MAX && !NODES_FILE;
+#elif defined(TRACE_LEAN) && !defined(PRECISE)
+// (the G-buffer's BVH kernels: not measured with the lean walk)
 const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !USE_BVH && !LOD && DEEP <= 1 && !NODES_FILE;
 #else
 const bool LEAN = false;
@@ -726,7 +745,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             WPREC RVEC3 tc = pos * coef - bias;
             WPREC REAL tc_max = min(min(tc.x, tc.y), tc.z);
             int cs = idx ^ oct7; // real octant: mirrored axes flipped
-            bool lean = LEAN && !any_hit; // no test of the ray's end (a primary ray in the model's box)
+            // no test of the ray's end (a primary ray in the model's box; not with
+            // several instances, where h.t is another instance's hit: the test
+            // decides a tie between two instances' faces as main's walk does)
+            bool lean = LEAN && !any_hit && !USE_BVH;
 #ifdef PRECISE
             // the mask form below made the NVIDIA compiler give the float64
             // depth kernel 80 registers instead of 64 (20% slower on the H100)
