@@ -6,14 +6,14 @@ if(VX_WITH_VULKAN)
   file(MAKE_DIRECTORY ${VX_BENCH_SPV_DIR})
   add_custom_command(
     OUTPUT ${VX_BENCH_SPV_DIR}/esvo.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__esvo_spv_arr -o ${VX_BENCH_SPV_DIR}/esvo.comp.h
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__esvo_spv_arr -o ${VX_BENCH_SPV_DIR}/esvo.comp.h
             ${CMAKE_CURRENT_LIST_DIR}/shaders/esvo.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/esvo.comp
     COMMENT "glslangValidator esvo.comp"
     VERBATIM)
   add_custom_command(
     OUTPUT ${VX_BENCH_SPV_DIR}/tree64.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__tree64_spv_arr -o ${VX_BENCH_SPV_DIR}/tree64.comp.h
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__tree64_spv_arr -o ${VX_BENCH_SPV_DIR}/tree64.comp.h
             ${CMAKE_CURRENT_LIST_DIR}/shaders/tree64.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/tree64.comp
     COMMENT "glslangValidator tree64.comp"

@@ -57,3 +57,8 @@ function(vx_walk_defs name defs_var)
     endif()
   endif()
 endfunction()
+
+# The Vulkan environment every kernel is compiled for (glslangValidator --target-env in each build rule; the SPIR-V
+# 1.3 of Vulkan 1.1, what the device layer asks for) and validated for (tests/render/spirv_valid.cmake: spirv-val
+# --target-env): one setting, so the test checks the modules against the rules they were built by.
+set(VX_SPIRV_TARGET_ENV vulkan1.1)

@@ -14,7 +14,7 @@ if(VX_WITH_VULKAN)
     vx_walk_defs(cone_${var} defs ${VX_CONES_SPV_DIR}/${name}.comp.h) # cmake/shaders.cmake: the walk non-contracted
     add_custom_command(
       OUTPUT ${VX_CONES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders
               -I${CMAKE_CURRENT_LIST_DIR}/shaders ${defs} --vn vx__cone_${var}_spv_arr
               -o ${VX_CONES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/cone_common.glsl

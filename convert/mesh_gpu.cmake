@@ -9,7 +9,7 @@ if(TARGET vx_conv_mesh AND VX_WITH_VULKAN)
   foreach(name meshvox meshreduce gpusort gpuscan meshintern meshbuild)
     add_custom_command(
       OUTPUT ${VX_MESHGPU_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${name}_spv_arr
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__${name}_spv_arr
               -o ${VX_MESHGPU_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       COMMENT "glslangValidator ${name}.comp"

@@ -10,7 +10,7 @@ if(VX_WITH_VULKAN)
   vx_walk_defs(photon defs ${VX_PHOTONS_SPV_DIR}/photon.comp.h) # cmake/shaders.cmake: the walk non-contracted
   add_custom_command(
     OUTPUT ${VX_PHOTONS_SPV_DIR}/photon.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders
             -I${CMAKE_SOURCE_DIR}/probes/shaders ${defs} --vn vx__photon_spv_arr -o ${VX_PHOTONS_SPV_DIR}/photon.comp.h
             ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/photon.comp ${CMAKE_SOURCE_DIR}/probes/shaders/path_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl

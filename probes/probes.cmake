@@ -10,7 +10,7 @@ if(VX_WITH_VULKAN)
   foreach(name probe_out probe_filter)
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx__${name}_spv_arr
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__${name}_spv_arr
               -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
       COMMENT "glslangValidator ${name}.comp"
@@ -26,7 +26,7 @@ if(VX_WITH_VULKAN)
     vx_shader_spec(${spec} name file defs)
     add_custom_command(
       OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
               --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp
       DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
               ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
@@ -44,7 +44,7 @@ if(VX_WITH_VULKAN)
     VERBATIM)
   add_custom_command(
     OUTPUT ${VX_PROBES_SPV_DIR}/probe_beam.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
             --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
             ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl

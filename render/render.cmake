@@ -38,7 +38,7 @@ if(VX_WITH_VULKAN)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
     add_custom_command(
       OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/compact_attr.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/stack_ladder.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl

@@ -8,7 +8,7 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
     build-essential cmake pkg-config clang libclang-rt-14-dev python3 zlib1g-dev libdeflate-dev libzstd-dev \
-    libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools \
+    libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools \
     libglfw3-dev xvfb xauth \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \
     libtinygltf-dev nlohmann-json3-dev \

@@ -6,7 +6,7 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   set(vx_cache_spv ${CMAKE_CURRENT_BINARY_DIR}/cache_value.comp.h)
   add_custom_command(
     OUTPUT ${vx_cache_spv}
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.1 --vn vx_test_cache_value_spv -o ${vx_cache_spv}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx_test_cache_value_spv -o ${vx_cache_spv}
             ${CMAKE_CURRENT_LIST_DIR}/shaders/cache_value.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/cache_value.comp
     COMMENT "glslangValidator cache_value.comp"
