@@ -310,25 +310,6 @@ static void tab_node(const tab_fill* f, uint32_t n, uint32_t L, uint64_t base, u
     }
 }
 
-/* CModel.block_log2's bits 8..31 for model mi of the whole layout: where
- * no group of its blocks is uniform (compact.h), block b's header is word
- * G + b of its region, G its group count (the headers follow the group
- * words in block order), and the shader reads it without the group word, a
- * round of dependent loads less in the colour's chain (docs/PERFORMANCE.md
- * issue 18, branch lean6); 0 (the group word read) where a group is uniform,
- * G is 0 or does not fit 24 bits. */
-static uint32_t direct_headers(const vx_compact_scene* c, uint32_t mi) {
-    const vx_compact_model* m = &c->models[mi];
-    const uint32_t* w = c->attr ? c->attr + m->attr_base : c->attr_region ? c->attr_region[mi] : NULL;
-    if (!w || !m->block || !m->voxels || m->attr_kind == VX_COMPACT_ATTR_NONE) return 0;
-    uint64_t nblocks = ((uint64_t)m->voxels + m->block - 1) / m->block;
-    uint64_t ngroups = (nblocks + VX_COMPACT_GROUP - 1) / VX_COMPACT_GROUP;
-    if (ngroups >= 1u << 24 || ngroups + nblocks > m->attr_words) return 0;
-    for (uint64_t g = 0; g < ngroups; g++)
-        if (w[g] != ngroups + g * VX_COMPACT_GROUP) return 0;
-    return (uint32_t)ngroups;
-}
-
 /* Whether the attribute indices [b, e) of model mi all hold one stored
  * value, *v: every block they touch of one value (code 0, the encoder's
  * form for a block of one distinct value) and the same one. Blocks of
@@ -421,8 +402,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
         if (deep_model) flags |= 2u;
         cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
-                             .attr_base = m->attr_base,
-                             .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) | direct_headers(c, i) << 8 : 0,
+                             .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
                              .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
                              .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
                                            ? sm->depth - VX_RENDER_FRAME_LEVELS

@@ -324,19 +324,10 @@ uint recorrelate(uint v) {
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
     if (CA_UNI && attr_base >= CA_UNIFORM) return m.kind == 1u ? attr_base & 0xFFu : i; // a uniform cube's (cell_index)
-    // block_log2's bits 8..31: the model's group count where no group is
-    // uniform (the whole layout; render/compact_gpu.c direct_headers), block
-    // b's header then word G + b: no group word in the chain of loads
-    uint bl = m.block_log2 & 0xFFu, G = m.block_log2 >> 8;
-    uint B = 1u << bl, width = m.kind == 1u ? 8u : 32u;
-    uint blk = i >> bl, j = i & (B - 1u);
-    uint h;
-    if (G != 0u && attr_base == m.attr_base) {
-        h = CA_ATTR(attr_base + G + blk);
-    } else {
-        uint g = CA_ATTR(attr_base + (blk >> 6));
-        h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
-    }
+    uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
+    uint blk = i >> m.block_log2, j = i & (B - 1u);
+    uint g = CA_ATTR(attr_base + (blk >> 6));
+    uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
