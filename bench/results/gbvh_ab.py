@@ -6,6 +6,7 @@ import re, sys, statistics as st
 rows = {}  # (scene, view, row) -> {'A': {round: ms}, 'B': ...}
 hit = {}
 cur = {}
+compact = set()
 for line in open(sys.argv[1]):
     m = re.match(r'\S+ ([AB])(\d) (.*)', line.rstrip('\n'))
     if not m:
@@ -20,14 +21,19 @@ for line in open(sys.argv[1]):
     if not c or x not in cur:
         continue
     name, ms, per = c.group(1).strip(), float(c.group(2)), c.group(3)
+    if 'trace_compact' in name:  # a --layout compact process: its rows apart
+        compact.add((x, r))
+    sc, v = cur[x]
+    key = (sc + (' (compact)' if (x, r) in compact else ''), v)
+    hit[key] = hit[cur[x]]
     keys = [name]
     vals = [ms]
     g = re.search(r'(?:^|, )gbuffer ([\d.]+)', per)
     if 'separate' in name and g:
         keys.append('gbuffer pass alone')
         vals.append(float(g.group(1)))
-    for k, v in zip(keys, vals):
-        rows.setdefault(cur[x] + (k,), {'A': {}, 'B': {}})[x][r] = v
+    for k, val in zip(keys, vals):
+        rows.setdefault(key + (k,), {'A': {}, 'B': {}})[x][r] = val
 def names(sc):  # render_bench's views: three cameras overview, oblique, close-up; two oblique, close-up
     n = 1 + max(v for (s2, v) in hit if s2 == sc)
     return ['overview', 'oblique', 'close-up'][3 - n:]
