@@ -15,7 +15,8 @@
  * --gbuffer: only the G-buffer's lists: "gbuffer" (merged with resolve:
  * frame.comp), "=gbuffer" (gbuffer.comp on its own) and "gbuffer,direct"
  * (frame.comp with the sun's shadow rays, svo_render's default), no shadow
- * map check, no point lights (A/B runs of the G-buffer's kernels).
+ * map check, no point lights (A/B runs of the G-buffer's kernels); times
+ * to 0.1 us (a change of 1-2% in a 0.05-0.15 ms pass is 1-3 us).
  * SCENE is a .vox or .svo file or terrain:EXTENT, the tracer benchmarks'
  * procedural terrain (bench/bench_terrain.h; render_bench --generate's
  * terrain1024 and terrain4096). @CAMERA;... (up to 8, each EX,EY,EZ,TX,TY,TZ
@@ -176,7 +177,8 @@ int main(int argc, char** argv) {
         }
     }
     if (runs < 1 || runs > 1000 || first >= argc) {
-        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S] SCENE...\n");
+        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]\n"
+                        "                    [--gbuffer] [--check DIR] SCENE[@CAMERA;...]...\n");
         return 2;
     }
     vx_error err = {0};
