@@ -11,17 +11,8 @@
 # and "gbuffer,direct" (frame.comp, svo_render's default), ms per frame, medians of RUNS frames after WU s of each
 # row's frame. Clocks: nvidia-smi every 200 ms (log in $OUT/gbvh.tar.gz) and before each process.
 # SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=160x90 RUNS=1 WU=0 TS=20).
-s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
+BATCH=1; BINS="passes_bench render_bench"; . "${GBVH_LIB:-$(dirname "$0")/gbvh_gpu_lib.sh}" # (the payload had these lines inline)
 SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-21}; WU=${WU:-0.25}; LIM=${LIM:-115}
-T=/tmp/gbvh; rm -rf $T; mkdir -p $T/chk
-for x in A B; do for b in passes_bench render_bench; do gunzip -c ${x}_$b.gz > $T/${x}_$b; chmod +x $T/${x}_$b; done; done
-smi() { nvidia-smi --query-gpu=clocks.sm,clocks.max.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader 2>/dev/null | head -1; }
-stamp() { while IFS= read -r l; do printf '%s %s\n' "$(date -u +%T.%2N)" "$l"; done; }
-echo "== gbvh batch 1 on $(nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null | head -1) $(nproc) CPUs $(date -u +%T); A = main $(cat A_COMMIT), B = gbvh $(cat B_COMMIT)"
-nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader -lms 200 > $T/smi.log 2>/dev/null &
-smipid=$!
-M="ogt_test_multiple_model_scene.vox@default;5.24973348,-21.6430856,44.3215428,76,39,14;80.6680227,43.0011623,11.9994188,84.999992,46.7142788,10.1428606"
-G="ogt_test_groups.vox@default;-3.68564184,-42.087693,45.2938465,46,0.5,24;54.4395007,-1.33239196,16.270592,58.9868398,1.85604196,13.9999983"
 E="eph_monu1.vox@default;-100.297822,-85.9695617,42.9847808,0,0,0;-17.3319618,-14.8559673,7.42798364,-12.9999926,-11.1428508,5.5714254"
 R="terrain:4096@default;-1281.41587,-805.785031,3474.89252,2048,2048,2048;2829.24215,2606.20062,1736.78004,2850.00668,2623.43589,1728.00016"
 # timed: the multi-instance scene's three views, the controls' oblique and close-up (terrain last: its generation
@@ -47,7 +38,4 @@ run() { # binary round: one process, if 15 s (scaled) of the limit are left
   timeout $l $T/${x}_passes_bench --gbuffer --runs $RUNS --warmup $WU --size $SIZE "$M" "$E2" "$R2" 2>&1 | grep --line-buffered -E '^#|^\| [a-z]|passes_bench' | sed -u "s/^/$x$r /" | stamp
 }
 run A 1; run B 1; run A 2; run B 2; run A 3; run B 3
-kill $smipid 2>/dev/null; wait $smipid 2>/dev/null
-echo "-- clock samples: $(wc -l < $T/smi.log), SM MHz min/median/max $(cut -d, -f2 $T/smi.log | tr -dc '0-9\n' | sort -n | awk '{a[NR]=$1} END {if (NR) print a[1], a[int((NR+1)/2)], a[NR]}')"
-[ -n "$OUT" ] && tar czf $OUT/gbvh.tar.gz -C $T smi.log
-echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
+finish

@@ -10,17 +10,8 @@
 # 3: the same with --layout compact, ogt_test_multiple_model_scene, A B A B. Clocks: nvidia-smi every 200 ms (log in
 # $OUT/gbvh.tar.gz) and before each process. SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=160x90 RUNS=1
 # WU=0 TS=20).
-s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
+BATCH=2; BINS="passes_bench"; . "${GBVH_LIB:-$(dirname "$0")/gbvh_gpu_lib.sh}" # (the payload had these lines inline)
 SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-21}; WU=${WU:-0.25}; LIM=${LIM:-98}
-T=/tmp/gbvh; rm -rf $T; mkdir -p $T/chk
-for x in A B; do gunzip -c ${x}_passes_bench.gz > $T/${x}_passes_bench; chmod +x $T/${x}_passes_bench; done
-smi() { nvidia-smi --query-gpu=clocks.sm,clocks.max.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader 2>/dev/null | head -1; }
-stamp() { while IFS= read -r l; do printf '%s %s\n' "$(date -u +%T.%2N)" "$l"; done; }
-echo "== gbvh batch 2 on $(nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null | head -1) $(nproc) CPUs $(date -u +%T); A = main $(cat A_COMMIT), B = gbvh $(cat B_COMMIT)"
-nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate,clocks_throttle_reasons.active --format=csv,noheader -lms 200 > $T/smi.log 2>/dev/null &
-smipid=$!
-M="ogt_test_multiple_model_scene.vox@default;5.24973348,-21.6430856,44.3215428,76,39,14;80.6680227,43.0011623,11.9994188,84.999992,46.7142788,10.1428606"
-G="ogt_test_groups.vox@default;-3.68564184,-42.087693,45.2938465,46,0.5,24;54.4395007,-1.33239196,16.270592,58.9868398,1.85604196,13.9999983"
 E1="eph_monu1.vox@-17.3319618,-14.8559673,7.42798364,-12.9999926,-11.1428508,5.5714254"
 S60="many60.svo@default;-14.6391118,-5.33352437,17.9167622,19,23.5,3.5;-9.24863637,-0.713116885,15.6065584,-4.91666713,2.9999996,13.7500002"
 S3="passes3.svo@default;-22.2828229,-12.9567053,19.4783527,4.5,10,8;-2.98387849,3.58524701,11.2073765,2.16666437,7.99999803,9.00000099"
@@ -50,7 +41,4 @@ run A 4 6 --layout compact "$M"; run B 4 6 --layout compact "$M"
 echo "-- 2 again: the third round $(date -u +%T)"
 run A 3 12 "$M" "$G" "$E1"; run B 3 12 "$M" "$G" "$E1"
 run A 5 6 --layout compact "$M"; run B 5 6 --layout compact "$M"
-kill $smipid 2>/dev/null; wait $smipid 2>/dev/null
-echo "-- clock samples: $(wc -l < $T/smi.log), SM MHz min/median/max $(cut -d, -f2 $T/smi.log | tr -dc '0-9\n' | sort -n | awk '{a[NR]=$1} END {if (NR) print a[1], a[int((NR+1)/2)], a[NR]}')"
-[ -n "$OUT" ] && tar czf $OUT/gbvh.tar.gz -C $T smi.log
-echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
+finish
