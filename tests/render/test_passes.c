@@ -2,7 +2,8 @@
  * lavapipe: the default list equals the single-shader colour mode bit for
  * bit, every pass can be left out, bad lists are usage errors naming the
  * pass, per-pass times add up to the frame, ambient occlusion against the
- * analytic value at an inner corner and on an open plane, and the gi hook.
+ * analytic value at an inner corner and on an open plane, the gi hook, and
+ * models of 10-16 levels traced as trace.comp traces them.
  * Skips (with a message) when there is no Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
@@ -882,7 +883,10 @@ static void test_gi_hook(void) {
  * on at least 99.99% of the pixels of each depth, here against trace.comp's
  * hits (which meet the CPU reference by that rule): the merged kernel
  * (frame.comp) and the G-buffer pass (gbuffer.comp) with ids, and the
- * G-buffer's depth image without ids (its lean walk). */
+ * G-buffer's depth image without ids (the lean walk at DEEP 1); trace.comp's
+ * hits against the CPU reference by the same rule (its ambiguous pixels
+ * left out); and per depth the default list's colours against the single
+ * shader's, bit for bit (compare_default). */
 static void deep_block_scene(uint32_t depth, vx_svo_scene* s, uint32_t at[3][3]) {
     uint32_t side = 1u << depth;
     const uint32_t places[3][3] = {{3, 5, 7}, {side - 27, side - 19, side - 33}, {side / 2 - 3, side / 3 + 1, 77}};
@@ -975,6 +979,11 @@ static void test_deep_models(void) {
                     vx_render_image_free(&res.image);
                 }
                 vx_render_image_free(&ref);
+                if (c == 2 && v == 0) { /* and the default list's colours equal the single shader's, bit for bit */
+                    char nm[48];
+                    snprintf(nm, sizeof nm, "deep %u close-up", depths[di]);
+                    compare_default(nm, &s, d.base);
+                }
             }
         printf("  deep depth %u: %zu pixels, %.1f%% hit; trace.comp vs the CPU reference %zu (%zu ambiguous); differ "
                "from trace.comp's hits:", depths[di], px, 100.0 * hits / (px ? px : 1), cpu_bad, amb);
