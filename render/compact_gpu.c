@@ -1088,13 +1088,12 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     /* 11: the miss pass */
     /* 6: one sample a pixel; 7: some start-table entry or some model is of one value (the kernel tests for them);
      * 12: the starts below the root */
-    const char* lv = getenv("VX_LEAN7"); /* exploration (lean7) */
-    uint32_t spec[14] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], cg->records, want_hits, cg->dict,
+    uint32_t spec[13] = {(uint32_t)f->mode, sp[VX__SPEC_HAS_COLOR], sp[VX__SPEC_USE_BVH], cg->records, want_hits, cg->dict,
                          f->spp <= 1, cg->uniform_entries > 0 || cg->uniform_models > 0, cg->deep, pages, cg->attr_shift, 0,
-                         path, lv ? (uint32_t)strtoul(lv, NULL, 0) : 0u};
-    uint64_t key = vx__spec_key(0xC0AC7000u, spec, 14);
+                         path};
+    uint64_t key = vx__spec_key(0xC0AC7000u, spec, 13);
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__trace_compact_spv_arr, .spirv_size = sizeof vx__trace_compact_spv_arr,
-                                       .binding_count = TC_BINDINGS, .spec_count = 14, .label = "trace compact"};
+                                       .binding_count = TC_BINDINGS, .spec_count = 13, .label = "trace compact"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < TC_BINDINGS; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -1105,7 +1104,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[11] = 1, md.label = "trace compact (misses)";
         md.spec[12] = 0; /* the miss pass traces no ray */
-        uint64_t mkey = vx__spec_key(0xC0AC7000u, md.spec, 14);
+        uint64_t mkey = vx__spec_key(0xC0AC7000u, md.spec, 13);
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
     if (!cg->pstate.buf && (r = vx__buffer_create(g, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "compact pages",

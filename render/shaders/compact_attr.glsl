@@ -216,19 +216,12 @@ uint cell_index(CModel m, uvec3 c, out uint attr_base) {
 // gives the index (base: in a full leaf cube, or a uniform cube's value, its
 // attr_base set), else false, n the level-4 node's slot (the level-3 node's
 // for K = 3) and base the cells before it.
-// The start table's entry (its two words) of the level-K cube holding cell
-// c, or any cell of c's level-K cube (CModel.tab_k)
-uvec2 table_entry(CModel m, uvec3 c) {
+bool table_to_level4(CModel m, uvec3 c, out uint n, out uint base, inout uint attr_base) {
     uint K = m.tab_k, D = m.depth - K;
     uvec3 r = c >> K;
     uint e = m.tab_word + 2u * (r.x | (r.y << D) | (r.z << (2u * D)));
-    return uvec2(CA_ATTR(e), CA_ATTR(e + 1u));
-}
-// table_to_level4 from the entry ent (table_entry)
-bool table_entry_to_level4(CModel m, uvec3 c, uvec2 ent, out uint n, out uint base, inout uint attr_base) {
-    uint K = m.tab_k;
-    n = ent.x;
-    base = ent.y;
+    n = CA_ATTR(e);
+    base = CA_ATTR(e + 1u);
     if (n == CA_TAB_FULL) {
         base += morton(c & ((1u << K) - 1u));
         return true;
@@ -250,9 +243,6 @@ bool table_entry_to_level4(CModel m, uvec3 c, uvec2 ent, out uint n, out uint ba
         n = nd.y + k;
     }
     return false;
-}
-bool table_to_level4(CModel m, uvec3 c, out uint n, out uint base, inout uint attr_base) {
-    return table_entry_to_level4(m, c, table_entry(m, c), n, base, attr_base);
 }
 
 // cell_index for the whole layout (no pages) where the model's start table
@@ -304,15 +294,13 @@ uint cell_index_table(CModel m, uvec3 c, out uint attr_base) {
 // the rank, then the bricks before): the helmet's close-up at 512 0.857 ->
 // 0.886 of trace.comp's albedo rays/s on the H200 with its table of level 3
 // (docs/PERFORMANCE.md issue 18, branch ck11).
-// rec: n3's record (CA_SLOT(m.rec3 + n3)); ent: the table's entry of the
-// cell's level-K cube (table_entry)
-uint cell_index_path_with(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, uvec2 rec, uvec2 ent, out uint attr_base) {
+uint cell_index_path(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, out uint attr_base) {
     attr_base = m.attr_base;
     // (a table of level 3 holds level 4's cells in its entry: no level-4 loads)
     bool k4 = m.tab_k >= 4u;
-    uvec2 s4 = k4 ? CA_SLOT(n4) : uvec2(0u), sp = k4 ? CA_SLOT(max(n3, 1u) - 1u) : uvec2(0u);
+    uvec2 rec = CA_SLOT(m.rec3 + n3), s4 = k4 ? CA_SLOT(n4) : uvec2(0u), sp = k4 ? CA_SLOT(max(n3, 1u) - 1u) : uvec2(0u);
     uint n, base;
-    if (table_entry_to_level4(m, c, ent, n, base, attr_base)) return base; // (a uniform cube)
+    if (table_to_level4(m, c, n, base, attr_base)) return base; // (a uniform cube)
     if (k4) {
         uint o4 = ((c.x >> 3u) & 1u) | (((c.y >> 3u) & 1u) << 1) | (((c.z >> 3u) & 1u) << 2);
         base += (uint(bitCount(s4.x & 0xFFu & ((1u << o4) - 1u))) << 9) + (n3 != s4.y ? (sp.x >> 16) & 0x7FFFu : 0u);
@@ -325,9 +313,6 @@ uint cell_index_path_with(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, uvec2 
     uint below = bit < 32u ? uint(bitCount(brk.x & ((1u << bit) - 1u)))
                            : uint(bitCount(brk.x)) + uint(bitCount(brk.y & ((1u << (bit - 32u)) - 1u)));
     return base + before3 + below;
-}
-uint cell_index_path(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, out uint attr_base) {
-    return cell_index_path_with(m, c, n3, n4, brk, CA_SLOT(m.rec3 + n3), table_entry(m, c), attr_base);
 }
 
 uint recorrelate(uint v) {

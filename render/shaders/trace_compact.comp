@@ -22,12 +22,6 @@ layout(constant_id = 0) const int MODE = 0;          // vx_render_mode
 layout(constant_id = 1) const bool HAS_COLOR = true; // some model has attributes
 layout(constant_id = 2) const bool USE_BVH = true;   // more than one instance
 layout(constant_id = 4) const bool WRITE_HITS = false;
-// exploration (lean7, env VX_LEAN7): diagnostics, wrong colours on purpose (albedo, the colour's rounds cut
-// from the end): 1 a hash of the cell (no index, no decode), 2 a hash of the index (no decode), 3 + the group
-// word, 4 + the block header, 5 all but the last round (delta: no residuals; palette: no value), 6 the level-3
-// record not loaded (its field 0), 7 the delta minimum and widths not loaded (constants); cuts: 16 the record
-// and the table's entry loaded at the push into the brick, 17 the record only, 18 the entry only
-layout(constant_id = 13) const uint LV = 0u;
 // as trace.comp's: 1 some model is exact (CModel flag 2: a hit's t from its
 // cube's entry planes), 2 also some model has CModel.rebase > 0 (the hi/lo
 // origin and the walk in two frames), else 0
@@ -217,48 +211,6 @@ uint attr_word(uint i) {
 #define CA_UNI UNIFORM
 #include "compact_attr.glsl"
 
-// exploration (lean7): LV's diagnostics (decode_value's rounds cut from the end; wrong colours on purpose)
-uint diag_hash(uint x) {
-    x *= 0x9E3779B1u;
-    return x ^ (x >> 15);
-}
-uint diag_decode(CModel m, uint attr_base, uint i) {
-    if (CA_UNI && attr_base >= CA_UNIFORM) return i;
-    if (LV == 2u) return diag_hash(i);
-    uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
-    uint blk = i >> m.block_log2, j = i & (B - 1u);
-    uint g = CA_ATTR(attr_base + (blk >> 6));
-    if (LV == 3u) return diag_hash(i ^ g);
-    uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
-    if (LV == 4u) return diag_hash(i ^ h);
-    uint code = h & 31u, p = attr_base + (h >> 5);
-    uint v;
-    if (code == 31u) {
-        if (LV == 5u) return diag_hash(i ^ h);
-        v = attr_bits(p, j * width, width);
-    } else if (code == 30u) {
-        uint mn = LV == 7u ? h : CA_ATTR(p), wc = LV == 7u ? 0x2222u : CA_ATTR(p + 1u);
-        if (LV == 5u) return diag_hash(i ^ mn ^ wc);
-        uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
-        uint n = wr + wg + wb + wa;
-        uint bits = n != 0u ? attr_bits(p + 2u, j * n, n) : 0u;
-        uint r = bits & ((1u << wr) - 1u);
-        bits >>= wr;
-        uint gg = bits & ((1u << wg) - 1u);
-        bits >>= wg;
-        uint b = bits & ((1u << wb) - 1u);
-        uint a = (bits >> wb) & ((1u << wa) - 1u);
-        v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
-            (((mn >> 24) + a) & 0xFFu) << 24;
-        if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
-    } else {
-        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
-        if (LV == 5u) return diag_hash(i ^ h ^ k);
-        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
-    }
-    return m.kind == 1u ? CA_PAL(v & 0xFFu) : v;
-}
-
 // A scene of one instance reads its instance's and its model's records from
 // the frame block (uniform, as trace.comp's TRACE_INST_UBO) rather than
 // from the buffers: on the H200 the instance 0.2-3% more rays/s on every
@@ -285,7 +237,6 @@ struct Hit {
     // level-3 and level-4 ancestors (NO_HIT: none) and the brick
     uint n3, n4;
     uvec2 brick;
-    uvec2 rec, ent; // LV 16-18: the record and the entry loaded at the push
 };
 
 // The ray needs page p (not resident): its bit in the frame's requests, and
@@ -419,7 +370,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     int stk_node[S_MAX + (REBASE ? RB_SLOTS : 0)];
     uint hit_n3 = NO_HIT, hit_n4 = NO_HIT; // PATH_COLOR (below)
     uvec2 hit_brick = uvec2(0u);
-    uvec2 pf_rec = uvec2(0u), pf_ent = uvec2(0u);
     if (m.root == ROOT_LEAF) {
         if (tmin <= tmax) {
             hit = true;
@@ -585,16 +535,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
                     bool to2 = PUSH_BRICK && scale - koff == s3;
                     loaded = eq2 || to2;
                     if (ge3) {
-                        if (PATH_COLOR && (LV == 16u || LV == 17u || LV == 18u) && scale - koff == s3 && m.rec3 != 0u) {
-                            if (LV != 18u) pf_rec = slots[m.rec3 + parent];
-                            if (LV != 17u) {
-                                vec3 pb = pos;
-                                if ((oct & 1) == 0) pb.x = 3.0 - scale_exp2 - pb.x;
-                                if ((oct & 2) == 0) pb.y = 3.0 - scale_exp2 - pb.y;
-                                if ((oct & 4) == 0) pb.z = 3.0 - scale_exp2 - pb.z;
-                                pf_ent = table_entry(m, uvec3((pb - 1.0) * side));
-                            }
-                        }
                         // (level 3 of the whole layout: through the brick's index word)
                         parent = ca_child(lvl, desc, nd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))));
                         if (to2) {
@@ -810,7 +750,6 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
     h.color = 0xFFFFFFFFu;
     h.page = coarse;
     h.n3 = hit_n3, h.n4 = hit_n4, h.brick = hit_brick;
-    h.rec = pf_rec, h.ent = pf_ent;
     return true; // the colour: once for the scene's nearest hit (main)
 }
 
@@ -969,19 +908,12 @@ void shade(uvec2 px) {
                 if ((m.flags & 1u) != 0u) h.color = pstate[P_REP + h.page];
             } else if (UNIFORM && (m.flags & 5u) == 5u) {
                 h.color = m.value; // a model of one value: no descent, no decode
-            } else if ((m.flags & 1u) != 0u && LV == 1u) {
-                h.color = diag_hash(h.cell.x ^ (h.cell.y << 10) ^ (h.cell.z << 20));
             } else if ((m.flags & 1u) != 0u) {
                 uint ab;
                 uint i;
-                if (PATH_COLOR && h.n3 != NO_HIT) {
-                    if (LV == 16u) i = cell_index_path_with(m, h.cell, h.n3, h.n4, h.brick, h.rec, h.ent, ab);
-                    else if (LV == 17u) i = cell_index_path_with(m, h.cell, h.n3, h.n4, h.brick, h.rec, table_entry(m, h.cell), ab);
-                    else if (LV == 18u) i = cell_index_path_with(m, h.cell, h.n3, h.n4, h.brick, slots[m.rec3 + h.n3], h.ent, ab);
-                    else if (LV == 6u) i = cell_index_path_with(m, h.cell, h.n3, h.n4, h.brick, uvec2(0u), table_entry(m, h.cell), ab);
-                    else i = cell_index_path(m, h.cell, h.n3, h.n4, h.brick, ab);
-                } else i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
-                h.color = LV >= 2u && LV <= 7u && LV != 6u ? diag_decode(m, ab, i) : decode_color(m, ab, i);
+                if (PATH_COLOR && h.n3 != NO_HIT) i = cell_index_path(m, h.cell, h.n3, h.n4, h.brick, ab);
+                else i = PAGES == 0u ? cell_index_table(m, h.cell, ab) : cell_index(m, h.cell, ab);
+                h.color = decode_color(m, ab, i);
             }
         }
         precise vec4 c = vec4(0.0);
