@@ -30,10 +30,7 @@
 // (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
-// value: the colour of every cell where flags has 4 (a model of one value),
-// else the word of the model's block table in the attribute words (0: none;
-// the whole layout: compact_gpu.c block_table): block b's header and its
-// payload's first two words at value + 4b
+// value: the colour of every cell where flags has 4 (a model of one value), else 0
 // rec3: the whole layout: level-3 slot s's record (vx__compact_level3_records)
 // is slot rec3 + s of the geometry, 0 none (cell_index_path)
 struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value, rec3; };
@@ -329,28 +326,14 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     if (CA_UNI && attr_base >= CA_UNIFORM) return m.kind == 1u ? attr_base & 0xFFu : i; // a uniform cube's (cell_index)
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
-    // the block table: the header and the payload's first two words in one
-    // round, not the group word, then the header, then the payload (a delta
-    // block's minimum and widths, a block of one value's value)
-    bool tbl = CA_PAGES == 0u && m.value != 0u && (m.flags & 4u) == 0u;
-    uint h, w0 = 0u, w1 = 0u;
-    if (tbl) {
-        uint e = m.value + 4u * blk;
-        h = CA_ATTR(e);
-        w0 = CA_ATTR(e + 1u);
-        w1 = CA_ATTR(e + 2u);
-    } else {
-        uint g = CA_ATTR(attr_base + (blk >> 6));
-        h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
-    }
+    uint g = CA_ATTR(attr_base + (blk >> 6));
+    uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 31u) {
         v = attr_bits(p, j * width, width);
-    } else if (tbl && code == 0u) {
-        v = width == 32u ? w0 : w0 & 0xFFu; // (a block of one value: its value, the payload's word 0)
     } else if (code == 30u) {
-        uint mn = tbl ? w0 : CA_ATTR(p), wc = tbl ? w1 : CA_ATTR(p + 1u);
+        uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
         uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
         uint pos = j * (wr + wg + wb + wa);
         // the value's residuals are adjacent (at most 32 bits): one extraction
