@@ -356,6 +356,7 @@ static int check_reach(const char* label, const uint32_t* w, size_t bytes, const
     return total_bad;
 }
 
+#if defined(VX_TEST_PROBES) && defined(VX_TEST_PHOTONS) /* its one use: the photons' control */
 /* A control: in module w, the float operations without NoContraction of the functions that root reaches in the
  * checked module ref (contractible[] aside), where w has a function of that name. */
 static int check_shared(const char* label, const uint32_t* w, size_t bytes, const uint32_t* ref, size_t ref_bytes,
@@ -378,6 +379,7 @@ static int check_shared(const char* label, const uint32_t* w, size_t bytes, cons
     spv_free(&r), spv_free(&m);
     return total_bad;
 }
+#endif
 
 /* Checks one kernel; need: the variables must be there (the float trace
  * kernels, whose DEEP 2 code holds them), else a kernel without them passes.
