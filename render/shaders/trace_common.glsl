@@ -405,8 +405,13 @@ uint child_node_file(uint parent, uint desc, uint cbit, uint nbase) {
 // crossing times pos * coef - bias lose 2^(depth - 23) of a cell to
 // cancellation (the strict rule's depth errors, issue 18).
 float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
-    vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
-    vec3 tau = ((pl - oa) - oa_lo) / d;
+    // precise in every kernel (NoContraction also forbids reassociation): a
+    // driver may otherwise apply exact algebra, as the NVIDIA compiler did to
+    // the instance two-sum (test_spirv_precise), and (pl - oa) - oa_lo as
+    // pl - (oa + oa_lo) rounds to pl - oa, losing the low part the hi/lo
+    // origin exists for; test_spirv_precise checks all 6 operations
+    precise vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
+    precise vec3 tau = ((pl - oa) - oa_lo) / d;
     float r = 0.0;
     if (d.x != 0.0) r = max(r, tau.x);
     if (d.y != 0.0) r = max(r, tau.y);
