@@ -448,9 +448,9 @@ static void check_listed(void) {
 
 static void test_embedded(void) {
     check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1, 1);
-    /* the compact kernel's entry_tau is a copy of its own (trace_compact.comp, not trace_common.glsl's): printed,
-     * to be required (tau 1) once that copy is marked precise as trace_common.glsl's is */
-    check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1, 0);
+    /* the compact kernel's entry_tau is a copy of its own (trace_compact.comp, not trace_common.glsl's), precise
+     * the same way */
+    check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1, 1);
     /* the pass pipeline's kernels trace through trace_common.glsl too */
     check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0, 1);
     check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0, 1);
