@@ -39,7 +39,6 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_LEAN
 #define TRACE_LEAN_BVH
 #define TRACE_LEAN_DEEP2
-#define TRACE_SWITCH_IN
 #define TRACE_INST_UBO
 #define TRACE_FLAT_ITEMS
 #define TRACE_CULL

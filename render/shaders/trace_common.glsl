@@ -713,24 +713,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
             stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
         }
-        // the two-frame walk's switches run apart from the walk's step: 1 into
-        // the depth-k child rb_cbit of parent, 2 out of N through the faces
-        // rb_step. Outside the step's loop (the G-buffer kernels), their code
-        // and registers stay out of it; but a lane that leaves that loop to
-        // switch frames waits there for every other lane of its warp to leave
-        // it too (the loop's exit is where the warp reconverges). trace.comp
-        // (TRACE_SWITCH_IN) has one loop whose body is either a step or a
-        // switch, so a switching lane idles only for the other lanes' step
+        // the two-frame walk's switches run outside the walk's loop, so that
+        // their code and registers stay out of it: 1 into the depth-k child
+        // rb_cbit of parent, 2 out of N through the faces rb_step
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
         while (true) {
 #endif
-#if defined(TRACE_SWITCH_IN) && !defined(PRECISE)
-        if (pending == 0) {
-            if (scale >= S_MAX) break;
-#else
         while (scale < S_MAX) {
-#endif
             if (GUARD) g_iter++;
 #ifndef PRECISE
             if (LEAN) scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23); // not carried
@@ -834,11 +824,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
                         pending = 1, rb_cbit = cbit;
-#ifdef TRACE_SWITCH_IN
-                        continue;
-#else
                         break;
-#endif
                     }
 #endif
                     // push
@@ -935,11 +921,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 if (REBASE && scale >= S_MAX && koff != 0) {
                     // out of the rebased node N: after the loop
                     pending = 2, rb_step = step;
-#ifdef TRACE_SWITCH_IN
-                    continue;
-#else
                     break;
-#endif
                 }
                 if (scale >= S_MAX) break;
                 scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
@@ -955,9 +937,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 loaded = false; if (SENT) desc = 0u;
 #endif
             }
-#if defined(TRACE_SWITCH_IN) && !defined(PRECISE)
-            continue;
-#endif
         }
 #ifndef PRECISE
             if (!REBASE || pending == 0) break;
