@@ -1,12 +1,13 @@
 #!/bin/sh
 # deep3 (issue 21, twenty-fourth sitting): the trace.comp variants of the H200 batches (render_bench --kernels K.spv@c1).
 #   sh deep3_variants.sh TREE OUTDIR
-# TREE: a source tree (main 396b0f0 for batch 1); deep3_variants.patch applied to a copy of its render/shaders gives:
+# TREE: a source tree (main 396b0f0 for batch 1, the branch's head for batch 2); deep3_variants.patch applied to a copy of its render/shaders gives:
 #   t_ref  the tree's trace.comp (the built-in kernel's source: 0 px must differ)
 #   t_cin, t_cout, t_clow  counters in the hits kernel's iteration count (+1000 per rebase into a depth-k node, per
 #          return to the model frame, per step in the rebased frame): steps/ray minus t_ref's over 1000
 #   t_d1   REBASE off: DEEP 2's models walked by the DEEP 1 code (one frame; float error, pixels differ)
 #   t_norb the DEEP 2 code with no rebase (rb_scale -100: one frame; pixels differ)
+#   t_nohl t_norb without the origin's hi/lo pair (trace_instance's two-sum, trace_model's exact box entry)
 #   t_rbup the rebase one level shallower (depth k - 1; frames of FRAME_LEVELS + 1 levels)
 #   t_swin the frame switch inside the walk's loop (one loop; the rebase and the return as a branch of its body)
 #   t_lnc  the lean walk at DEEP 2 in the kernels other than the colour kernel (MODE_COLOR keeps the full walk)
@@ -21,6 +22,7 @@ gv -DCNT_OUT -o $O/t_cout.spv
 gv -DCNT_LOW -o $O/t_clow.spv
 gv -DD1LIKE -o $O/t_d1.spv
 gv -DNO_RB -o $O/t_norb.spv
+gv -DNO_HL -o $O/t_nohl.spv
 gv -DRB_UP=1 -o $O/t_rbup.spv
 gv -DSW_IN -o $O/t_swin.spv
 gv -DLEAN_NOCOLOR2 -o $O/t_lnc.spv
