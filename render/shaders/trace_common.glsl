@@ -646,36 +646,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         // level of the node at scale s: s + lvl_off - koff
         uvec2 cnd = uvec2(0u);
         int lvl_off = int(m.depth) - (S_MAX - 1);
-        // The exact and rebased walks' state in the stack's slots, stored
-        // before the start below the root (TRACE_PATH) rather than after it:
-        // the compiler cannot move these stores across that block's stores
-        // to the same array, so their values (oa, oa_lo, ol, ol_lo, d, dl)
-        // were held in registers across it
-        if (exact) {
-            stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
-            stk_node[OA + 2] = floatBitsToInt(oa.z);
-            stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
-            stk_node[DM + 2] = floatBitsToInt(d.z);
-        }
-        if (REBASE && exact) {
-            stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
-            stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
-        }
-        if (REBASE && rb_scale > 0) {
-            // mirrored origin (3 - ol on mirrored axes, exact) and its error
-            vec3 olm = ol, olm_lo = ol_lo;
-            if ((oct & 1) == 0) { olm.x = 3.0 - ol.x; olm_lo.x = -ol_lo.x; }
-            if ((oct & 2) == 0) { olm.y = 3.0 - ol.y; olm_lo.y = -ol_lo.y; }
-            if ((oct & 4) == 0) { olm.z = 3.0 - ol.z; olm_lo.z = -ol_lo.z; }
-            stk_node[RB_OHI] = floatBitsToInt(olm.x), stk_node[RB_OHI + 1] = floatBitsToInt(olm.y);
-            stk_node[RB_OHI + 2] = floatBitsToInt(olm.z);
-            stk_node[RB_OLO] = floatBitsToInt(olm_lo.x), stk_node[RB_OLO + 1] = floatBitsToInt(olm_lo.y);
-            stk_node[RB_OLO + 2] = floatBitsToInt(olm_lo.z);
-            stk_node[RB_T0] = floatBitsToInt(tmin);
-            vec3 adl = abs(dl);
-            stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
-            stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
-        }
 #endif
         int idx = 0;
         WALK_FIRST_CHILD(RVEC3)
@@ -722,6 +692,31 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
 #endif
 #ifndef PRECISE
+        if (exact) {
+            stk_node[OA] = floatBitsToInt(oa.x), stk_node[OA + 1] = floatBitsToInt(oa.y);
+            stk_node[OA + 2] = floatBitsToInt(oa.z);
+            stk_node[DM] = floatBitsToInt(d.x), stk_node[DM + 1] = floatBitsToInt(d.y);
+            stk_node[DM + 2] = floatBitsToInt(d.z);
+        }
+        if (REBASE && exact) {
+            stk_node[RB_OALO] = floatBitsToInt(oa_lo.x), stk_node[RB_OALO + 1] = floatBitsToInt(oa_lo.y);
+            stk_node[RB_OALO + 2] = floatBitsToInt(oa_lo.z);
+        }
+        if (REBASE && rb_scale > 0) {
+            // mirrored origin (3 - ol on mirrored axes, exact) and its error
+            vec3 olm = ol, olm_lo = ol_lo;
+            if ((oct & 1) == 0) { olm.x = 3.0 - ol.x; olm_lo.x = -ol_lo.x; }
+            if ((oct & 2) == 0) { olm.y = 3.0 - ol.y; olm_lo.y = -ol_lo.y; }
+            if ((oct & 4) == 0) { olm.z = 3.0 - ol.z; olm_lo.z = -ol_lo.z; }
+            stk_node[RB_OHI] = floatBitsToInt(olm.x), stk_node[RB_OHI + 1] = floatBitsToInt(olm.y);
+            stk_node[RB_OHI + 2] = floatBitsToInt(olm.z);
+            stk_node[RB_OLO] = floatBitsToInt(olm_lo.x), stk_node[RB_OLO + 1] = floatBitsToInt(olm_lo.y);
+            stk_node[RB_OLO + 2] = floatBitsToInt(olm_lo.z);
+            stk_node[RB_T0] = floatBitsToInt(tmin);
+            vec3 adl = abs(dl);
+            stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
+            stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
+        }
         // the two-frame walk's switches run outside the walk's loop, so that
         // their code and registers stay out of it: 1 into the depth-k child
         // rb_cbit of parent, 2 out of N through the faces rb_step
