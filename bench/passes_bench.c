@@ -4,7 +4,7 @@
  * mode) on the same rays. Needs only libvulkan and libc.
  *
  *   passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]
- *                SCENE.{vox,svo} ...
+ *                [--gbuffer] [--check DIR] SCENE[@CAMERA;...] ...
  *
  * --warmup S: before each row's frames, its frame back to back for S seconds
  * (default 0: only the 3 warm-up frames), so that every row runs at the
@@ -12,6 +12,24 @@
  * --quick: only the lists "gbuffer" and "gbuffer,direct" (merged, with the
  * shadow map) and the shadow map check, no point lights (A/B runs on a
  * shared device).
+ * --gbuffer: only the G-buffer's lists: "gbuffer" (merged with resolve:
+ * frame.comp), "=gbuffer" (gbuffer.comp on its own) and "gbuffer,direct"
+ * (frame.comp with the sun's shadow rays, svo_render's default), no shadow
+ * map check, no point lights (A/B runs of the G-buffer's kernels); times
+ * to 0.1 us (a change of 1-2% in a 0.05-0.15 ms pass is 1-3 us).
+ * SCENE is a .vox or .svo file or terrain:EXTENT, the tracer benchmarks'
+ * procedural terrain (bench/bench_terrain.h; render_bench --generate's
+ * terrain1024 and terrain4096). @CAMERA;... (up to 8, each EX,EY,EZ,TX,TY,TZ
+ * or "default", the default framing): the scene's views, in order, instead
+ * of the two below (bench/results/gbvh_views.c prints render_bench's three
+ * views in this form).
+ * --check DIR: per view, the G-buffer's images (--show albedo, normal, depth,
+ * instance, material: gbuffer.comp) and the frame's (gbuffer,direct merged:
+ * frame.comp, and apart), read back and compared value for value with
+ * DIR/pb_SCENE_VIEW_IMAGE.f32 where that file is there (a line "check ...: N
+ * of M pixels differ"), else written there: a baseline's process writes, the
+ * variant's compares. The hit's cell is not among them: with depth (its bits),
+ * instance and face equal, the hit point and so its cell are.
  * --layout compact keeps each scene in the compact layout (render/compact.h,
  * issue 18: the passes' kernels then walk it, trace_common.glsl COMPACT);
  * the single shader's row is then trace_compact.comp (vx_render_frame).
@@ -35,6 +53,7 @@
 
 #include "bench/bench_load.h"
 #include "bench/bench_stats.h"
+#include "bench/bench_terrain.h"
 #include "bench/bench_view.h"
 #include "render/pipeline.h"
 #include "render/testing.h" /* vx__render_dispatch */
@@ -46,14 +65,91 @@ static const char* const lists[] = {"gbuffer",        "gbuffer,direct",         
                                     "!=gbuffer,direct", "gbuffer,direct,tonemap", "=gbuffer,direct,tonemap",
                                     "gbuffer,direct,ao,tonemap", "=gbuffer,direct,ao", "gbuffer,direct,ao,aa,tonemap"};
 #define NLISTS (sizeof lists / sizeof lists[0])
+static const char* const gb_lists[] = {"gbuffer", "=gbuffer", "gbuffer,direct"}; /* --gbuffer */
+#define MAX_CAMS 8
+
+/* The views of "SCENE@CAMERA;..." (after the last '@'): their count, 0 without, -1 for a bad list. */
+static int parse_cameras(const char* arg, vx_render_camera cams[MAX_CAMS]) {
+    const char* at = strrchr(arg, '@');
+    int n = 0;
+    for (const char* p = at ? at + 1 : NULL; p; n++) {
+        const char* end = strchr(p, ';');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        char v[256], tail;
+        if (n == MAX_CAMS || len >= sizeof v) return -1;
+        memcpy(v, p, len), v[len] = 0;
+        cams[n] = (vx_render_camera){0};
+        double *e = cams[n].eye, *c = cams[n].target;
+        bool framing = !strcmp(v, "default"); /* the default framing (the overview) */
+        if (!framing && sscanf(v, "%lf,%lf,%lf,%lf,%lf,%lf%c", &e[0], &e[1], &e[2], &c[0], &c[1], &c[2], &tail) != 6)
+            return -1;
+        cams[n].set = !framing;
+        p = end ? end + 1 : NULL;
+    }
+    return n;
+}
+
+/* --check: the view's G-buffer and frame images against (or written to) files in dir; 0 when every check ran. */
+static int check_images(vx_frame_renderer* fr, const vx_render_desc* base, const char* dir, const char* scene,
+                        int view) {
+    static const vx_show shows[] = {VX_SHOW_ALBEDO, VX_SHOW_NORMAL, VX_SHOW_DEPTH, VX_SHOW_INSTANCE, VX_SHOW_MATERIAL,
+                                    VX_SHOW_FINAL, VX_SHOW_FINAL};
+    const char* sn = strrchr(scene, '/') ? strrchr(scene, '/') + 1 : scene;
+    for (size_t k = 0; k < sizeof shows / sizeof shows[0]; k++) {
+        bool frame = shows[k] == VX_SHOW_FINAL, sep = k == 6;
+        vx_pass_list L;
+        vx_error err = {0};
+        vx_pass_list_parse(frame ? "gbuffer,direct" : "gbuffer", &L, &err);
+        vx_frame_desc fd = vx_frame_desc_defaults();
+        fd.base = *base;
+        fd.base.spp = 1;
+        fd.passes = &L;
+        fd.show = shows[k];
+        fd.separate_passes = sep;
+        vx_frame_result res = {0};
+        if (vx_frame_render(fr, &fd, &res, &err)) {
+            fprintf(stderr, "passes_bench: check: %s\n", err.msg);
+            return 1;
+        }
+        char what[32], path[2048];
+        snprintf(what, sizeof what, "%s%s", frame ? "frame" : vx_show_name(shows[k]), sep ? "_separate" : "");
+        snprintf(path, sizeof path, "%s/pb_%s_%d_%s.f32", dir, sn, view, what);
+        size_t n = (size_t)res.image.width * res.image.height, bytes = n * 4 * sizeof(float);
+        FILE* fp = fopen(path, "rb");
+        int status = 0;
+        if (fp) {
+            float* ref = malloc(bytes ? bytes : 1);
+            size_t got = ref ? fread(ref, 1, bytes, fp) : 0;
+            bool whole = got == bytes && fgetc(fp) == EOF;
+            size_t differ = 0;
+            for (size_t i = 0; whole && i < n; i++)
+                differ += memcmp(&ref[4 * i], &res.image.pixels[4 * i], 4 * sizeof(float)) != 0;
+            if (whole) printf("check %s view %d %s: %zu of %zu pixels differ from %s\n", sn, view, what, differ, n, path);
+            else printf("check %s view %d %s: %s is not an image of this size\n", sn, view, what, path), status = 1;
+            free(ref);
+            fclose(fp);
+        } else if ((fp = fopen(path, "wb")) != NULL) {
+            bool ok = fwrite(res.image.pixels, 1, bytes, fp) == bytes;
+            ok = fclose(fp) == 0 && ok;
+            printf("check %s view %d %s: %s %s\n", sn, view, what, ok ? "written to" : "FAILED to write", path);
+            status = !ok;
+        } else {
+            printf("check %s view %d %s: cannot open %s\n", sn, view, what, path), status = 1;
+        }
+        vx_render_image_free(&res.image);
+        if (status) return status;
+    }
+    return 0;
+}
 
 int main(int argc, char** argv) {
     const char* device = NULL;
     int runs = 15;
     uint32_t W = 1920, H = 1080;
     int first = 1;
-    bool quick = false;
+    bool quick = false, gbuffer = false;
     double warmup = 0;
+    const char* check_dir = NULL;
     vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_PLAIN};
     for (; first < argc && argv[first][0] == '-'; first++) {
         if (!strcmp(argv[first], "--layout") && first + 1 < argc) {
@@ -63,6 +159,8 @@ int main(int argc, char** argv) {
             continue;
         }
         if (!strcmp(argv[first], "--quick")) quick = true;
+        else if (!strcmp(argv[first], "--gbuffer")) gbuffer = true;
+        else if (!strcmp(argv[first], "--check") && first + 1 < argc) check_dir = argv[++first];
         else if (!strcmp(argv[first], "--warmup") && first + 1 < argc) {
             char* end;
             warmup = strtod(argv[++first], &end);
@@ -73,12 +171,14 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[first], "--size") && first + 1 < argc) {
             if (sscanf(argv[++first], "%ux%u", &W, &H) != 2) return 2;
         } else {
-            fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S] SCENE...\n");
+            fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]\n"
+                            "                    [--gbuffer] [--check DIR] SCENE[@CAMERA;...]...\n");
             return 2;
         }
     }
     if (runs < 1 || runs > 1000 || first >= argc) {
-        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S] SCENE...\n");
+        fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]\n"
+                        "                    [--gbuffer] [--check DIR] SCENE[@CAMERA;...]...\n");
         return 2;
     }
     vx_error err = {0};
@@ -94,7 +194,19 @@ int main(int argc, char** argv) {
     int status = 0;
     for (int a = first; a < argc; a++) {
         vx_svo_scene s;
-        if (bench_load(argv[a], &s, &err)) {
+        vx_render_camera cams[MAX_CAMS];
+        int ncams = parse_cameras(argv[a], cams);
+        char path[1024];
+        snprintf(path, sizeof path, "%.*s", (int)(strrchr(argv[a], '@') ? strrchr(argv[a], '@') - argv[a] : 1023), argv[a]);
+        unsigned extent = 0;
+        char tail;
+        bool terrain = sscanf(path, "terrain:%u%c", &extent, &tail) == 1;
+        if (ncams < 0 || (terrain && (extent < 64 || extent > 16384 || (extent & (extent - 1))))) {
+            fprintf(stderr, "passes_bench: %s: bad %s\n", argv[a], ncams < 0 ? "camera list" : "terrain (a power of two in 64..16384)");
+            status = 1;
+            continue;
+        }
+        if (terrain ? bench_terrain(&s, extent, 0, &err) != 0 : bench_load(path, &s, &err) != 0) {
             fprintf(stderr, "passes_bench: %s\n", err.msg);
             status = 1;
             continue;
@@ -102,7 +214,7 @@ int main(int argc, char** argv) {
         vx_render_scene* rs = NULL;
         vx_frame_renderer* fr = NULL;
         if (vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) || vx_frame_renderer_create(rs, &s, &fr, &err)) {
-            fprintf(stderr, "passes_bench: %s: %s\n", argv[a], err.msg);
+            fprintf(stderr, "passes_bench: %s: %s\n", path, err.msg);
             vx_render_scene_destroy(rs);
             vx_svo_scene_free(&s);
             status = 1;
@@ -110,24 +222,31 @@ int main(int argc, char** argv) {
         }
         double lo[3], hi[3];
         vx_svo_scene_world_bounds(&s, lo, hi);
-        for (int view = 0; view < 2; view++) {
+        for (int view = 0; view < (ncams ? ncams : 2); view++) {
             vx_render_desc base = {.width = W, .height = H};
-            if (view == 1) bench_closeup(lo, hi, &base);
+            if (ncams) base.camera = cams[view];
+            else if (view == 1) bench_closeup(lo, hi, &base);
             /* hit share */
             vx_frame_desc fd = vx_frame_desc_defaults();
             fd.base = base;
             fd.want_ids = true;
             vx_frame_result res;
             if (vx_frame_render(fr, &fd, &res, &err)) {
-                fprintf(stderr, "passes_bench: %s: %s\n", argv[a], err.msg);
+                fprintf(stderr, "passes_bench: %s: %s\n", path, err.msg);
                 status = 1;
                 break;
             }
             size_t hits = 0, npx = (size_t)W * H;
             for (size_t i = 0; i < npx; i++) hits += res.image.hits[i].instance != VX_RENDER_NO_HIT;
             vx_render_image_free(&res.image);
-            const char* vname = view ? "close-up" : "overview";
-            printf("\n## %s, %s (%.1f%% of pixels hit)\n\n", argv[a], vname, 100.0 * hits / npx);
+            char vname[16];
+            snprintf(vname, sizeof vname, "%s", ncams ? "camera " : view ? "close-up" : "overview");
+            if (ncams) snprintf(vname + strlen(vname), sizeof vname - strlen(vname), "%d", view);
+            printf("\n## %s, %s (%.1f%% of pixels hit)\n\n", path, vname, 100.0 * hits / npx);
+            if (check_dir && check_images(fr, &base, check_dir, path, view)) {
+                status = 1;
+                break;
+            }
             /* the single shader, colour mode */
             base.mode = VX_RENDER_COLOR;
             vx__frame f;
@@ -154,12 +273,15 @@ int main(int argc, char** argv) {
             }
             double single = bench_median(t, runs);
             printf("| passes | frame ms | per pass ms | vs single shader |\n| --- | ---: | --- | ---: |\n");
-            printf("| single shader (%s colour) | %.3f | | 1.00 |\n", compact ? "trace_compact.comp" : "trace.comp", single);
-            for (size_t l = 0; l < (quick ? 2 : NLISTS); l++) {
+            int dp = gbuffer ? 4 : 3; /* --gbuffer: 0.1 microseconds (its A/B steps are a few) */
+            printf("| single shader (%s colour) | %.*f | | 1.00 |\n", compact ? "trace_compact.comp" : "trace.comp", dp, single);
+            size_t nlists = gbuffer ? sizeof gb_lists / sizeof gb_lists[0] : quick ? 2 : NLISTS;
+            for (size_t l = 0; l < nlists; l++) {
+                const char* list = gbuffer ? gb_lists[l] : lists[l];
                 vx_pass_list L;
-                bool nomap = lists[l][0] == '!';
-                bool sep = lists[l][nomap] == '=';
-                vx_pass_list_parse(lists[l] + nomap + sep, &L, &err);
+                bool nomap = list[0] == '!';
+                bool sep = list[nomap] == '=';
+                vx_pass_list_parse(list + nomap + sep, &L, &err);
                 fd = vx_frame_desc_defaults();
                 fd.base = base;
                 fd.base.spp = 1; /* aa: one sample, so the rows compare per-frame costs */
@@ -197,13 +319,13 @@ int main(int argc, char** argv) {
                 double fm = bench_median(t, runs);
                 char per[256] = "";
                 for (uint32_t q = 0; q < nn; q++)
-                    snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.3f", q ? ", " : "", names[q],
+                    snprintf(per + strlen(per), sizeof per - strlen(per), "%s%s %.*f", q ? ", " : "", names[q], dp,
                              bench_median(tp + q * runs, runs));
-                printf("| %s%s%s | %.3f | %s | %.2f |\n", lists[l] + nomap + sep, sep ? " (separate passes)" : "",
-                       nomap ? " (no shadow map)" : mapped ? " (shadow map)" : "", fm, per, single > 0 ? fm / single : 0);
+                printf("| %s%s%s | %.*f | %s | %.2f |\n", list + nomap + sep, sep ? " (separate passes)" : "",
+                       nomap ? " (no shadow map)" : mapped ? " (shadow map)" : "", dp, fm, per, single > 0 ? fm / single : 0);
             }
             /* the sun map's exactness here: the images with and without, merged and separate */
-            for (int sep = 0; sep < 2 && !status; sep++) {
+            for (int sep = 0; sep < 2 && !status && !gbuffer; sep++) {
                 vx_pass_list L;
                 vx_pass_list_parse("gbuffer,direct", &L, &err);
                 vx_frame_result ra = {0}, rb = {0};
@@ -226,7 +348,7 @@ int main(int argc, char** argv) {
             }
             /* brute-force point lights with ray-traced shadows: the direct pass loops over every
              * light (the baseline for issue 11's clustered culling) */
-            if (quick) continue;
+            if (quick || gbuffer) continue;
             printf("\n| point lights (brute force, 16 shadowed) | frame ms | direct ms | direct ms per light |\n"
                    "| ---: | ---: | ---: | ---: |\n");
             static const uint32_t counts[] = {1, 8, 64, 512};

@@ -10,8 +10,12 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 // built with WALK_PRECISE (the walk not contracted; the rule and why: cmake/shaders.cmake)
-// the lean walk where it applies (trace_common.glsl LEAN: one instance, no ids)
+// the lean walk where it applies (trace_common.glsl LEAN: no ids, GPU form),
+// in the BVH kernels (several instances) too, as trace.comp's (issue 21, gbvh);
+// not TRACE_LEAN_DEEP2: the passes run DEEP 0 (pipeline.c leaves constant 8 at 0)
+// (H200: this kernel of several instances 64 -> 56 registers, its pass 1.9-3.4% less time)
 #define TRACE_LEAN
+#define TRACE_LEAN_BVH
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 
