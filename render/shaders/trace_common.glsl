@@ -263,8 +263,9 @@ uint g_path = 0xFFFFu;
 // registers, 5.7-7.3% more primary rays/s on the H200 (issue 21, ray8). But
 // not in the colour kernel (MODE_COLOR: primary and shadow rays): with the
 // lean walk its registers stayed at 48 and it traced 0.8-1% fewer pixels/s
-// on terrain4096; with the full walk 1.0-1.2% more than with the lean one,
-// the same pixels (issue 21, deep3). (LEAN_DEEP_MAX a const int of its own:
+// on terrain4096; with the full walk 1.0-1.2% more than with the lean one
+// on its close-up and oblique (its overview 0.6-1.8% fewer, within that
+// view's spread), the same pixels (issue 21, deep3). (LEAN_DEEP_MAX a const int of its own:
 // folded into LEAN's expression, glslang wrote an undefined id again)
 #ifdef TRACE_LEAN_DEEP2
 const int LEAN_DEEP_MAX = MODE == MODE_COLOR ? 1 : 2;
