@@ -581,12 +581,21 @@ static bool orbit_step(void* user, uint32_t k) {
     return true;
 }
 
+/* --camera EX,EY,EZ,TX,TY,TZ: svo_render --camera's view (its up: z, its field of view: the default) into *c; false
+ * where malformed */
+static bool camera_of(const char* s, vx_render_camera* c) {
+    double v[6];
+    if (sscanf(s, "%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5]) != 6) return false;
+    *c = (vx_render_camera){.set = true, .eye = {v[0], v[1], v[2]}, .target = {v[3], v[4], v[5]}, .up = {0, 0, 1}};
+    return true;
+}
+
 static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
-    double cam[6];
+    vx_render_camera cam = {0};
     if (!w || !h || n < 3 || n > 100000) return 2;
-    if (camera && sscanf(camera, "%lf,%lf,%lf,%lf,%lf,%lf", &cam[0], &cam[1], &cam[2], &cam[3], &cam[4], &cam[5]) != 6)
+    if (camera && !camera_of(camera, &cam))
         return fprintf(stderr, "view_bench --loop: bad camera '%s' (EX,EY,EZ,TX,TY,TZ)\n", camera), 2;
     printf("view_bench --loop: the Vulkan instance %s VK_EXT_headless_surface\n",
            headless_offered() ? "offers" : "does not offer");
@@ -599,9 +608,7 @@ static int loop_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const 
     vx_frame_desc fd;
     if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
     fd.no_readback = true;
-    if (camera) /* svo_render --camera's view (its up: z, its field of view: the default) */
-        fd.base.camera = (vx_render_camera){.set = true, .eye = {cam[0], cam[1], cam[2]}, .target = {cam[3], cam[4], cam[5]},
-                                            .up = {0, 0, 1}};
+    if (cam.set) fd.base.camera = cam;
     /* the swapchain's stand-in: an image per frame slot, as a swapchain has one per frame in flight */
     uint64_t img[VX_DISPLAY_FRAMES];
     for (int i = 0; i < VX_DISPLAY_FRAMES; i++)
@@ -836,9 +843,9 @@ static int cb_boundary(vx_gpu* g, vx_frame_renderer* fr, const vx_frame_desc* fd
 static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, const char* passes, const char* camera) {
     vx_svo_scene s;
     vx_error err = {0};
-    double cam[6];
+    vx_render_camera cam = {0};
     if (!w || !h || n < 10 || n > 100000) return 2;
-    if (camera && sscanf(camera, "%lf,%lf,%lf,%lf,%lf,%lf", &cam[0], &cam[1], &cam[2], &cam[3], &cam[4], &cam[5]) != 6)
+    if (camera && !camera_of(camera, &cam))
         return fprintf(stderr, "view_bench --submit: bad camera '%s' (EX,EY,EZ,TX,TY,TZ)\n", camera), 2;
     if (vx_svo_read_file(NULL, in, &s, &err)) return fprintf(stderr, "%s: %s\n", in, err.msg), 1;
     vx_gpu* g;
@@ -849,9 +856,7 @@ static int submit_bench(const char* in, uint32_t w, uint32_t h, uint32_t n, cons
     vx_frame_desc fd;
     if (!open_view(&s, w, h, passes, &g, &rs, &fr, &disp, &pl, &fd)) return 1;
     fd.no_readback = true;
-    if (camera)
-        fd.base.camera = (vx_render_camera){.set = true, .eye = {cam[0], cam[1], cam[2]}, .target = {cam[3], cam[4], cam[5]},
-                                            .up = {0, 0, 1}};
+    if (cam.set) fd.base.camera = cam;
     if (!vx_display_image_storage(disp)) return fprintf(stderr, "view_bench --submit: no storage images\n"), 1;
     uint64_t img[VX_DISPLAY_SLOTS];
     for (int i = 0; i < VX_DISPLAY_SLOTS; i++)

@@ -288,6 +288,16 @@ struct vx_vdb_file {
     std::vector<Entry> grids;
 };
 
+// The arguments of a call on one grid of f (vx_vdb_grid_get_info, vx_vdb_iterate): f and the call's output
+// (out_ok: not NULL) given, grid in range.
+static vx_result grid_arg(const vx_vdb_file* f, bool out_ok, uint32_t grid, vx_error* err) {
+    if (!f || !out_ok) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
+    if (grid >= f->grids.size())
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u out of range (%zu grids)", grid,
+                       f->grids.size());
+    return VX_OK;
+}
+
 extern "C" {
 
 vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error* err) {
@@ -336,10 +346,8 @@ void vx_vdb_file_free(vx_vdb_file* f) { delete f; }
 uint32_t vx_vdb_grid_count(const vx_vdb_file* f) { return f ? static_cast<uint32_t>(f->grids.size()) : 0u; }
 
 vx_result vx_vdb_grid_get_info(const vx_vdb_file* f, uint32_t grid, vx_vdb_grid_info* out, vx_error* err) {
-    if (!f || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
-    if (grid >= f->grids.size())
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u out of range (%zu grids)", grid,
-                       f->grids.size());
+    vx_result r = grid_arg(f, out != NULL, grid, err);
+    if (r) return r;
     try {
         const Entry& e = f->grids[grid];
         const openvdb::GridBase& g = *e.grid;
@@ -400,10 +408,8 @@ vx_result vx_vdb_grid_get_info(const vx_vdb_file* f, uint32_t grid, vx_vdb_grid_
 
 vx_result vx_vdb_iterate(vx_vdb_file* f, uint32_t grid, uint32_t mode, vx_vdb_value_fn fn, void* user,
                          vx_error* err) {
-    if (!f || !fn) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: NULL argument");
-    if (grid >= f->grids.size())
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: grid %u out of range (%zu grids)", grid,
-                       f->grids.size());
+    vx_result r = grid_arg(f, fn != NULL, grid, err);
+    if (r) return r;
     try {
         const Entry& e = f->grids[grid];
         switch (e.type) {

@@ -48,6 +48,7 @@ if(VX_WITH_VULKAN)
             --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
     DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
             ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
+            ${CMAKE_SOURCE_DIR}/render/shaders/beam_walk.glsl
     COMMENT "glslangValidator probe_beam.comp"
     VERBATIM)
   add_library(vx_probes STATIC

@@ -40,7 +40,7 @@ if(VX_WITH_VULKAN)
       OUTPUT ${out}
       COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
       DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/compact_attr.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/stack_ladder.glsl
+              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/stack_ladder.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/beam_walk.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl
               ${CMAKE_CURRENT_SOURCE_DIR}/shaders/display_out.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl

@@ -25,84 +25,29 @@ uint beam_cdesc(int lvl, uvec2 cnd, uint o) {
     return lvl >= 3 ? cnd.x & 0xFFFFu : (lvl == 2 ? brick_desc(cnd) : brick_octant(cnd, o));
 }
 
-// beam_model_plain's walk over the compact layout (COMPACT: the bake of a scene read by the model reader,
-// svo_bake --load models): the same tube, the same order and budget, the same stops (a leaf, here a solid
+// beam_walk.glsl's walk (beam_model_plain's) over the compact layout (COMPACT: the bake of a scene read by
+// the model reader, svo_bake --load models): the same tube, the same order and budget, the same stops (a leaf, here a solid
 // cube of the geometry whatever its colours, or a node at most BEAM_STOP radii wide), so its distance bounds
 // the cells' from below as the plain walk's does. The two layouts' distances may differ (the compact geometry
 // merges solid cubes that colours split in the plain one, so the walks spend the budget differently), which
 // the bake's walk does not see: it finds its hits in cells from any start before them (CELL_HITS; the bytes
 // checked against the plain layout's bake, test_svo_bake.sh).
-bool beam_model_compact(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
-    CModel cm = cmodels[mi];
-    if (cm.root == ROOT_EMPTY) return false;
-    float side = exp2(float(cm.depth));
-    float pad = 1e-3 + 4e-6 * (side + max(max(abs(o.x), abs(o.y)), abs(o.z)));
-    float ra = g_ra * scale * 1.0001 + pad, rb = g_rb * scale * 1.0001;
-    Tube T = tube_setup(o, d, ra, rb);
-    vec2 tr = tube_box(T, vec3(0.0), vec3(side));
-    float tlo = max(tr.x, t0), best = h.t;
-    if (!(tlo <= tr.y && tlo < best)) return false;
-    if (cm.root == ROOT_LEAF || side <= BEAM_STOP * (ra + rb * tlo)) {
-        h.t = tlo;
-        return true;
-    }
-    // the node: its level, its slot's words (level 2: the brick; level 1: the brick it is an octant of)
-    int lvl = int(cm.depth);
-    uvec2 cnd = cslots[cm.root];
-    uint desc = beam_cdesc(lvl, cnd, 0u); // (a depth-1 model's root: octant 0 of its slot)
-    uint mirror = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
-    uint rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
-    uvec2 stk_cnd[S_MAX];
-    uint stk_desc[S_MAX], stk_rem[S_MAX];
-    int sp = 0;
-    vec3 lo = vec3(0.0);
-    float size = side;
-    bool found = false;
-    while (true) {
-        if (--g_budget < 0) {
-            best = tlo;
-            found = true;
-            break;
-        }
-        if (rem != 0u) {
-            uint c = uint(findLSB(rem)) ^ mirror, cbit = 1u << c;
-            rem &= rem - 1u;
-            float hs = 0.5 * size;
-            vec3 clo = lo + vec3(float(c & 1u), float((c >> 1) & 1u), float((c >> 2) & 1u)) * hs;
-            vec2 tc = tube_box(T, clo, clo + hs);
-            float te = max(tc.x, tlo);
-            if (!(te <= tc.y && te < best)) continue;
-            if ((desc & cbit) != 0u || hs <= BEAM_STOP * (ra + rb * te)) {
-                best = te;
-                found = true;
-                continue;
-            }
-            stk_cnd[sp] = cnd;
-            stk_desc[sp] = desc;
-            stk_rem[sp] = rem;
-            sp++;
-            if (lvl >= 3) // the child's slot in the block (level 3 with the dictionary: through its index word)
-                cnd = cslots[ca_child(lvl, cnd.x, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))))];
-            lvl--;
-            desc = beam_cdesc(lvl, cnd, c);
-            rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
-            lo = clo;
-            size = hs;
-        } else {
-            if (sp == 0) break;
-            sp--;
-            cnd = stk_cnd[sp];
-            desc = stk_desc[sp];
-            rem = stk_rem[sp];
-            lvl++;
-            size *= 2.0;
-            lo = floor(lo / size) * size;
-        }
-    }
-    if (!found) return false;
-    h.t = best;
-    return true;
+// A node is its slot's words (cnd; levels 2 and 1 the brick's) and its level, depth - lvl (lvl: the walk's
+// depth below the root). The child (level lvl - 1) of the node at level lvl with words cnd and descriptor
+// desc: level >= 3 the child's slot in the block (level 3 with the dictionary: through its index word),
+// below that the same brick.
+uvec2 beam_cchild(int lvl, uvec2 cnd, uint desc, uint cbit) {
+    return lvl >= 3 ? cslots[ca_child(lvl, cnd.x, cnd.y, uint(bitCount((desc >> 8) & ~desc & (cbit - 1u))))] : cnd;
 }
+#define BW_NAME beam_model_compact
+#define BW_MODEL CModel
+#define BW_MODELS cmodels
+#define BW_NODE uvec2
+// (a depth-1 model's root: octant 0 of its slot)
+#define BW_ROOT uvec2 node = cslots[m.root]; uint desc = beam_cdesc(int(m.depth), node, 0u);
+#define BW_IS_LEAF(desc, cbit) ((desc & cbit) != 0u)
+#define BW_CHILD node = beam_cchild(int(m.depth) - lvl + 1, node, desc, cbit); desc = beam_cdesc(int(m.depth) - lvl, node, c);
+#include "beam_walk.glsl"
 
 // trace_common.glsl's model walk of the tube (trace_instance): the scene's layout's
 bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {

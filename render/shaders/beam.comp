@@ -79,80 +79,17 @@ uint mirror_mask(uint m, uint mirror) {
     return m;
 }
 
-// The first t >= t0 (below h.t) at which the tube, scaled into model mi's
-// space (o + t d, radius at most `scale` times the world radius), meets a
-// leaf or a non-empty node at most BEAM_STOP radii wide there: a
-// depth-first walk over the valid children, nearer ones first, pruned by
-// the best t so far. Any node's entry bounds its cells' from below, so the
-// walk may stop at any node (budget) and stay conservative.
-bool beam_model(uint mi, vec3 o, vec3 d, float scale, float t0, inout Hit h) {
-    Model m = models[mi];
-    if (m.root == ROOT_EMPTY) return false;
-    float side = exp2(float(m.depth));
-    // padded against the rounding of the box tests (coordinates up to side)
-    float pad = 1e-3 + 4e-6 * (side + max(max(abs(o.x), abs(o.y)), abs(o.z)));
-    float ra = g_ra * scale * 1.0001 + pad, rb = g_rb * scale * 1.0001;
-    Tube T = tube_setup(o, d, ra, rb);
-    vec2 tr = tube_box(T, vec3(0.0), vec3(side));
-    float tlo = max(tr.x, t0), best = h.t;
-    if (!(tlo <= tr.y && tlo < best)) return false;
-    if (m.root == ROOT_LEAF || side <= BEAM_STOP * (ra + rb * tlo)) {
-        h.t = tlo;
-        return true;
-    }
-    uint nbase = m.node_off;
-    uint node = nbase + m.root, desc = nodes[node];
-    // children in the order the centre ray's octant visits them first
-    uint mirror = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
-    uint rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
-    uint stk_node[S_MAX], stk_desc[S_MAX], stk_rem[S_MAX];
-    int lvl = 0;
-    vec3 lo = vec3(0.0);
-    float size = side;
-    bool found = false;
-    while (true) {
-        if (--g_budget < 0) {
-            // out of iterations: the model's entry is a bound
-            best = tlo;
-            found = true;
-            break;
-        }
-        if (rem != 0u) {
-            uint c = uint(findLSB(rem)) ^ mirror, cbit = 1u << c;
-            rem &= rem - 1u;
-            float hs = 0.5 * size;
-            vec3 clo = lo + vec3(float(c & 1u), float((c >> 1) & 1u), float((c >> 2) & 1u)) * hs;
-            vec2 tc = tube_box(T, clo, clo + hs);
-            float te = max(tc.x, tlo);
-            if (!(te <= tc.y && te < best)) continue;
-            if (desc_is_leaf(desc, cbit) || hs <= BEAM_STOP * (ra + rb * te)) {
-                best = te;
-                found = true;
-                continue;
-            }
-            stk_node[lvl] = node;
-            stk_desc[lvl] = desc;
-            stk_rem[lvl] = rem;
-            lvl++;
-            node = child_node(node, desc, cbit, nbase);
-            desc = nodes[node];
-            rem = mirror_mask((desc >> 8) & 0xFFu, mirror);
-            lo = clo;
-            size = hs;
-        } else {
-            if (lvl == 0) break;
-            lvl--;
-            node = stk_node[lvl];
-            desc = stk_desc[lvl];
-            rem = stk_rem[lvl];
-            size *= 2.0;
-            lo = floor(lo / size) * size;
-        }
-    }
-    if (!found) return false;
-    h.t = best;
-    return true;
-}
+// The model walk (beam_walk.glsl, a template shared with the bake's beam
+// pass over the compact layout, probes/shaders/probe_beam.comp) over the
+// plain layout's node words: a node is its index (nbase: the model's first).
+#define BW_NAME beam_model
+#define BW_MODEL Model
+#define BW_MODELS models
+#define BW_NODE uint
+#define BW_ROOT uint nbase = m.node_off; uint node = nbase + m.root, desc = nodes[node];
+#define BW_IS_LEAF(desc, cbit) desc_is_leaf(desc, cbit)
+#define BW_CHILD node = child_node(node, desc, cbit, nbase); desc = nodes[node];
+#include "beam_walk.glsl"
 void main() {
     uint W = F.dims.x, H = F.dims.y;
     uint bw = (W + BEAM - 1u) / BEAM, bh = (H + BEAM - 1u) / BEAM;

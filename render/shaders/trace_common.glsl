@@ -260,12 +260,17 @@ uint g_path = 0xFFFFu;
 // trace.comp's rebased walk (DEEP 2) too (TRACE_LEAN_DEEP2): scale_exp2 is
 // 2^(scale - S_MAX) in both of its frames, and the rebased frame's ray end
 // is the model frame's, scaled. terrain4096's depth kernel 56 -> 48
-// registers, 5.7-7.3% more primary rays/s on the H200 (its colour kernel
-// stays at 48, 0.5-1% fewer pixels/s; issue 21, ray8)
+// registers, 5.7-7.3% more primary rays/s on the H200 (issue 21, ray8). But
+// not in the colour kernel (MODE_COLOR: primary and shadow rays): with the
+// lean walk its registers stayed at 48 and it traced 0.8-1% fewer pixels/s
+// on terrain4096; with the full walk 1.0-1.2% more than with the lean one
+// on its close-up and oblique (its overview 0.6-1.8% fewer, within that
+// view's spread), the same pixels (issue 21, deep3). (LEAN_DEEP_MAX a const int of its own:
+// folded into LEAN's expression, glslang wrote an undefined id again)
 #ifdef TRACE_LEAN_DEEP2
-#define LEAN_DEEP_MAX 2
+const int LEAN_DEEP_MAX = MODE == MODE_COLOR ? 1 : 2;
 #else
-#define LEAN_DEEP_MAX 1
+const int LEAN_DEEP_MAX = 1;
 #endif
 #if defined(TRACE_LEAN) && !defined(PRECISE) && defined(TRACE_LEAN_BVH)
 const bool LEAN = MODE != MODE_ITER && !WRITE_HITS && !LOD && DEEP <= LEAN_DEEP_MAX && !NODES_FILE;
@@ -405,8 +410,13 @@ uint child_node_file(uint parent, uint desc, uint cbit, uint nbase) {
 // crossing times pos * coef - bias lose 2^(depth - 23) of a cell to
 // cancellation (the strict rule's depth errors, issue 18).
 float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
-    vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
-    vec3 tau = ((pl - oa) - oa_lo) / d;
+    // precise in every kernel (NoContraction also forbids reassociation): a
+    // driver may otherwise apply exact algebra, as the NVIDIA compiler did to
+    // the instance two-sum (test_spirv_precise), and (pl - oa) - oa_lo as
+    // pl - (oa + oa_lo) rounds to pl - oa, losing the low part the hi/lo
+    // origin exists for; test_spirv_precise checks all 6 operations
+    precise vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
+    precise vec3 tau = ((pl - oa) - oa_lo) / d;
     float r = 0.0;
     if (d.x != 0.0) r = max(r, tau.x);
     if (d.y != 0.0) r = max(r, tau.y);

@@ -253,6 +253,14 @@ void test_shim_info(void) {
     CHECK(!vx_vdb_probe(f, 1, outside, v, &active, &l2));
     CHECK(vx_vdb_iterate(f, 1, VX_VDB_ITER_ACTIVE, [](void*, const int32_t*, uint32_t, bool, const double*) { return true; },
                          nullptr, &err) == VX_ERR_INVALID_ARG);
+    CHECK(!std::strcmp(err.msg, "vdb: grid 1 out of range (1 grids)"));
+    // the grid calls' one argument check (grid_arg): a missing output or callback, a grid past the count
+    CHECK(vx_vdb_grid_get_info(f, 1, &info, &err) == VX_ERR_INVALID_ARG &&
+          !std::strcmp(err.msg, "vdb: grid 1 out of range (1 grids)"));
+    CHECK(vx_vdb_grid_get_info(f, 0, nullptr, &err) == VX_ERR_INVALID_ARG && !std::strcmp(err.msg, "vdb: NULL argument"));
+    CHECK(vx_vdb_grid_get_info(nullptr, 0, &info, &err) == VX_ERR_INVALID_ARG);
+    CHECK(vx_vdb_iterate(f, 0, VX_VDB_ITER_ACTIVE, nullptr, nullptr, &err) == VX_ERR_INVALID_ARG &&
+          !std::strcmp(err.msg, "vdb: NULL argument"));
     vx_vdb_file_free(f);
 }
 

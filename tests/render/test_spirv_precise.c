@@ -34,11 +34,15 @@
  * compact layout's pipelines (the COMPACT constant), and 5 of
  * test_compact_passes' room hits came out one float step apart in depth, its
  * cone gi and its frame-lit direct light with them (issue 18, H200; lavapipe
- * gave the same bits). So every float operation of their walk (trace_model,
- * trace_instance, box_t, safe_inv) and of the secondary rays' start
+ * gave the same bits). So every float operation of their walk (trace_instance
+ * and every function it calls, directly or not: trace_model, box_t,
+ * safe_inv, entry_tau, ...) and of the secondary rays' start
  * (gb_offset_point, where the kernel has it) must carry NoContraction; a
  * listed name this test cannot find fails; trace.comp, built without it,
- * must not (the control). */
+ * must not (the control). Which functions are checked comes from the
+ * SPIR-V's call graph below a root (render, bake, bake_one, trace_instance),
+ * less the named exceptions of contractible[]: one source, no list of the
+ * GLSL's functions to keep in step with it. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,7 +65,7 @@
 #endif
 
 enum {
-    OP_EXT_INST = 12, OP_NAME = 5, OP_FUNCTION = 54, OP_FUNCTION_END = 56, OP_VARIABLE = 59, OP_LOAD = 61,
+    OP_EXT_INST = 12, OP_NAME = 5, OP_FUNCTION = 54, OP_FUNCTION_END = 56, OP_FUNCTION_CALL = 57, OP_VARIABLE = 59, OP_LOAD = 61,
     OP_STORE = 62, OP_DECORATE = 71, OP_VECTOR_SHUFFLE = 79, OP_COMPOSITE_CONSTRUCT = 80,
     OP_COMPOSITE_EXTRACT = 81, OP_COMPOSITE_INSERT = 82, OP_FNEGATE = 127, OP_FADD = 129, OP_FSUB = 131,
     OP_FMUL = 133, OP_FDIV = 136, OP_FREM = 140, OP_FMOD = 141, OP_VECTOR_TIMES_SCALAR = 142,
@@ -84,6 +88,7 @@ typedef struct spv {
     uint8_t* nocon;  /* id decorated NoContraction */
     uint32_t* name;  /* id -> word index of its OpName string (0: none) */
     uint32_t* func;  /* variable id -> its function's id */
+    uint32_t* fn_at; /* function id -> word index of its OpFunction (0: not a function) */
     uint8_t* seen;
 } spv;
 
@@ -122,8 +127,8 @@ static int parse(spv* m, const uint32_t* w, size_t n) {
     if (n < 5 || w[0] != 0x07230203u || w[3] == 0 || w[3] > (1u << 22)) return 0;
     m->w = w, m->n = n, m->bound = w[3];
     m->def = calloc(m->bound, 4), m->name = calloc(m->bound, 4), m->func = calloc(m->bound, 4);
-    m->nocon = calloc(m->bound, 1), m->seen = calloc(m->bound, 1);
-    if (!m->def || !m->name || !m->func || !m->nocon || !m->seen) return 0;
+    m->fn_at = calloc(m->bound, 4), m->nocon = calloc(m->bound, 1), m->seen = calloc(m->bound, 1);
+    if (!m->def || !m->name || !m->func || !m->fn_at || !m->nocon || !m->seen) return 0;
     uint32_t cur = 0;
     for (size_t i = 5; i < n;) {
         uint32_t wc = w[i] >> 16, op = w[i] & 0xFFFFu;
@@ -131,7 +136,10 @@ static int parse(spv* m, const uint32_t* w, size_t n) {
         if (op == OP_NAME && wc >= 3 && w[i + 1] < m->bound) m->name[w[i + 1]] = (uint32_t)i + 2;
         else if (op == OP_DECORATE && wc >= 3 && w[i + 2] == DEC_NO_CONTRACTION && w[i + 1] < m->bound)
             m->nocon[w[i + 1]] = 1;
-        else if (op == OP_FUNCTION && wc >= 3) cur = w[i + 2];
+        else if (op == OP_FUNCTION && wc >= 3) {
+            cur = w[i + 2];
+            if (cur < m->bound) m->fn_at[cur] = (uint32_t)i;
+        }
         else if (op == OP_FUNCTION_END) cur = 0;
         else if (wc >= 3 && has_result(op) && w[i + 2] < m->bound) {
             m->def[w[i + 2]] = (uint32_t)i;
@@ -143,7 +151,7 @@ static int parse(spv* m, const uint32_t* w, size_t n) {
 }
 
 static void spv_free(spv* m) {
-    free(m->def), free(m->name), free(m->func), free(m->nocon), free(m->seen);
+    free(m->def), free(m->name), free(m->func), free(m->fn_at), free(m->nocon), free(m->seen);
 }
 
 /* Float operations in the expression of value id without NoContraction;
@@ -227,95 +235,164 @@ static int is_float_arith(uint32_t op) {
     }
 }
 
-/* Every float operation in function fn (all of them, not only the stores'
- * expressions): the count in *ops, the ones without NoContraction returned
- * (the first few described); -1 where fn is not in the module. */
-static int check_whole_function(const spv* m, const char* fn, int* ops, const char* label, int quiet) {
-    size_t fl = strlen(fn);
-    int in_fn = 0, found = 0, bad = 0;
+/* A function's name as OpName gives it, up to its parameters' signature ("trace_model(vf3;..." -> "trace_model"). */
+static void fn_name(const spv* m, uint32_t id, char* buf, size_t cap) {
+    buf[0] = 0;
+    if (id < m->bound && m->name[id]) str_at(m, m->name[id], buf, cap);
+    char* p = strchr(buf, '(');
+    if (p) *p = 0;
+}
+
+/* The id of the function named fn; 0 where the module has none. */
+static uint32_t function_id(const spv* m, const char* fn) {
+    char buf[128];
+    for (uint32_t id = 1; id < m->bound; id++)
+        if (m->fn_at[id]) {
+            fn_name(m, id, buf, sizeof buf);
+            if (!strcmp(buf, fn)) return id;
+        }
+    return 0;
+}
+
+/* Every float operation of function id (all of them, not only the stores' expressions): the count in *ops, the
+ * ones without NoContraction returned (the first few described unless quiet). */
+static int check_function_ops(const spv* m, uint32_t id, int* ops, const char* label, int quiet) {
+    char fn[128];
+    fn_name(m, id, fn, sizeof fn);
+    int bad = 0;
     *ops = 0;
-    for (size_t i = 5; i < m->n;) {
+    for (size_t i = m->fn_at[id]; i < m->n;) {
         uint32_t wc = m->w[i] >> 16, op = m->w[i] & 0xFFFFu;
-        if (op == OP_FUNCTION) {
-            uint32_t id = m->w[i + 2];
-            char buf[128] = "";
-            if (m->name[id]) str_at(m, m->name[id], buf, sizeof buf);
-            in_fn = !strncmp(buf, fn, fl) && buf[fl] == '(';
-            found |= in_fn;
-        } else if (op == OP_FUNCTION_END) {
-            in_fn = 0;
-        } else if (in_fn && is_float_arith(op) && wc >= 3) {
-            uint32_t id = m->w[i + 2];
+        if (op == OP_FUNCTION_END) break;
+        if (is_float_arith(op) && wc >= 3) {
+            uint32_t r = m->w[i + 2];
             (*ops)++;
-            if (id < m->bound && !m->nocon[id]) {
-                if (bad < 3 && !quiet) fprintf(stderr, "  %s: %s: %%%u (opcode %u) without NoContraction\n", label, fn, id, op);
+            if (r < m->bound && !m->nocon[r]) {
+                if (bad < 3 && !quiet) fprintf(stderr, "  %s: %s: %%%u (opcode %u) without NoContraction\n", label, fn, r, op);
                 bad++;
             }
         }
-        i += wc;
+        i += wc; /* parse() refused a zero word count */
     }
-    return found ? bad : -1;
+    return bad;
 }
 
-/* The path tracer's functions whose every float operation must be precise
- * (probes/shaders/probe.comp, path_common.glsl, render/shaders/sampling.glsl
- * and sky.glsl). */
-static const char* const path_fns[] = {"render", "path", "surface", "bsdf_of", "bsdf_eval", "bsdf_sample_u", "basis",
-                                       "cosine_dir", "cone_dir", "ggx_d", "ggx_lambda", "ggx_vndf", "fresnel_dielectric",
-                                       "dielectric", "glass_walk", "nee", "area_hit", "emitter_point", "mis", "sky_eval",
-                                       "direct", "trace_model", "trace_instance", "box_t", "safe_inv", NULL};
+/* The same for the function named fn; -1 where fn is not in the module. */
+static int check_whole_function(const spv* m, const char* fn, int* ops, const char* label, int quiet) {
+    uint32_t id = function_id(m, fn);
+    *ops = 0;
+    return id ? check_function_ops(m, id, ops, label, quiet) : -1;
+}
 
-/* The bake's kernels' (probe.comp's bake() and bake_one(): probe and probe_one), whose every float operation
- * is precise too. */
-static const char* const bake_fns[] = {"bake", "path", "surface", "bsdf_of", "bsdf_eval", "bsdf_sample_u", "basis",
-                                       "cosine_dir", "cone_dir", "ggx_d", "ggx_lambda", "ggx_vndf", "fresnel_dielectric",
-                                       "dielectric", "glass_walk", "nee", "area_hit", "emitter_point", "mis", "sky_eval",
-                                       "trace_model", "trace_instance", "box_t", "safe_inv", NULL};
-static const char* const bake_one_fns[] = {"bake_one", "surface", "bsdf_of", "bsdf_eval", "bsdf_sample_u", "basis",
-                                           "cosine_dir", "sky_eval", "trace_model", "trace_instance", "box_t",
-                                           "safe_inv", NULL};
+/* Marks in m->seen every function that function id calls, directly or not, and id itself. */
+static void reach(spv* m, uint32_t id) {
+    if (id >= m->bound || !m->fn_at[id] || m->seen[id]) return;
+    m->seen[id] = 1;
+    for (size_t i = m->fn_at[id]; i < m->n;) {
+        uint32_t wc = m->w[i] >> 16, op = m->w[i] & 0xFFFFu;
+        if (op == OP_FUNCTION_END) break;
+        if (op == OP_FUNCTION_CALL && wc >= 4) reach(m, m->w[i + 3]);
+        i += wc;
+    }
+}
 
-/* The octree walk's functions (trace_common.glsl), whose every float operation WALK_PRECISE makes precise. */
-static const char* const walk_fns[] = {"trace_model", "trace_instance", "box_t", "safe_inv", NULL};
+/* The one source of which functions must be precise: all that a checked root (the path tracer's render, the
+ * bake's bake and bake_one, the walk's trace_instance) calls, directly or not, read from the SPIR-V's call graph,
+ * but these, which stay contractible, each for its reason. So a function added to the path or the walk is checked
+ * without editing this file; the former hand-written lists (path, bake, bake_one, walk) missed entry_tau, the exact
+ * hit t of deep models (found by debt3, precise since debt4). A name here that no checked kernel reaches fails. */
+static const char* const contractible[] = {
+    /* the sun's depth map lookup: its error lies inside the clip's margin, it moves the clip, never an occlusion's
+     * answer (docs/PERFORMANCE.md, branch bakeq) */
+    "smap_tmax",
+    /* one operation each (an integer's or a byte's scale): one rounding, and its users, which could fuse with it,
+     * are checked */
+    "rnd", "unpack_rgb",
+    /* the probes' octahedral maps and the bake's texel-centre ray and beam start: contractible in bakeq's H200
+     * bakes, which agreed byte for byte between the sun map's and the layouts' pipelines */
+    "oct_decode", "oct_encode", "centre_ray", "beam_start",
+    /* probe_pt's reads of a baked probe set (gi=probes): the light field's lookups, contractible as before (debt3
+     * named them deliberately so) */
+    "irradiance_at", "sample_irr", "sample_mom", "map_xy", "dda_init", "dda_step", "lf_enc_octant", "lf_exit",
+    "lf_radiance", "lf_t_of_dir", "lf_texel", "lf_trace_probe", NULL};
+static int contractible_seen[sizeof contractible / sizeof contractible[0]];
 
-/* The kernels of VX_WALK_PRECISE_KERNELS by the name of their array (vx__NAME_spv_arr), in the list's order,
- * then an end entry; w is NULL where no build rule recorded the kernel's header (not built here). */
-typedef struct kernel {
-    const char* name;
-    const uint32_t* w;
-    size_t bytes;
-} kernel;
-static const kernel listed[] = {VX_WALK_PRECISE_TABLE {NULL, NULL, 0}};
+static int contractible_index(const char* fn) {
+    for (int k = 0; contractible[k]; k++)
+        if (!strcmp(contractible[k], fn)) return k;
+    return -1;
+}
 
-/* Every float operation of the functions fns must carry NoContraction; the count of those that do not.
- * quiet: count only (a kernel expected to fail) */
-static int check_fns(const char* label, const uint32_t* w, size_t bytes, const char* const* fns, const char* what,
-                     int quiet) {
+/* Every float operation of the functions root reaches (contractible[] aside) must carry NoContraction; the count
+ * of those that do not. quiet: count only (a control, expected to fail). */
+static int check_reach(const char* label, const uint32_t* w, size_t bytes, const char* root, const char* what,
+                       int quiet) {
     spv m;
-    int ok = parse(&m, w, bytes / 4), total_bad = 0, nf = 0;
+    int ok = parse(&m, w, bytes / 4), total_bad = 0, nf = 0, nops = 0;
     CHECKF(ok, "%s: not SPIR-V", label);
-    if (ok)
-        for (int f = 0; fns[f]; f++, nf++) {
-            int ops = 0, bad = check_whole_function(&m, fns[f], &ops, label, quiet);
-            /* the control (quiet: the bake's kernel) holds only its own entry's functions since each build of
-             * probe.comp has one entry point (bake4): render() and what only it calls are not there */
-            CHECKF(quiet || bad >= 0, "%s: no function %s", label, fns[f]);
-            CHECKF(quiet || bad <= 0, "%s: %s: %d of %d float operations could be contracted", label, fns[f], bad, ops);
-            CHECKF(bad < 0 || ops > 0, "%s: %s has no float operation (renamed?)", label, fns[f]);
-            if (bad > 0) total_bad += bad;
+    if (ok) {
+        uint32_t r = function_id(&m, root);
+        CHECKF(r != 0, "%s: no function %s", label, root);
+        memset(m.seen, 0, m.bound);
+        reach(&m, r);
+        for (uint32_t id = 1; id < m.bound; id++) {
+            if (!m.seen[id]) continue;
+            char fn[128];
+            fn_name(&m, id, fn, sizeof fn);
+            int ex = contractible_index(fn);
+            if (ex >= 0) {
+                contractible_seen[ex] = 1;
+                continue;
+            }
+            int ops = 0, bad = check_function_ops(&m, id, &ops, label, quiet);
+            nf++, nops += ops, total_bad += bad;
+            CHECKF(quiet || bad == 0, "%s: %s: %d of %d float operations could be contracted", label, fn, bad, ops);
         }
-    printf("%-24s %s: %d functions, %d operations without NoContraction\n", label, what, nf, total_bad);
+        CHECKF(nops > 0, "%s: %s reaches no float operation", label, root);
+    }
+    printf("%-24s %s from %s(): %d functions, %d float operations, %d without NoContraction\n", label, what, root, nf,
+           nops, total_bad);
     spv_free(&m);
     return total_bad;
 }
 
-static int check_path_kernel(const char* label, const uint32_t* w, size_t bytes, int quiet) {
-    return check_fns(label, w, bytes, path_fns, "path tracer", quiet);
+#if defined(VX_TEST_PROBES) && defined(VX_TEST_PHOTONS) /* its one use: the photons' control */
+/* A control: in module w, the float operations without NoContraction of the functions that root reaches in the
+ * checked module ref (contractible[] aside), where w has a function of that name. */
+static int check_shared(const char* label, const uint32_t* w, size_t bytes, const uint32_t* ref, size_t ref_bytes,
+                        const char* root) {
+    spv r, m;
+    int ok = parse(&r, ref, ref_bytes / 4) && parse(&m, w, bytes / 4), total_bad = 0, nf = 0;
+    CHECKF(ok, "%s: not SPIR-V", label);
+    if (ok) {
+        memset(r.seen, 0, r.bound);
+        reach(&r, function_id(&r, root));
+        for (uint32_t id = 1; id < r.bound; id++) {
+            char fn[128];
+            fn_name(&r, id, fn, sizeof fn);
+            uint32_t mid = r.seen[id] && contractible_index(fn) < 0 ? function_id(&m, fn) : 0;
+            int ops = 0;
+            if (mid) total_bad += check_function_ops(&m, mid, &ops, label, 1), nf++;
+        }
+    }
+    printf("%-24s %d functions shared with %s(): %d operations without NoContraction\n", label, nf, root, total_bad);
+    spv_free(&r), spv_free(&m);
+    return total_bad;
 }
+#endif
 
 /* Checks one kernel; need: the variables must be there (the float trace
- * kernels, whose DEEP 2 code holds them), else a kernel without them passes. */
-static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int need) {
+ * kernels, whose DEEP 2 code holds them), else a kernel without them passes.
+ * tau: entry_tau (a deep model's exact hit t, trace_common.glsl) must be there
+ * and wholly precise; else its count is only printed. It is precise in every
+ * kernel, walk contractible or not: its ((pl - oa) - oa_lo) / d takes the
+ * plane's distance from the hi/lo origin, and a driver's exact algebra
+ * (which NoContraction forbids, as it forbids fusing) could compute
+ * pl - (oa + oa_lo), where oa + oa_lo rounds to oa and the low part is lost,
+ * the error the hi/lo pair exists to remove (render/render.h, the rule of
+ * VX_RENDER_EXACT_DEPTH). Fusing alone could not change it (its only
+ * products, the caller's lo and sz, are exact); reassociating can. */
+static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int need, int tau) {
     spv m;
     int ok = parse(&m, w, bytes / 4);
     CHECKF(ok, "%s: not SPIR-V", label);
@@ -330,9 +407,23 @@ static void check_kernel(const char* label, const uint32_t* w, size_t bytes, int
             for (int v = 0; model_vars[v]; v++) CHECKF(fm[v] > 0, "%s: trace_model stores no %s", label, model_vars[v]);
             for (int v = 0; inst_vars[v]; v++) CHECKF(fi[v] > 0, "%s: trace_instance stores no %s", label, inst_vars[v]);
         }
+        int ops = 0, bad = check_whole_function(&m, "entry_tau", &ops, label, !tau);
+        printf("%-24s entry_tau: %d of %d operations without NoContraction%s\n", label, bad, ops,
+               tau ? "" : " (not required here)");
+        CHECKF(!tau || bad == 0, "%s: entry_tau: %d of %d float operations could be contracted (-1: none)", label, bad,
+               ops);
     }
     spv_free(&m);
 }
+
+/* The kernels of VX_WALK_PRECISE_KERNELS by the name of their array (vx__NAME_spv_arr), in the list's order,
+ * then an end entry; w is NULL where no build rule recorded the kernel's header (not built here). */
+typedef struct kernel {
+    const char* name;
+    const uint32_t* w;
+    size_t bytes;
+} kernel;
+static const kernel listed[] = {VX_WALK_PRECISE_TABLE {NULL, NULL, 0}};
 
 /* Each listed kernel: its walk and its secondary rays' start (gb_offset_point, where it has one) wholly precise;
  * a listed kernel whose array is not here fails (not built, or its build rule records no header). */
@@ -343,7 +434,7 @@ static void check_listed(void) {
         CHECKF(k->w != NULL, "listed kernel %s: not built here or its header not recorded (cmake/shaders.cmake)",
                k->name);
         if (!k->w) continue;
-        check_fns(k->name, k->w, k->bytes, walk_fns, "walk", 0);
+        check_reach(k->name, k->w, k->bytes, "trace_instance", "walk", 0);
         spv m;
         if (parse(&m, k->w, k->bytes / 4)) {
             int ops = 0, bad = check_whole_function(&m, "gb_offset_point", &ops, k->name, 0);
@@ -356,29 +447,35 @@ static void check_listed(void) {
 }
 
 static void test_embedded(void) {
-    check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1);
-    check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1);
+    check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1, 1);
+    /* the compact kernel's entry_tau is a copy of its own (trace_compact.comp, not trace_common.glsl's), precise
+     * the same way */
+    check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1, 1);
     /* the pass pipeline's kernels trace through trace_common.glsl too */
-    check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0);
-    check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0);
+    check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0, 1);
+    check_kernel("gbuffer.comp", vx__gbuffer_spv_arr, sizeof vx__gbuffer_spv_arr, 0, 1);
     check_listed();
     /* trace.comp's walk is not in the list (the control: the check sees what the define changes) */
-    int ctl = check_fns("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, walk_fns, "walk", 1);
+    int ctl = check_reach("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, "trace_instance", "walk", 1);
     CHECKF(ctl >= 50, "trace.comp's walk has only %d operations without NoContraction", ctl);
 #ifdef VX_TEST_PROBES
     /* the render kernel's walk is trace_common.glsl's too */
-    check_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 1);
-    check_path_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 0);
+    check_kernel("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, 1, 1);
+    check_reach("probe.comp (render)", vx__probe_pt_spv_arr, sizeof vx__probe_pt_spv_arr, "render", "path tracer", 0);
     /* the bake's kernels too (bake(), bake_one() and what they call): with their path and walk contractible the
      * NVIDIA compiler gave eph_monu1's bake 88 bytes apart with and without the sun's depth map and the animated
      * demo's plain and compact bakes 150 hit distances one float step apart (issue 18, H200, branch rdr4) */
-    check_fns("probe.comp (bake)", vx__probe_spv_arr, sizeof vx__probe_spv_arr, bake_fns, "path tracer", 0);
-    check_fns("probe.comp (bake_one)", vx__probe_one_spv_arr, sizeof vx__probe_one_spv_arr, bake_one_fns,
-              "path tracer", 0);
+    check_reach("probe.comp (bake)", vx__probe_spv_arr, sizeof vx__probe_spv_arr, "bake", "path tracer", 0);
+    check_reach("probe.comp (bake_one)", vx__probe_one_spv_arr, sizeof vx__probe_one_spv_arr, "bake_one",
+                "path tracer", 0);
+    /* every exception is one that a checked kernel reaches (a stale name fails) */
+    for (int k = 0; contractible[k]; k++)
+        CHECKF(contractible_seen[k], "contractible[] names %s, which no checked kernel calls", contractible[k]);
 #ifdef VX_TEST_PHOTONS
     /* the photons' kernel shares path_common.glsl without PT_PREC (the control: the check sees what `precise`
      * changes in those functions) */
-    int bad = check_path_kernel("photon.comp", vx__photon_spv_arr, sizeof vx__photon_spv_arr, 1);
+    int bad = check_shared("photon.comp", vx__photon_spv_arr, sizeof vx__photon_spv_arr, vx__probe_pt_spv_arr,
+                           sizeof vx__probe_pt_spv_arr, "render");
     CHECKF(bad > 100, "the photons' kernel has only %d path operations without NoContraction", bad);
 #endif
 #endif
@@ -408,8 +505,8 @@ static int check_files(int argc, char** argv) {
         uint32_t* buf = malloc(4u << 20);
         size_t n = buf ? fread(buf, 1, 4u << 20, f) : 0;
         fclose(f);
-        if (buf && path) check_path_kernel(argv[a], buf, n, 0);
-        else if (buf) check_kernel(argv[a], buf, n, 1);
+        if (buf && path) check_reach(argv[a], buf, n, "render", "path tracer", 0);
+        else if (buf) check_kernel(argv[a], buf, n, 1, 1);
         free(buf);
     }
     printf("%s\n", vx_t_failed_checks ? "FAILED" : "ok");

@@ -883,10 +883,8 @@ int main(int argc, char** argv) {
     int nmerge = 0;
     for (int i = 1; i < argc; i++) {
         const char* a = argv[i];
-#define NEED()                                                            \
-    do {                                                                  \
-        if (i + 1 >= argc) usage_error("option %s needs an argument", a); \
-    } while (0)
+/* the option's argument, argv[i] after it (vx_tool_arg: a usage error where none is left) */
+#define ARG() vx_tool_arg(argc, argv, &i, usage)
         if (!strcmp(a, "-h") || !strcmp(a, "-help") || !strcmp(a, "--help")) usage(0);
         else if (!strcmp(a, "-version") || !strcmp(a, "--version")) {
             printf("%s %s (probes format %u, svo format %u)\n", vx_tool_name, VX_VERSION_STRING, VX_PROBE_FORMAT_VERSION,
@@ -898,82 +896,65 @@ int main(int argc, char** argv) {
             nmerge = argc - i - 1;
             break;
         } else if (!strcmp(a, "--grid")) {
-            NEED();
             double v[3];
-            if (!parse_vec(argv[++i], v, 3)) usage_error("bad grid '%s' (X,Y,Z)", argv[i]);
+            if (!parse_vec(ARG(), v, 3)) usage_error("bad grid '%s' (X,Y,Z)", argv[i]);
             for (int k = 0; k < 3; k++) {
                 if (!(v[k] >= 1 && v[k] <= 4096 && v[k] == floor(v[k]))) usage_error("bad grid '%s' (1..4096 each)", argv[i]);
                 o.b.grid[k] = (uint32_t)v[k];
             }
         } else if (!strcmp(a, "--spacing")) {
-            NEED();
-            if (!parse_vec(argv[++i], &o.b.spacing, 1) || !(o.b.spacing > 0)) usage_error("bad spacing '%s'", argv[i]);
+            if (!parse_vec(ARG(), &o.b.spacing, 1) || !(o.b.spacing > 0)) usage_error("bad spacing '%s'", argv[i]);
         } else if (!strcmp(a, "--bounds")) {
-            NEED();
             double v[6];
-            if (!parse_vec(argv[++i], v, 6)) usage_error("bad bounds '%s' (X0,Y0,Z0,X1,Y1,Z1)", argv[i]);
+            if (!parse_vec(ARG(), v, 6)) usage_error("bad bounds '%s' (X0,Y0,Z0,X1,Y1,Z1)", argv[i]);
             o.b.bounds_set = true;
             memcpy(o.b.bounds_lo, v, 24);
             memcpy(o.b.bounds_hi, v + 3, 24);
         } else if (!strcmp(a, "--res")) {
-            NEED();
-            if (!vx_tool_parse_u32(argv[++i], &o.b.res) || o.b.res < 16 || o.b.res % 16 || o.b.res > VX_PROBE_MAX_RES)
+            if (!vx_tool_parse_u32(ARG(), &o.b.res) || o.b.res < 16 || o.b.res % 16 || o.b.res > VX_PROBE_MAX_RES)
                 usage_error("bad res '%s' (a multiple of 16, 16..1024)", argv[i]);
         } else if (!strcmp(a, "--spp")) {
-            NEED();
-            if (!vx_tool_parse_u32(argv[++i], &o.b.spp) || !o.b.spp || o.b.spp > 65536) usage_error("bad spp '%s'", argv[i]);
+            if (!vx_tool_parse_u32(ARG(), &o.b.spp) || !o.b.spp || o.b.spp > 65536) usage_error("bad spp '%s'", argv[i]);
         } else if (!strcmp(a, "--bounces")) {
-            NEED();
             uint32_t v;
-            if (!vx_tool_parse_u32(argv[++i], &v) || v > 64) usage_error("bad bounces '%s' (0..64)", argv[i]);
+            if (!vx_tool_parse_u32(ARG(), &v) || v > 64) usage_error("bad bounces '%s' (0..64)", argv[i]);
             o.b.bounces = v ? (int32_t)v : -1;
         } else if (!strcmp(a, "--seed")) {
-            NEED();
             char* end;
-            o.b.seed = strtoull(argv[++i], &end, 10);
+            o.b.seed = strtoull(ARG(), &end, 10);
             if (end == argv[i] || *end) usage_error("bad seed '%s'", argv[i]);
         } else if (!strcmp(a, "--light")) {
-            NEED();
-            if (!parse_vec(argv[++i], o.b.light_dir, 3)) usage_error("bad light direction '%s'", argv[i]);
+            if (!parse_vec(ARG(), o.b.light_dir, 3)) usage_error("bad light direction '%s'", argv[i]);
         } else if (!strcmp(a, "--sun")) {
-            NEED();
-            if (!parse_vec(argv[++i], o.b.sun, 3)) usage_error("bad sun '%s'", argv[i]);
+            if (!parse_vec(ARG(), o.b.sun, 3)) usage_error("bad sun '%s'", argv[i]);
             o.b.no_sun = !o.b.sun[0] && !o.b.sun[1] && !o.b.sun[2];
         } else if (!strcmp(a, "--sky")) {
-            NEED();
-            if (!parse_vec(argv[++i], o.b.sky, 3)) usage_error("bad sky '%s'", argv[i]);
+            if (!parse_vec(ARG(), o.b.sky, 3)) usage_error("bad sky '%s'", argv[i]);
             o.b.black_sky = !o.b.sky[0] && !o.b.sky[1] && !o.b.sky[2];
         } else if (!strcmp(a, "--frame")) {
-            NEED();
-            if (!vx_tool_parse_u32(argv[++i], &o.frame)) usage_error("bad frame '%s'", argv[i]);
+            if (!vx_tool_parse_u32(ARG(), &o.frame)) usage_error("bad frame '%s'", argv[i]);
         } else if (!strcmp(a, "--shard")) {
-            NEED();
             char c;
-            if (sscanf(argv[++i], "%u/%u%c", &o.shard, &o.shards, &c) != 2 || !o.shards || o.shard >= o.shards)
+            if (sscanf(ARG(), "%u/%u%c", &o.shard, &o.shards, &c) != 2 || !o.shards || o.shard >= o.shards)
                 usage_error("bad shard '%s' (I/N with I < N)", argv[i]);
         } else if (!strcmp(a, "--threads")) {
-            NEED();
-            if (!vx_tool_parse_u32(argv[++i], &o.threads) || !o.threads || o.threads > 64)
+            if (!vx_tool_parse_u32(ARG(), &o.threads) || !o.threads || o.threads > 64)
                 usage_error("bad threads '%s' (1..64)", argv[i]);
             o.threads_set = true;
         } else if (!strcmp(a, "--max-memory")) {
-            NEED();
-            if (!vx_tool_parse_bytes(argv[++i], &o.max_memory) || !o.max_memory)
+            if (!vx_tool_parse_bytes(ARG(), &o.max_memory) || !o.max_memory)
                 usage_error("bad --max-memory value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
         } else if (!strcmp(a, "--load")) {
-            NEED();
-            const char* v = argv[++i];
+            const char* v = ARG();
             if (strcmp(v, "whole") && strcmp(v, "models")) usage_error("bad --load '%s' (whole or models)", v);
             o.load_models = !strcmp(v, "models");
         } else if (!strcmp(a, "--exr")) {
-            NEED();
-            o.exr_dir = argv[++i];
+            o.exr_dir = ARG();
 #ifndef VX_HAVE_IMAGE
             usage_error("%s", "--exr: this svo_bake was built without OpenImageIO");
 #endif
         } else if (!strcmp(a, "--device")) {
-            NEED();
-            o.device = argv[++i];
+            o.device = ARG();
         } else if (!strcmp(a, "--cpu")) o.cpu = true;
         else if (!strcmp(a, "--fresh")) o.fresh = true;
         else if (!strcmp(a, "--no-shadow-map")) o.b.no_shadow_map = true;
@@ -982,7 +963,7 @@ int main(int argc, char** argv) {
         else if (a[0] == '-' && a[1]) usage_error("\"%s\" is not a valid option", a);
         else if (npos < 2) pos[npos++] = a;
         else usage_error("unexpected argument '%s'", a);
-#undef NEED
+#undef ARG
     }
     if (o.merge) {
         if (npos != 0 || nmerge < 2) usage_error("%s", "--merge needs OUT.probes and at least one part");

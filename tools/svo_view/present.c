@@ -427,13 +427,24 @@ static vx_result ensure_staging(vp* p, VkDeviceSize size, vx_error* err) {
     return VX_OK;
 }
 
+/* Queues the present of swapchain image idx once done[idx] is signalled; the present's own result (for
+ * present_status). */
+static VkResult queue_present(vp* p, uint32_t idx) {
+    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
+                           .waitSemaphoreCount = 1,
+                           .pWaitSemaphores = &p->done[idx],
+                           .swapchainCount = 1,
+                           .pSwapchains = &p->sc,
+                           .pImageIndices = &idx};
+    return vkQueuePresentKHR(p->queue, &pi);
+}
+
 /* Ends the frame's command buffer, submits it (waiting on the acquire
  * semaphore, signalling done[idx]), queues the present of image idx and waits
  * for the submission: the staging buffer, command buffer and acquire
  * semaphore are reused next frame. The present's own result goes to *vr for
  * present_status, after the caller has read back what it needs. */
 static vx_result submit_present(vp* p, uint32_t idx, VkResult* vr_out, vx_error* err) {
-    VkResult vr;
     VP_VK(vkEndCommandBuffer(p->cmd), "vkEndCommandBuffer");
     VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
     VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
@@ -446,14 +457,7 @@ static vx_result submit_present(vp* p, uint32_t idx, VkResult* vr_out, vx_error*
                        .pSignalSemaphores = &p->done[idx]};
     VP_VK(vkResetFences(p->dev, 1, &p->fence), "vkResetFences");
     VP_VK(vkQueueSubmit(p->queue, 1, &si, p->fence), "vkQueueSubmit");
-    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
-                           .waitSemaphoreCount = 1,
-                           .pWaitSemaphores = &p->done[idx],
-                           .swapchainCount = 1,
-                           .pSwapchains = &p->sc,
-                           .pImageIndices = &idx};
-    vr = vkQueuePresentKHR(p->queue, &pi);
-    *vr_out = vr;
+    *vr_out = queue_present(p, idx);
     VkResult fr = vkWaitForFences(p->dev, 1, &p->fence, VK_TRUE, UINT64_MAX);
     if (fr != VK_SUCCESS) return vk_fail(err, fr, "vkWaitForFences");
     return VX_OK;
@@ -574,13 +578,7 @@ vx_result vp_acquire(vp* p, uint32_t slot, vp_image* out, vx_error* err) {
 }
 
 static vx_result present_one(vp* p, uint32_t idx, vx_error* err) {
-    VkPresentInfoKHR pi = {.sType = VK_STRUCTURE_TYPE_PRESENT_INFO_KHR,
-                           .waitSemaphoreCount = 1,
-                           .pWaitSemaphores = &p->done[idx],
-                           .swapchainCount = 1,
-                           .pSwapchains = &p->sc,
-                           .pImageIndices = &idx};
-    return present_status(p, vkQueuePresentKHR(p->queue, &pi), err);
+    return present_status(p, queue_present(p, idx), err);
 }
 
 /* A frame in flight's present: counted, and its order checked. */
