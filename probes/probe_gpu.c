@@ -206,7 +206,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
         return r;
     }
     c->lights_code = c->light_count > 0 || c->em_count > 0;
-    c->spec[VX__SPEC_COUNT + SPEC_DEEP] = 0;
+    c->spec[VX__SPEC_COUNT + SPEC_DEEP] = vx__render_scene_deep(rs);
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
     float* em = vx_calloc(c->alloc, na ? na : 1, sizeof(float));

@@ -279,9 +279,10 @@ void vx__seq_abandon(vx_gpu* g, vx__seq* s);
 
 /* Specialisation constants of trace_common.glsl (ids 0-4); a pass's own start at 5. */
 enum { VX__SPEC_MODE = 0, VX__SPEC_HAS_COLOR, VX__SPEC_USE_BVH, VX__SPEC_LOD, VX__SPEC_HITS, VX__SPEC_COUNT };
-/* trace_common.glsl's DEEP (id 8, 0 in passes), FAR (id 9, default true) and
- * COMPACT (id 10): a pass whose scene is in the compact layout sets COMPACT
- * to vx__render_scene_compact(rs) (its spec_count then covers ids 8 and 9 too). */
+/* trace_common.glsl's DEEP (id 8: vx__render_scene_deep), FAR (id 9, default
+ * true) and COMPACT (id 10): a pass whose scene is in the compact layout sets
+ * COMPACT to vx__render_scene_compact(rs) (its spec_count then covers ids 8
+ * and 9 too). */
 enum { VX__SPEC_DEEP_ID = 8, VX__SPEC_FAR_ID = 9, VX__SPEC_COMPACT_ID = 10, VX__SPEC_TRACE_IDS = 11 };
 
 /* ---- other GPU passes over a scene (probes/probe_gpu.c) ------------------------------ */
@@ -291,6 +292,13 @@ vx_gpu* vx__render_scene_gpu(vx_render_scene* rs);
  * pointer, so the kernel tests the far bit per push): for other passes' kernels
  * (probes/probe_gpu.c), tests and benchmarks. */
 bool vx__render_scene_far(const vx_render_scene* rs);
+/* The trace kernel's DEEP constant (VX__SPEC_DEEP_ID) for the float variant:
+ * 1 where a model is deeper than VX_RENDER_EXACT_DEPTH (exact hit distances),
+ * 2 where one is deeper than VX_RENDER_REBASE_DEPTH (the rebased walk too),
+ * else 0. Every kernel that traces the scene sets it: left at 0, a model of
+ * 9-16 levels is walked with the shallow loop (its hits then disagree with
+ * trace.comp's and the CPU reference's: issue 18, gdeep). */
+uint32_t vx__render_scene_deep(const vx_render_scene* rs);
 /* Whether the scene's bindings 1-3 (vx__render_scene_bind) are the compact
  * layout's (render/compact.h): kernels that trace it set trace_common.glsl's
  * COMPACT constant (VX__SPEC_COMPACT_ID). A paged compact scene is refused

@@ -96,7 +96,11 @@ extern "C" {
  * switches cost ~9% of the time and the two-frame code's fixed part ~13%,
  * against one frame, issue 21, deep3). Shallower models keep the plain
  * loop: the trace kernel's REBASE constant is off for scenes without a model deeper than
- * VX_RENDER_EXACT_DEPTH (shaders/trace_common.glsl, trace_model). */
+ * VX_RENDER_EXACT_DEPTH (shaders/trace_common.glsl, trace_model). Every
+ * kernel that traces a scene takes the same DEEP constant
+ * (vx__render_scene_deep, render/gpu.h): trace.comp, the pass pipeline's
+ * (gbuffer, direct, ao, frame.comp), the probe bake's, photons' and cones'
+ * (until issue 18's gdeep all but trace.comp ran the plain loop). */
 #define VX_RENDER_EXACT_DEPTH 8u
 #define VX_RENDER_REBASE_DEPTH 10u
 #define VX_RENDER_FRAME_LEVELS 9u

@@ -1730,6 +1730,8 @@ bool vx_render_scene_precise(const vx_render_scene* rs) { return rs && use_preci
 
 bool vx__render_scene_far(const vx_render_scene* rs) { return rs && rs->far; }
 
+uint32_t vx__render_scene_deep(const vx_render_scene* rs) { return rs && !use_precise(rs) ? rs->deep : 0; }
+
 void vx__render_scene_trace_kernel(vx_render_scene* rs, const uint32_t* spirv, size_t bytes, const uint32_t* beam_spirv,
                                    size_t beam_bytes, uint32_t tag) {
     if (!rs) return;
@@ -2160,7 +2162,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
     uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
                          rs->inst_count <= 1 && path_on(rs),
-                         precise ? 0 : rs->deep, rs->far, 0, smap, 0};
+                         vx__render_scene_deep(rs), rs->far, 0, smap, 0};
     uint64_t key = vx__spec_key(1 + precise, spec, 13);
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);

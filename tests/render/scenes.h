@@ -115,4 +115,18 @@ static vx_svo_instance ts_inst(uint32_t model, const double m9[9], double tx, do
     in.xform[3] = tx, in.xform[7] = ty, in.xform[11] = tz;
     return in;
 }
+
+/* A scene whose only instance (untransformed) is one model `side` cells on a
+ * side (a power of two) holding the n cells xyz (palette indices pal): the
+ * deep-model tests' (test_render_gpu, test_passes). *depth: its levels. */
+static inline vx_result ts_cube_scene(vx_svo_scene* s, uint32_t side, const uint32_t* xyz, const uint8_t* pal, size_t n,
+                                      uint32_t* depth) {
+    vx_svo_model m;
+    vx_result r = ts_model(&m, (uint32_t[3]){side, side, side}, xyz, pal, n);
+    if (r) return r;
+    *depth = m.depth;
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+    return VX_OK;
+}
 #endif

@@ -2,14 +2,15 @@
  * lavapipe: the default list equals the single-shader colour mode bit for
  * bit, every pass can be left out, bad lists are usage errors naming the
  * pass, per-pass times add up to the frame, ambient occlusion against the
- * analytic value at an inner corner and on an open plane, and the gi hook.
+ * analytic value at an inner corner and on an open plane, the gi hook, and
+ * models of 10-16 levels traced as trace.comp traces them.
  * Skips (with a message) when there is no Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 
 #include "render/pipeline.h"
-#include "render/gpu.h" /* vx__buffer, for the fake gi method */
+#include "render/gpu.h" /* vx__buffer, for the fake gi method; vx__render_scene_deep */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"
@@ -870,6 +871,132 @@ static void test_gi_hook(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Deep models (issue 18, gdeep): the passes' kernels walk models of 9-16
+ * levels as trace.comp does (trace_common.glsl's DEEP constant: exact hit
+ * distances, the rebased walk), so the G-buffer's hits equal trace.comp's.
+ * Before, pipeline.c left DEEP at 0 and the passes walked such models with
+ * the shallow loop. A model 2^depth cells on a side holding a random 8^3
+ * block at three places (near the origin, near the far corner, off the float
+ * grid mid-cube); close-ups with eyes off the float grid (pixels about 1/3
+ * and 1/10 of a cell) and an orthographic view. The rule of test_deep_float
+ * (test_render_gpu.c): same instance and cell, depth within 1e-4 relative,
+ * on at least 99.99% of the pixels of each depth, here against trace.comp's
+ * hits (which meet the CPU reference by that rule): the merged kernel
+ * (frame.comp) and the G-buffer pass (gbuffer.comp) with ids, and the
+ * G-buffer's depth image without ids (the lean walk at DEEP 1); trace.comp's
+ * hits against the CPU reference by the same rule (its ambiguous pixels
+ * left out); and per depth the default list's colours against the single
+ * shader's, bit for bit (compare_default). */
+static void deep_block_scene(uint32_t depth, vx_svo_scene* s, uint32_t at[3][3]) {
+    uint32_t side = 1u << depth;
+    const uint32_t places[3][3] = {{3, 5, 7}, {side - 27, side - 19, side - 33}, {side / 2 - 3, side / 3 + 1, 77}};
+    memcpy(at, places, sizeof places);
+    uint32_t xyz[3 * 3 * 512];
+    uint8_t pal[3 * 512];
+    size_t n = 0;
+    uint32_t seed = 1234;
+    for (int c = 0; c < 3; c++)
+        for (uint32_t i = 0; i < 512; i++)
+            if (ts_rng(&seed) % 100 < 35) {
+                for (int k = 0; k < 3; k++) xyz[3 * n + k] = at[c][k] + (i >> (3 * k) & 7u);
+                pal[n] = (uint8_t)(1 + n % 250);
+                n++;
+            }
+    uint32_t levels = 0;
+    REQUIRE(ts_cube_scene(s, side, xyz, pal, n, &levels) == VX_OK);
+    CHECK(levels == depth);
+}
+
+/* Pixels of b (hits, or a depth image where hb is NULL) that differ from the reference a by the rule above. */
+static size_t deep_mismatches(const vx_render_image* a, const vx_render_hit* hb, const float* db, size_t* hits) {
+    size_t n = (size_t)a->width * a->height, bad = 0;
+    for (size_t i = 0; i < n; i++) {
+        const vx_render_hit* h = &a->hits[i];
+        bool miss = h->instance == VX_RENDER_NO_HIT;
+        *hits += !miss;
+        float t = hb ? hb[i].t : db[4 * i];
+        bool same = hb ? hb[i].instance == h->instance && (miss || !memcmp(hb[i].cell, h->cell, sizeof h->cell))
+                       : miss == isinf(t);
+        if (same && !miss) same = fabs((double)t - h->t) <= 1e-4 * fmax(fabs((double)h->t), 1e-3);
+        bad += !same;
+    }
+    return bad;
+}
+
+static void test_deep_models(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    const uint32_t depths[] = {10, 12, 14, 16};
+    static const char* kname[3] = {"merged (frame.comp)", "gbuffer.comp, ids", "gbuffer.comp, depth image"};
+    for (size_t di = 0; di < sizeof depths / sizeof depths[0]; di++) {
+        vx_svo_scene s;
+        uint32_t at[3][3];
+        deep_block_scene(depths[di], &s, at);
+        fixture fx;
+        REQUIRE(fx_open(&s, &fx));
+        CHECK(!vx_render_scene_precise(fx.rs));
+        CHECK(vx__render_scene_deep(fx.rs) == (depths[di] > VX_RENDER_REBASE_DEPTH ? 2u : 1u));
+        size_t bad[3] = {0}, px = 0, hits = 0, cpu_bad = 0, amb = 0;
+        for (int c = 0; c < 3; c++)
+            for (int v = 0; v < 3; v++) {
+                double tg[3] = {at[c][0] + 4.0, at[c][1] + 4.0, at[c][2] + 4.0};
+                static const double eye[3][3] = {{7.31, -9.17, 6.53}, {-2.13, -3.71, 2.9}, {30.7, 20.3, -10.1}};
+                vx_frame_desc d = vx_frame_desc_defaults();
+                d.base.width = 96, d.base.height = 72;
+                d.base.camera.set = true;
+                d.base.camera.ortho = v == 2, d.base.camera.ortho_height = 12;
+                for (int k = 0; k < 3; k++) d.base.camera.eye[k] = tg[k] + eye[v][k], d.base.camera.target[k] = tg[k];
+                vx_render_desc rd = d.base;
+                rd.mode = VX_RENDER_DEPTH, rd.want_hits = true;
+                vx_render_image ref = {0};
+                vx_error err = {0};
+                CHECKF(vx_render_frame(fx.rs, &rd, &ref, &err) == VX_OK, "trace.comp: %s", err.msg);
+                if (!ref.hits) continue;
+                px += (size_t)ref.width * ref.height;
+                vx_render_image cpu = {0};
+                CHECKF(vx_render_cpu(&s, &rd, NULL, &cpu, &err) == VX_OK, "CPU reference: %s", err.msg);
+                if (cpu.hits) { /* the reference itself, off its ambiguous pixels (ties a float walk may break either way) */
+                    size_t n = (size_t)cpu.width * cpu.height, h = 0;
+                    for (size_t i = 0; i < n; i++) amb += (cpu.hits[i].flags & VX_RENDER_HIT_AMBIGUOUS) != 0;
+                    for (size_t i = 0; i < n; i++)
+                        if (cpu.hits[i].flags & VX_RENDER_HIT_AMBIGUOUS) cpu.hits[i] = ref.hits[i];
+                    cpu_bad += deep_mismatches(&cpu, ref.hits, NULL, &h);
+                }
+                vx_render_image_free(&cpu);
+                for (int k = 0; k < 3; k++) {
+                    vx_frame_desc dk = d;
+                    dk.want_ids = k < 2, dk.separate_passes = k > 0;
+                    dk.show = k == 2 ? VX_SHOW_DEPTH : VX_SHOW_FINAL;
+                    vx_frame_result res;
+                    bool ok = render_list(&fx, k == 2 ? "gbuffer" : "gbuffer,direct", dk, &res);
+                    CHECKF(ok, "depth %u %s", depths[di], kname[k]);
+                    if (!ok) continue;
+                    CHECKF(k != 0 || res.timing_count == 1, "not merged: %u rows", res.timing_count);
+                    size_t h = 0;
+                    bad[k] += deep_mismatches(&ref, k < 2 ? res.image.hits : NULL, res.image.pixels, &h);
+                    if (k == 0) hits += h;
+                    vx_render_image_free(&res.image);
+                }
+                vx_render_image_free(&ref);
+                if (c == 2 && v == 0) { /* and the default list's colours equal the single shader's, bit for bit */
+                    char nm[48];
+                    snprintf(nm, sizeof nm, "deep %u close-up", depths[di]);
+                    compare_default(nm, &s, d.base);
+                }
+            }
+        printf("  deep depth %u: %zu pixels, %.1f%% hit; trace.comp vs the CPU reference %zu (%zu ambiguous); differ "
+               "from trace.comp's hits:", depths[di], px, 100.0 * hits / (px ? px : 1), cpu_bad, amb);
+        for (int k = 0; k < 3; k++) printf(" %s %zu (%.4f%%)%s", kname[k], bad[k], 100.0 * bad[k] / (px ? px : 1), k < 2 ? "," : "\n");
+        CHECKF(hits >= px / 4, "depth %u: only %zu of %zu pixels hit", depths[di], hits, px);
+        CHECKF((double)cpu_bad <= 1e-4 * px, "depth %u: trace.comp's hits differ from the CPU reference's at %zu of %zu",
+               depths[di], cpu_bad, px);
+        for (int k = 0; k < 3; k++)
+            CHECKF((double)bad[k] <= 1e-4 * px, "depth %u, %s: %zu of %zu pixels differ from trace.comp's hits",
+                   depths[di], kname[k], bad[k], px);
+        fx_close(&fx);
+        vx_svo_scene_free(&s);
+    }
+}
+
 int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_parse);
@@ -884,6 +1011,7 @@ int main(void) {
     RUN(test_shadow_budget);
     RUN(test_culling_equals_brute);
     RUN(test_gi_hook);
+    RUN(test_deep_models);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

@@ -448,11 +448,9 @@ static void deep_scene(uint32_t depth, vx_svo_scene* s, uint32_t base[3][3]) {
                         n++;
                     }
     }
-    vx_svo_model m;
-    REQUIRE(ts_model(&m, (uint32_t[3]){side, side, side}, xyz, pal, n) == VX_OK);
-    CHECK(m.depth == depth);
-    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
-    ts_scene(s, &m, 1, &in, 1);
+    uint32_t levels = 0;
+    REQUIRE(ts_cube_scene(s, side, xyz, pal, n, &levels) == VX_OK);
+    CHECK(levels == depth);
 }
 
 /* Four views of place c (corner base): two close-ups (pixels ~1/3 and ~1/10
