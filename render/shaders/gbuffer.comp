@@ -12,10 +12,15 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 // built with WALK_PRECISE (the walk not contracted; the rule and why: cmake/shaders.cmake)
 // the lean walk where it applies (trace_common.glsl LEAN: no ids, GPU form),
 // in the BVH kernels (several instances) too, as trace.comp's (issue 21, gbvh);
-// not TRACE_LEAN_DEEP2: the passes run DEEP 0 (pipeline.c leaves constant 8 at 0)
 // (H200: this kernel of several instances 64 -> 56 registers, its pass 1.9-3.4% less time)
+// and at DEEP 2 (deep models, which the passes walk as trace.comp since gdeep), the colour
+// mode's lean walk too (TRACE_LEAN_DEEP2_COLOR; trace.comp's colour kernel keeps the full one):
+// terrain4096's G-buffer 4-7% less time, gbuffer+direct merged 4%, than with the full DEEP 2
+// walk on the H200 (gdeep's C, bench/results/gdeep_h200.txt)
 #define TRACE_LEAN
 #define TRACE_LEAN_BVH
+#define TRACE_LEAN_DEEP2
+#define TRACE_LEAN_DEEP2_COLOR
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 

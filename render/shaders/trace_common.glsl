@@ -267,7 +267,9 @@ uint g_path = 0xFFFFu;
 // on its close-up and oblique (its overview 0.6-1.8% fewer, within that
 // view's spread), the same pixels (issue 21, deep3). (LEAN_DEEP_MAX a const int of its own:
 // folded into LEAN's expression, glslang wrote an undefined id again)
-#ifdef TRACE_LEAN_DEEP2
+#if defined(TRACE_LEAN_DEEP2) && defined(TRACE_LEAN_DEEP2_COLOR)
+const int LEAN_DEEP_MAX = 2; // the G-buffer kernels (MODE_COLOR without shadow rays: gbuffer.comp, frame.comp)
+#elif defined(TRACE_LEAN_DEEP2)
 const int LEAN_DEEP_MAX = MODE == MODE_COLOR ? 1 : 2;
 #else
 const int LEAN_DEEP_MAX = 1;
