@@ -196,9 +196,7 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     memcpy(pd.spec, spec, sizeof spec);
     pd.spec[5] = stage;
     pd.spec[6] = cg->info.entries | (sh == SH_CONE ? cg->features : 0);
-    pd.spec[VX__SPEC_DEEP_ID] = vx__render_scene_deep(cg->rs);
-    pd.spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
-    pd.spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(cg->rs);
+    vx__render_scene_trace_ids(cg->rs, pd.spec);
     uint64_t key = vx__spec_key(0xC0E5000ull + (uint64_t)sh, pd.spec, VX__SPEC_TRACE_IDS);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(cg->g, key, &pd, &p, err))) return r;

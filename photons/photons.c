@@ -574,9 +574,7 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
     ph_bytes = fused ? ph_bytes + rec_bytes : (rec_bytes > ph_bytes ? rec_bytes : ph_bytes);
     if ((r = vx__buffer_ensure(pg->g, &pg->photons, ph_bytes, "photons", err))) return r;
     pg->spec[VX__SPEC_COUNT + 1] = pg->P.L.materials;
-    pg->spec[VX__SPEC_DEEP_ID] = vx__render_scene_deep(pg->rs);
-    pg->spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
-    pg->spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(pg->rs);
+    vx__render_scene_trace_ids(pg->rs, pg->spec);
     vx_photon_stats st = {.pass = pass};
     st.radius = pass_radius(d->radius, d->alpha, pass);
     st.caustic_radius = pass_radius(d->caustic_radius, d->alpha, pass);

@@ -307,6 +307,16 @@ bool vx__render_scene_compact(const vx_render_scene* rs);
 /* trace_common.glsl's COMPACT_FORM constant (id VX__SPEC_COMPACT_ID): 0 plain, 1 compact, 2 compact with
  * the brick dictionary (render/compact.h VX_COMPACT_BRICKS_DICT; its index words' path compiled in). */
 uint32_t vx__render_scene_compact_form(const vx_render_scene* rs);
+/* trace_common.glsl's ids 8-10 of a kernel that traces rs (spec has at least
+ * VX__SPEC_TRACE_IDS entries): DEEP from the scene, FAR the shaders' default
+ * (true), COMPACT the layout's form. One place for the passes, cones and
+ * photons, so that no kernel is left walking deep models with the shallow
+ * loop (issue 18, gdeep). */
+static inline void vx__render_scene_trace_ids(const vx_render_scene* rs, uint32_t* spec) {
+    spec[VX__SPEC_DEEP_ID] = vx__render_scene_deep(rs);
+    spec[VX__SPEC_FAR_ID] = 1;
+    spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(rs);
+}
 /* The directional light's conservative depth map (render/shadow_map.c) for
  * another pass's shadow rays towards a directional light: a kernel includes
  * render/shaders/smap_lookup.glsl (SMAP_BINDING: its first of three

@@ -861,9 +861,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     /* pipelines */
     uint32_t spec[PASS_SPECS] = {0};
     memcpy(spec, tspec, sizeof tspec);
-    spec[VX__SPEC_DEEP_ID] = vx__render_scene_deep(fr->rs); /* deep models walked as trace.comp does */
-    spec[VX__SPEC_FAR_ID] = 1; /* the shaders' default */
-    spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(fr->rs);
+    vx__render_scene_trace_ids(fr->rs, spec);
     vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
     /* gbuffer, direct and resolve merge into one dispatch when nothing needs
      * their images in between (no ao, no gi, no intermediate shown) */
