@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static int vx_t_failed_checks;
 static int vx_t_cur_failed;
@@ -46,27 +47,49 @@ static int vx_t_pass, vx_t_fail, vx_t_skip;
         return;                                                                  \
     } while (0)
 
-/* VX_TEST_ONLY=NAME[,NAME...] runs only the tests whose names hold one of
- * the NAMEs (while iterating on one part; ctest sets nothing) */
-static inline int vx_t_selected(const char* fn) {
-    const char* only = getenv("VX_TEST_ONLY");
-    if (!only || !*only) return 1;
-    char buf[256];
-    snprintf(buf, sizeof buf, "%s", only);
+/* 1 when fn's name holds one of the comma-separated NAMEs of list. */
+static inline int vx_t_listed(const char* fn, const char* list) {
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", list);
     for (char* t = strtok(buf, ","); t; t = strtok(NULL, ","))
         if (strstr(fn, t)) return 1;
     return 0;
 }
 
+/* VX_TEST_ONLY=NAME[,NAME...] runs only the tests whose names hold one of
+ * the NAMEs (while iterating on one part, and where ctest splits a binary
+ * into entries); VX_TEST_SKIP=NAME[,NAME...] leaves those out (the sanitizer
+ * build's trims, tests/CMakeLists.txt vx_sanitize_trim): 1 to run, 0 not
+ * asked for, -1 left out by VX_TEST_SKIP (RUN says so). */
+static inline int vx_t_selected(const char* fn) {
+    const char* only = getenv("VX_TEST_ONLY");
+    const char* skip = getenv("VX_TEST_SKIP");
+    if (skip && *skip && vx_t_listed(fn, skip)) return -1;
+    return !only || !*only || vx_t_listed(fn, only);
+}
+
+/* Seconds (C11 timespec_get: test.h comes after headers that may not ask for
+ * POSIX): each test's line gives its time, so the suite's slow parts can be
+ * found in a ctest log (CI has a time limit). */
+static inline double vx_t_now(void) {
+    struct timespec ts;
+    if (timespec_get(&ts, TIME_UTC) != TIME_UTC) return 0.0;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 #define RUN(fn)                                                                  \
     do {                                                                         \
-        if (!vx_t_selected(#fn)) break;                                          \
+        int vx_t_sel = vx_t_selected(#fn);                                       \
+        if (vx_t_sel < 0) fprintf(stderr, "[ left ] %s (VX_TEST_SKIP)\n", #fn);   \
+        if (vx_t_sel <= 0) break;                                                \
         vx_t_cur_failed = 0;                                                     \
         fprintf(stderr, "[ run  ] %s\n", #fn);                                   \
+        double vx_t_t0 = vx_t_now();                                             \
         fn();                                                                    \
-        if (vx_t_cur_failed > 0) { vx_t_fail++; fprintf(stderr, "[ FAIL ] %s\n", #fn); } \
-        else if (vx_t_cur_failed < 0) { vx_t_skip++; fprintf(stderr, "[ skip ] %s\n", #fn); } \
-        else { vx_t_pass++; fprintf(stderr, "[  ok  ] %s\n", #fn); }              \
+        double vx_t_s = vx_t_now() - vx_t_t0;                                    \
+        if (vx_t_cur_failed > 0) { vx_t_fail++; fprintf(stderr, "[ FAIL ] %s (%.1f s)\n", #fn, vx_t_s); } \
+        else if (vx_t_cur_failed < 0) { vx_t_skip++; fprintf(stderr, "[ skip ] %s (%.1f s)\n", #fn, vx_t_s); } \
+        else { vx_t_pass++; fprintf(stderr, "[  ok  ] %s (%.1f s)\n", #fn, vx_t_s); } \
     } while (0)
 
 /* Prints the closing line and gives main's return value. */

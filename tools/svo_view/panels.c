@@ -127,7 +127,7 @@ static void brush_panel(app* a) {
     if (s->has_palette) {
         ui_text("palette: %u", a->brush.palette ? a->brush.palette : 1);
         for (int i = 1; i < 256; i++) {
-            char id[16];
+            char id[24]; /* "##pal" and any int: -O1 builds warn of truncation at 16 */
             snprintf(id, sizeof id, "##pal%d", i);
             if ((i - 1) % 16) ui_same_line();
             uint8_t cur = a->brush.palette ? a->brush.palette : 1;
