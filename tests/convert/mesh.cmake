@@ -20,4 +20,5 @@ if(TARGET vx_conv_mesh_gpu)
   # sanitizers the generated meshes (lattice, random, collisions, solid) run the same host code, and
   # mesh_test reads the corpus meshes on the CPU path (tests/CMakeLists.txt vx_sanitize_trim)
   vx_sanitize_trim(mesh_gpu_test SKIP test_corpus)
+  vx_test_cost(mesh_gpu_test 358)
 endif()

@@ -5,6 +5,7 @@ if(VX_WITH_VULKAN)
               ${CMAKE_DL_LIBS} LABELS photons)
   set_tests_properties(test_photons PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  vx_test_cost(test_photons 277)
 endif()
 if(VX_WITH_VULKAN)
   # issue 13's spelling (--radius, --passes-count) against the old one, .pfm: no OpenImageIO

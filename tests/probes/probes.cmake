@@ -22,6 +22,8 @@ if(VX_WITH_VULKAN)
   # the sanitizer run leaves the repeat to the release run: the GPU form's upload runs under ASan in
   # test_render_edit_gpu_form and test_compact_passes_gpu_form (tests/CMakeLists.txt vx_sanitize_trim)
   vx_sanitize_trim(test_probes_gpu_gpu_form DISABLE)
+  vx_test_cost(test_probes_gpu_gpu_form 173)
+  vx_test_cost(test_probes_gpu 180)
   # .probes reader fuzz target; seeds written by svo_bake --cpu (tiny: res 16,
   # one probe and one shard of two)
   vx_add_fuzz(probes_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/probes_fuzz.c LIBS vx_probes vx_render vx_svo

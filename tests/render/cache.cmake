@@ -19,4 +19,5 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   # the frames on fresh devices compile about 180 pipelines (lavapipe's time); under the sanitizers the cache's
   # own code (eviction under 100 held pipelines, frames held across creation) runs in the other three tests
   vx_sanitize_trim(test_pipeline_cache SKIP test_frames_one_device)
+  vx_test_cost(test_pipeline_cache 235)
 endif()

@@ -24,6 +24,8 @@ if(VX_WITH_VULKAN)
   # shader cache, lavapipe compiling per-scene variants; under the sanitizers the starts' host code runs in
   # test_render_gpu's test_path_start and this entry's records and corpus (tests/CMakeLists.txt vx_sanitize_trim)
   vx_sanitize_trim(test_compact_gpu_paths SKIP test_path_start)
+  vx_test_cost(test_compact_gpu_paths 785)
+  vx_test_cost(test_compact_gpu 213)
   # scenes of one instance in the descriptors' GPU form (VX_GPU_NODE_FORM=gpu): both kernels' lean walks (DEEP 0:
   # the start table's and the uniform cubes' models; DEEP 1: the generated 10-level model), which GPUs run and
   # lavapipe's file form does not (trace_compact.comp and trace_common.glsl LEAN; issue 18, lean3)
@@ -68,6 +70,7 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   # the corpus models' GI frames (cones, photons, probes over the compact layout) are lavapipe's time (over 240 s
   # under ASan); the generated scene's and the room's GI frames run the same host code under the sanitizers
   vx_sanitize_trim(test_compact_passes SKIP test_corpus_gi_frames)
+  vx_test_cost(test_compact_passes 273)
   # the room's frames (one instance) in the descriptors' GPU form: the compact G-buffer's lean walk (trace_common.glsl
   # LEAN) against the plain one's, which lavapipe's file form does not run (issue 18, lean3)
   add_test(NAME test_compact_passes_gpu_form COMMAND test_compact_passes)

@@ -95,5 +95,7 @@ if(VX_WITH_VULKAN)
   # test_compact_passes_gpu_form); the whole-binary repeats, lavapipe's time, are the release run's
   # (tests/CMakeLists.txt vx_sanitize_trim)
   vx_sanitize_trim(test_render_gpu_gpu_form DISABLE)
+  vx_test_cost(test_render_gpu_gpu_form 341)
+  vx_test_cost(test_render_gpu 302)
   vx_sanitize_trim(test_render_beam_gpu_form DISABLE)
 endif()

@@ -15,6 +15,7 @@ if(TARGET svo_view)
   add_test(NAME test_view COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
            ${CMAKE_CURRENT_BINARY_DIR}/view_out)
   set_tests_properties(test_view PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+  vx_test_cost(test_view 195)
   # the long scripts (a thousand random edits undone, ...) as a test of their own, run beside test_view
   add_test(NAME test_view_script COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
            ${CMAKE_CURRENT_BINARY_DIR}/view_script_out script)
