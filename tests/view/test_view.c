@@ -2130,6 +2130,15 @@ static void test_gpu_present(void) {
 #endif
 }
 
+/* The validation layer can be asked for: installed, and not turned off for the
+ * loader (scripts/test.sh turns it off in the sanitizer run: the release run
+ * checks the same calls). */
+static bool validation_layer(void) {
+    if (access("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json", R_OK)) return false;
+    const char* off = getenv("VK_LOADER_LAYERS_DISABLE");
+    return !(off && (strstr(off, "validation") || strstr(off, "~all~") || strstr(off, "~explicit~")));
+}
+
 /* --batch K (frames in flight submitted K at a time, presented in order
  * after their submission), against --batch 1 on the same script (instance
  * edits, an undo, frames between them, three grabs): no validation error;
@@ -2140,15 +2149,6 @@ static void test_gpu_present(void) {
  * each grab (the displayed frame after the held frames went out) equals
  * --batch 1's byte for byte between the panels: a frame shows the scene it
  * was recorded with. */
-/* The validation layer can be asked for: installed, and not turned off for the
- * loader (scripts/test.sh turns it off in the sanitizer run: the release run
- * checks the same calls). */
-static bool validation_layer(void) {
-    if (access("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json", R_OK)) return false;
-    const char* off = getenv("VK_LOADER_LAYERS_DISABLE");
-    return !(off && (strstr(off, "validation") || strstr(off, "~all~") || strstr(off, "~explicit~")));
-}
-
 static void test_batch_present(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     CHECK(run_cmd("%s x.svo --batch 9 > /dev/null 2>&1", g_view) == 2);
@@ -2161,6 +2161,7 @@ static void test_batch_present(void) {
      * that it goes from 1 to 4 a submission once enough frames were timed (tools/svo_view/batch.h: 4 needs frames
      * of at most a third of the bound; with 1000 ms the frames of a loaded 2-core machine, over 333 ms, gave 3) */
     const int batch[3] = {1, 3, 0};
+    const char* validate = validation_layer() ? "--validate" : "";
     unsigned long long rec[3] = {0, 0, 0};
     for (int m = 0; m < 3; m++) {
         char name[64];
@@ -2180,7 +2181,6 @@ static void test_batch_present(void) {
         char opt[64];
         if (batch[m]) snprintf(opt, sizeof opt, "--batch %d", batch[m]);
         else snprintf(opt, sizeof opt, "--batch-latency 10000");
-        const char* validate = validation_layer() ? "--validate" : "";
         int rc = run_cmd("%s %s --script %s --hidden --size 800x480 --present gpu %s %s -v > %s 2>&1", g_view, in,
                          script, opt, validate, log);
         char* text = slurp(log);
