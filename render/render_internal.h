@@ -202,10 +202,15 @@ vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, ui
 /* The starts of a scene of one instance: the list of its model (top), that
  * model's Model.box and rebase (trace.comp's), the shallowest level node X
  * may have (the compact layout: 3, the page level's parent if paged; 0 or
- * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any). */
+ * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any).
+ * in_frame: X may lie at a rebased model's rebase depth k or below (trace.comp
+ * starts such a ray in the frame of X's depth-k ancestor); false: X is at most
+ * k - 1 deep (trace_compact.comp, whose walk moves into that frame by a push
+ * of its own). */
 typedef struct vx__path_model {
     const vx__top_node* top;
     uint32_t box, rebase, min_level, min_dq;
+    bool in_frame;
 } vx__path_model;
 /* Writes the frame block's tile grid (tile_info, tiles) and start records
  * (paths) for f (render_scene.c): per screen tile the record of node X

@@ -2004,7 +2004,8 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * X without an advance), so the box only proposes: a ray whose start lies
  * elsewhere walks from the root. X is no deeper than a rebased model's
  * frame level less one (the walk moves into that frame by a push of its
- * own). Distinct starts take records in order; past VX__PATHS a tile takes
+ * own) unless pm->in_frame (the kernel then starts the ray in that frame).
+ * Distinct starts take records in order; past VX__PATHS a tile takes
  * the deepest record whose X holds its box, or none. Not for LOD or the
  * beam (their walks start otherwise) or the float64 variant. Tiles whose
  * rays enter the model box (oblique views, overviews) get none: their
@@ -2032,7 +2033,7 @@ uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, c
     uint32_t min_level = pm->min_level ? pm->min_level : 1, min_dq = pm->min_dq ? pm->min_dq : 1;
     if (m->depth <= min_level) return 0;
     uint32_t max_dq = m->depth - min_level;
-    if (rebase && rebase - 1 < max_dq) max_dq = rebase - 1;
+    if (rebase && !pm->in_frame && rebase - 1 < max_dq) max_dq = rebase - 1;
     if (max_dq > 24) max_dq = 24;
     uint32_t npaths = 0;
     for (uint32_t y = 0; y < ty; y++)
@@ -2108,7 +2109,9 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
     uint32_t mi = rs->inst_count == 1 ? rs->inst[0].model : UINT32_MAX;
     bool on = !precise && !beam && rs->top && mi < rs->model_count && rs->top[mi];
     vx__path_model pm = {0};
-    if (on) pm = (vx__path_model){.top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1};
+    if (on)
+        pm = (vx__path_model){
+            .top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1, .in_frame = true};
     (void)vx__render_scene_paths(rs, f, on ? &pm : NULL, gf);
 }
 
