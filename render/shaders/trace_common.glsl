@@ -663,11 +663,9 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         int idx = 0;
         WALK_FIRST_CHILD(RVEC3)
-#ifndef PRECISE
-        // the two-frame walk's switches run outside the walk's loop, so that
-        // their code and registers stay out of it: 1 into the depth-k child
-        // rb_cbit of parent (0: the path start's N, below), 2 out of N
-        // through the faces rb_step
+#if defined(TRACE_PATH) && !defined(PRECISE)
+        // (the switch's state, below: declared here for the path start, and
+        // below in the other kernels, whose SPIR-V stays as it was)
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
 #endif
@@ -769,6 +767,14 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             stk_node[RB_ADL] = floatBitsToInt(adl.x), stk_node[RB_ADL + 1] = floatBitsToInt(adl.y);
             stk_node[RB_ADL + 2] = floatBitsToInt(adl.z);
         }
+        // the two-frame walk's switches run outside the walk's loop, so that
+        // their code and registers stay out of it: 1 into the depth-k child
+        // rb_cbit of parent (0: the path start's N, trace.comp), 2 out of N
+        // through the faces rb_step
+#ifndef TRACE_PATH
+        int pending = 0, rb_step = 0;
+        uint rb_cbit = 0u;
+#endif
         while (true) {
 #endif
         while (scale < S_MAX) {
