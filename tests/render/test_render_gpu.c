@@ -944,15 +944,8 @@ static void test_path_start_deep(void) {
                         for (int k = 0; k < 3; k++) e[k] = floor(e[k] / 8 + 0.5) * 8 + (v == 7 ? 1e-4 : 0);
                     vx_render_desc d = {.width = 40, .height = 30, .mode = v % 2 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
                     d.camera.set = true, d.camera.fov = 70;
-                    for (int k = 0; k < 3; k++) {
-                        double w = e[k], wt = t[k];
-                        if (tf) {
-                            /* world = rot * model + t (the instance's map) */
-                            w = wt = in.xform[4 * k + 3];
-                            for (int j = 0; j < 3; j++) w += in.xform[4 * k + j] * e[j], wt += in.xform[4 * k + j] * t[j];
-                        }
-                        d.camera.eye[k] = w, d.camera.target[k] = wt;
-                    }
+                    ts_inst_point(&in, e, d.camera.eye);
+                    ts_inst_point(&in, t, d.camera.target);
                     char nm[96];
                     snprintf(nm, sizeof nm, "deep path start, depth %u, %s, place %d view %d", depth,
                              tf ? "rotated" : "identity", c, v);
