@@ -178,8 +178,8 @@ void vx__smap_free(vx_gpu* g, vx__smap* sm);
  * DAG's shared block is listed again under each), with its word (the plain
  * layout's model-relative word, the compact layout's slot) and the entry of
  * its first inner child (the others follow in octant order; VX__TOP_NONE
- * where they are not listed). At most VX__TOP_NODES entries a model: the
- * start stops where the list does. */
+ * where they are not listed). At most vx__top_src.max_nodes entries a model
+ * (VX__TOP_NODES where 0): the start stops where the list does. */
 typedef struct vx__top_node {
     uint32_t desc, word, kids;
 } vx__top_node;
@@ -196,6 +196,7 @@ typedef struct vx__top_src {
     uint32_t (*desc)(const void* ctx, uint32_t word);
     bool (*block)(const void* ctx, uint32_t word, uint32_t desc, uint32_t k, uint32_t* blk);
     uint32_t max_depth;
+    uint32_t max_nodes; /* the list's length limit; 0: VX__TOP_NODES */
 } vx__top_src;
 /* The list from node root (render_scene.c), *count its entries; NULL without memory. */
 vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count);

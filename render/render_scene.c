@@ -315,7 +315,8 @@ static bool plain_block(const void* ctx, uint32_t word, uint32_t desc, uint32_t 
 
 vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count) {
     *count = 0;
-    vx__top_node* t = vx_alloc(alloc, VX__TOP_NODES * sizeof *t);
+    uint32_t cap = src->max_nodes ? src->max_nodes : VX__TOP_NODES;
+    vx__top_node* t = vx_alloc(alloc, cap * sizeof *t);
     if (!t) return NULL;
     uint32_t n = 1, level_end = 1, depth = 0;
     t[0] = (vx__top_node){.desc = src->desc(src->ctx, root), .word = root, .kids = VX__TOP_NONE};
@@ -325,11 +326,18 @@ vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, ui
         uint32_t d = t[i].desc, inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
         uint32_t k = (uint32_t)__builtin_popcount(inner), blk;
         if (!k) continue;
-        if (k > VX__TOP_NODES - n) break; /* the list ends: this and later entries keep VX__TOP_NONE */
+        if (k > cap - n) break; /* the list ends: this and later entries keep VX__TOP_NONE */
         if (!src->block(src->ctx, t[i].word, d, k, &blk)) break;
         t[i].kids = n;
         for (uint32_t c = 0; c < k; c++)
             t[n++] = (vx__top_node){.desc = src->desc(src->ctx, blk + c), .word = blk + c, .kids = VX__TOP_NONE};
+    }
+    /* kept at its length (a scene holds a list per model) */
+    vx__top_node* kept = vx_alloc(alloc, n * sizeof *kept);
+    if (kept) {
+        memcpy(kept, t, n * sizeof *kept);
+        vx_free(alloc, t);
+        t = kept;
     }
     *count = n;
     return t;
@@ -345,7 +353,10 @@ static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32
     rs->top_count[mi] = 0;
     if (!w || root >= n) return;
     plain_words pw = {.w = w, .n = n};
-    vx__top_src src = {.ctx = &pw, .desc = plain_desc, .block = plain_block, .max_depth = UINT32_MAX};
+    /* 4x VX__TOP_NODES: trace.comp's starts one level deeper where a model's
+     * top is broad (terrain4096's close-up: X at depth 6, not 5; issue 21, rbstart) */
+    vx__top_src src = {
+        .ctx = &pw, .desc = plain_desc, .block = plain_block, .max_depth = UINT32_MAX, .max_nodes = 4 * VX__TOP_NODES};
     rs->top[mi] = vx__top_list(&rs->alloc, &src, root, &rs->top_count[mi]);
 }
 
