@@ -220,10 +220,16 @@ static bool words_may_far(const vx_svo_model* m, uint32_t from) {
     return (acc >> 16) & 1u;
 }
 
+uint32_t vx__render_model_deep(const vx_svo_model* m, uint32_t* rebase) {
+    *rebase = 0;
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth <= VX_RENDER_EXACT_DEPTH) return 0;
+    if (m->depth <= VX_RENDER_REBASE_DEPTH) return 1;
+    *rebase = m->depth - VX_RENDER_FRAME_LEVELS;
+    return 2;
+}
+
 static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
-    if (m->root >= VX_SVO_ROOT_LEAF) return;
-    if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
-    if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
+    if (vx__render_model_deep(m, &gm->rebase)) gm->flags |= VX__MODEL_EXACT;
 }
 
 /* The GPU form of the plain layout's descriptors (issue 21). The node buffer
