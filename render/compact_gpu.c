@@ -85,16 +85,6 @@ struct vx_compact_gpu {
  * fourteenth step) */
 #define START_MIN 2u
 
-/* trace.comp's Model.box (render_scene.c model_box) */
-static uint32_t model_box(const vx_svo_model* m) {
-    uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
-    for (int k = 0; k < 3; k++) {
-        uint32_t q = m->size[k] ? ((m->size[k] - 1) >> sh) : 0;
-        b |= (q > 1023 ? 1023 : q) << (10 * k);
-    }
-    return b;
-}
-
 /* The kernel's DEEP constant, trace.comp's rule (vx__render_model_deep, render_scene.c): the greatest level of
  * the scene's models. */
 static uint32_t deep_constant(const vx_svo_scene* s) {
@@ -398,7 +388,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
         uint32_t rebase;
         if (vx__render_model_deep(sm, &rebase)) flags |= 2u;
-        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
+        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = vx__render_model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
                              .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
                              .rebase = rebase};
@@ -1006,7 +996,7 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
         uint32_t rebase;
         if (vx__render_model_deep(sm, &rebase)) flags |= 2u;
         bool paged = m->root < VX_SVO_ROOT_LEAF && m->depth > pg->p.page_level;
-        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
+        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = vx__render_model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
                              .kind = m->attr_kind, .rank_base = 2 * pg->p.top_slots,
                              .rebase = rebase,

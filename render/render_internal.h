@@ -38,6 +38,10 @@ enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
  * scene's models in both layouts: render_scene.c's (vx__render_scene_deep)
  * and compact_gpu.c's (trace_compact.comp), one rule in render_scene.c. */
 uint32_t vx__render_model_deep(const vx_svo_model* m, uint32_t* rebase);
+/* Model.box and CModel.box (both layouts' trace kernels clip the ray to it):
+ * model m's extent (size) in units of 2^max(depth - 10, 0) cells, rounded up
+ * (so conservative), minus one, 10 bits per axis, x lowest. */
+uint32_t vx__render_model_box(const vx_svo_model* m);
 /* The GPU form of descriptor d in the plain layout's node buffer (issue 21;
  * trace_common.glsl's desc_gpu_form): the low byte the inner mask (valid and
  * not leaf) where the file has the leaf mask, bits 8-31 the file's. Its own
