@@ -485,7 +485,8 @@ static int specialise(const char* spv, const char* tmpdir, const spec_const* c, 
 }
 
 /* Checks module path under its combinations (pair_rows over spec_rows' values); adds the combinations checked to
- * *runs; 1 when all are valid. */
+ * *runs; 1 when all are valid (a module without constants has none: test_modules_valid checks it as it is). The
+ * failing combinations are printed with the tools' message; a module stops after three (its last batch ends). */
 static int check_specialised(const char* path, const char* tmpdir, size_t* runs) {
     const char* base = strrchr(path, '/');
     base = base ? base + 1 : path;
