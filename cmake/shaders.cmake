@@ -62,3 +62,39 @@ endfunction()
 # 1.3 of Vulkan 1.1, what the device layer asks for) and validated for (tests/render/spirv_valid.cmake: spirv-val
 # --target-env): one setting, so the test checks the modules against the rules they were built by.
 set(VX_SPIRV_TARGET_ENV vulkan1.1)
+
+# The one build rule of an embedded kernel: glslangValidator compiles the GLSL compute shader SRC into OUT, a C
+# header holding the SPIR-V as the array ARRAY (const uint32_t ARRAY[]), for VX_SPIRV_TARGET_ENV.
+#   INCLUDES dirs...  searched by its #include "..." after SRC's own folder (-I)
+#   DEFINES -DX...    passed as they are (vx_shader_spec's defs)
+#   DEPENDS files...  generated files it includes (probes' beam_body.glsl): named so that the rule that writes them
+#                     runs first; the depfile only knows a file once it exists
+#   COMMENT text      the build's line (default "glslangValidator SRC's name")
+# The files SRC includes are not listed by hand: glslangValidator writes them to OUT.d (--depfile: every file it
+# opened, absolute paths), which the Makefile and Ninja generators read (DEPFILE), so an edit of any .glsl rebuilds
+# exactly the headers whose source includes it, directly or through another include (docs/TESTING.md says how that
+# was checked, and tests/render/shader_deps.cmake checks it on a small tree in every ctest run). --depfile does not
+# change the SPIR-V.
+function(vx_spirv_header out src array)
+  cmake_parse_arguments(PARSE_ARGV 3 arg "" "COMMENT" "INCLUDES;DEFINES;DEPENDS")
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "vx_spirv_header: unknown arguments ${arg_UNPARSED_ARGUMENTS}")
+  endif()
+  find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+  set(incs)
+  foreach(dir ${arg_INCLUDES})
+    list(APPEND incs -I${dir})
+  endforeach()
+  if(NOT arg_COMMENT)
+    get_filename_component(file ${src} NAME)
+    set(arg_COMMENT "glslangValidator ${file}")
+  endif()
+  add_custom_command(
+    OUTPUT ${out}
+    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} ${incs} ${arg_DEFINES} --vn ${array}
+            --depfile ${out}.d -o ${out} ${src}
+    DEPENDS ${src} ${arg_DEPENDS}
+    DEPFILE ${out}.d
+    COMMENT "${arg_COMMENT}"
+    VERBATIM)
+endfunction()

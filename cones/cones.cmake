@@ -12,16 +12,9 @@ if(VX_WITH_VULKAN)
     endif()
     set(defs)
     vx_walk_defs(cone_${var} defs ${VX_CONES_SPV_DIR}/${name}.comp.h) # cmake/shaders.cmake: the walk non-contracted
-    add_custom_command(
-      OUTPUT ${VX_CONES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders
-              -I${CMAKE_CURRENT_LIST_DIR}/shaders ${defs} --vn vx__cone_${var}_spv_arr
-              -o ${VX_CONES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
-      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/cone_common.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/passes_common.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/pass_bodies.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
-      COMMENT "glslangValidator cones/${name}.comp"
-      VERBATIM)
+    vx_spirv_header(${VX_CONES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp vx__cone_${var}_spv_arr
+                    INCLUDES ${CMAKE_SOURCE_DIR}/render/shaders ${CMAKE_CURRENT_LIST_DIR}/shaders DEFINES ${defs}
+                    COMMENT "glslangValidator cones/${name}.comp")
     list(APPEND VX_CONES_SPV ${VX_CONES_SPV_DIR}/${name}.comp.h)
   endforeach()
   add_library(vx_cones STATIC ${CMAKE_CURRENT_LIST_DIR}/cones.c ${VX_CONES_SPV})

@@ -2,18 +2,11 @@
 # over vx_render's device layer (render/ comes later in the tree: the target
 # is named here and resolved when the build is generated).
 if(TARGET vx_conv_mesh AND VX_WITH_VULKAN)
-  find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
   set(VX_MESHGPU_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_MESHGPU_SPV_DIR})
   set(VX_MESHGPU_SPV)
   foreach(name meshvox meshreduce gpusort gpuscan meshintern meshbuild)
-    add_custom_command(
-      OUTPUT ${VX_MESHGPU_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__${name}_spv_arr
-              -o ${VX_MESHGPU_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
-      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
-      COMMENT "glslangValidator ${name}.comp"
-      VERBATIM)
+    vx_spirv_header(${VX_MESHGPU_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp vx__${name}_spv_arr)
     list(APPEND VX_MESHGPU_SPV ${VX_MESHGPU_SPV_DIR}/${name}.comp.h)
   endforeach()
   add_library(vx_conv_mesh_gpu STATIC ${CMAKE_CURRENT_LIST_DIR}/mesh_gpu.c ${VX_MESHGPU_SPV})

@@ -8,13 +8,7 @@ if(VX_WITH_VULKAN)
   file(MAKE_DIRECTORY ${VX_PROBES_SPV_DIR})
   # the shaders that include nothing: one rule each
   foreach(name probe_out probe_filter)
-    add_custom_command(
-      OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx__${name}_spv_arr
-              -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
-      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp
-      COMMENT "glslangValidator ${name}.comp"
-      VERBATIM)
+    vx_spirv_header(${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp vx__${name}_spv_arr)
   endforeach()
   # probe.comp three times: probe, the bake's kernel; probe_one, the bake's one-walk kernel (bake_one(),
   # scenes without lights, emitters, metal or glass: the driver compiles one walk instead of four); probe_pt,
@@ -24,15 +18,8 @@ if(VX_WITH_VULKAN)
   # (NAME:FILE[:DEFINE], as render/render.cmake's list: cmake/shaders.cmake)
   foreach(spec probe:probe probe_pt:probe:PT_PRECISE probe_one:probe:VX_ONE_WALK)
     vx_shader_spec(${spec} name file defs)
-    add_custom_command(
-      OUTPUT ${VX_PROBES_SPV_DIR}/${name}.comp.h
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders ${defs}
-              --vn vx__${name}_spv_arr -o ${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp
-      DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/path_common.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sky.glsl ${CMAKE_SOURCE_DIR}/render/shaders/sampling.glsl
-              ${CMAKE_SOURCE_DIR}/render/shaders/smap_lookup.glsl
-      COMMENT "glslangValidator ${name}.comp"
-      VERBATIM)
+    vx_spirv_header(${VX_PROBES_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${file}.comp vx__${name}_spv_arr
+                    INCLUDES ${CMAKE_SOURCE_DIR}/render/shaders DEFINES ${defs} COMMENT "glslangValidator ${name}.comp")
   endforeach()
   # shaders/probe_beam.comp includes render/shaders/beam.comp's walk, made an include by beam_body.cmake
   add_custom_command(
@@ -42,15 +29,9 @@ if(VX_WITH_VULKAN)
     DEPENDS ${CMAKE_SOURCE_DIR}/render/shaders/beam.comp ${CMAKE_CURRENT_LIST_DIR}/shaders/beam_body.cmake
     COMMENT "beam_body.glsl from beam.comp"
     VERBATIM)
-  add_custom_command(
-    OUTPUT ${VX_PROBES_SPV_DIR}/probe_beam.comp.h
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} -I${CMAKE_SOURCE_DIR}/render/shaders -I${VX_PROBES_SPV_DIR}
-            --vn vx__probe_beam_spv_arr -o ${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp ${VX_PROBES_SPV_DIR}/beam_body.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/trace_common.glsl ${CMAKE_SOURCE_DIR}/render/shaders/compact_attr.glsl
-            ${CMAKE_SOURCE_DIR}/render/shaders/beam_walk.glsl
-    COMMENT "glslangValidator probe_beam.comp"
-    VERBATIM)
+  vx_spirv_header(${VX_PROBES_SPV_DIR}/probe_beam.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/probe_beam.comp
+                  vx__probe_beam_spv_arr INCLUDES ${CMAKE_SOURCE_DIR}/render/shaders ${VX_PROBES_SPV_DIR}
+                  DEPENDS ${VX_PROBES_SPV_DIR}/beam_body.glsl)
   add_library(vx_probes STATIC
     ${CMAKE_CURRENT_LIST_DIR}/oct.c
     ${CMAKE_CURRENT_LIST_DIR}/light.c

@@ -85,26 +85,13 @@ struct vx_compact_gpu {
  * fourteenth step) */
 #define START_MIN 2u
 
-/* trace.comp's Model.box (render_scene.c model_box) */
-static uint32_t model_box(const vx_svo_model* m) {
-    uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
-    for (int k = 0; k < 3; k++) {
-        uint32_t q = m->size[k] ? ((m->size[k] - 1) >> sh) : 0;
-        b |= (q > 1023 ? 1023 : q) << (10 * k);
-    }
-    return b;
-}
-
-/* The kernel's DEEP constant, as render_scene.c's for trace.comp: 2 when a
- * model is deeper than the rebase depth, 1 when one is deeper than the
- * exact float depth, else 0. */
+/* The kernel's DEEP constant, trace.comp's rule (vx__render_model_deep, render_scene.c): the greatest level of
+ * the scene's models. */
 static uint32_t deep_constant(const vx_svo_scene* s) {
-    uint32_t deep = 0;
+    uint32_t deep = 0, rebase;
     for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        if (m->root >= VX_SVO_ROOT_LEAF) continue;
-        if (m->depth > VX_RENDER_REBASE_DEPTH) deep = 2;
-        else if (m->depth > VX_RENDER_EXACT_DEPTH && deep < 1) deep = 1;
+        uint32_t level = vx__render_model_deep(&s->models[i], &rebase);
+        if (level > deep) deep = level;
     }
     return deep;
 }
@@ -399,14 +386,12 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         const vx_compact_model* m = &c->models[i];
         const vx_svo_model* sm = &s->models[i];
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
-        bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
-        if (deep_model) flags |= 2u;
-        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
+        uint32_t rebase;
+        if (vx__render_model_deep(sm, &rebase)) flags |= 2u;
+        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = vx__render_model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
                              .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
-                             .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
-                                           ? sm->depth - VX_RENDER_FRAME_LEVELS
-                                           : 0};
+                             .rebase = rebase};
     }
     /* the start tables after the attribute words: a scene budget of one
      * entry (2 words) per 16 words of the layout, at least TAB_FLOOR (32 KB,
@@ -1008,15 +993,13 @@ vx_result vx_compact_gpu_create_paged_ex(vx_render_scene* rs, const vx_svo_scene
         const vx_compact_model* m = &pg->p.models[i];
         const vx_svo_model* sm = &s->models[i];
         uint32_t flags = m->attr_kind != VX_COMPACT_ATTR_NONE ? 1u : 0u;
-        bool deep_model = sm->root < VX_SVO_ROOT_LEAF && sm->depth > VX_RENDER_EXACT_DEPTH;
-        if (deep_model) flags |= 2u;
+        uint32_t rebase;
+        if (vx__render_model_deep(sm, &rebase)) flags |= 2u;
         bool paged = m->root < VX_SVO_ROOT_LEAF && m->depth > pg->p.page_level;
-        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = model_box(sm),
+        cm[i] = (cmodel_gpu){.root = m->root, .depth = m->depth, .flags = flags, .box = vx__render_model_box(sm),
                              .attr_base = m->attr_base, .block_log2 = m->block ? (uint32_t)__builtin_ctz(m->block) : 0,
                              .kind = m->attr_kind, .rank_base = 2 * pg->p.top_slots,
-                             .rebase = deep_model && sm->depth > VX_RENDER_REBASE_DEPTH
-                                           ? sm->depth - VX_RENDER_FRAME_LEVELS
-                                           : 0,
+                             .rebase = rebase,
                              .page_up = paged ? pg->p.page_level + 1 : 0,
                              .pool_base = pg->words_base / 2,
                              .unit_log2 = (uint32_t)__builtin_ctz(pg->unit)};

@@ -11,9 +11,9 @@ add_library(vx_trace STATIC
 target_link_libraries(vx_trace PUBLIC vx_svo m)
 if(VX_WITH_VULKAN)
   find_package(Vulkan REQUIRED)
-  find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
-  # GLSL -> SPIR-V at build time, embedded as C arrays (no shader files to lose).
+  # GLSL -> SPIR-V at build time, embedded as C arrays (no shader files to lose; cmake/shaders.cmake's
+  # vx_spirv_header, whose depfile lists the includes).
   set(VX_RENDER_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_RENDER_SPV_DIR})
   set(VX_RENDER_SPV_HEADERS)
@@ -36,17 +36,7 @@ if(VX_WITH_VULKAN)
     vx_shader_spec(${spec} shader file defs ${VX_RENDER_SPV_DIR})
     set(src ${CMAKE_CURRENT_SOURCE_DIR}/shaders/${file}.comp)
     set(out ${VX_RENDER_SPV_DIR}/${shader}.comp.h)
-    add_custom_command(
-      OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} ${defs} --vn vx__${shader}_spv_arr -o ${out} ${src}
-      DEPENDS ${src} ${CMAKE_CURRENT_SOURCE_DIR}/shaders/trace_common.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/compact_attr.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/stack_ladder.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/beam_walk.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/passes_common.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/pass_bodies.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sky.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/display_out.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/sampling.glsl
-              ${CMAKE_CURRENT_SOURCE_DIR}/shaders/smap_lookup.glsl ${CMAKE_CURRENT_SOURCE_DIR}/shaders/screen_cull.glsl
-      COMMENT "glslangValidator ${shader}.comp"
-      VERBATIM)
+    vx_spirv_header(${out} ${src} vx__${shader}_spv_arr DEFINES ${defs} COMMENT "glslangValidator ${shader}.comp")
     list(APPEND VX_RENDER_SPV_HEADERS ${out})
   endforeach()
 

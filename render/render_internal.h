@@ -27,6 +27,21 @@ enum { VX__MODEL_HAS_COLOR = 1u, VX__MODEL_EXACT = 2u, VX__MODEL_FAR = 4u };
 /* FAR (host side; the shaders ignore the bit): the model's node words may
  * hold a far pointer. The trace kernel's FAR constant (id 9) is the OR over
  * the scene's models. */
+/* Deep models on the float path (issue 18; render/render.h, the rule of
+ * VX_RENDER_EXACT_DEPTH): model m's level, 0 (an empty or leaf root, or at
+ * most VX_RENDER_EXACT_DEPTH levels), 1 (deeper: the hi/lo origin and a hit's
+ * t from its cube's entry planes, the EXACT flag of Model and CModel) or 2
+ * (deeper than VX_RENDER_REBASE_DEPTH: also the walk in two frames); *rebase
+ * is the depth of the lower frame's nodes at level 2 (depth -
+ * VX_RENDER_FRAME_LEVELS: Model.rebase, CModel.rebase), else 0. The trace
+ * kernels' DEEP constant (VX__SPEC_DEEP_ID) is the greatest level over the
+ * scene's models in both layouts: render_scene.c's (vx__render_scene_deep)
+ * and compact_gpu.c's (trace_compact.comp), one rule in render_scene.c. */
+uint32_t vx__render_model_deep(const vx_svo_model* m, uint32_t* rebase);
+/* Model.box and CModel.box (both layouts' trace kernels clip the ray to it):
+ * model m's extent (size) in units of 2^max(depth - 10, 0) cells, rounded up
+ * (so conservative), minus one, 10 bits per axis, x lowest. */
+uint32_t vx__render_model_box(const vx_svo_model* m);
 /* The GPU form of descriptor d in the plain layout's node buffer (issue 21;
  * trace_common.glsl's desc_gpu_form): the low byte the inner mask (valid and
  * not leaf) where the file has the leaf mask, bits 8-31 the file's. Its own

@@ -198,8 +198,7 @@ static uint32_t deep_level(uint32_t deep, const vx__gpu_model* gm) {
     return d > deep ? d : deep;
 }
 
-/* Model.box: the extent in 10 bits per axis, rounded up (so conservative). */
-static uint32_t model_box(const vx_svo_model* m) {
+uint32_t vx__render_model_box(const vx_svo_model* m) {
     uint32_t sh = m->depth > 10 ? m->depth - 10 : 0, b = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t q = m->size[k] ? ((m->size[k] - 1) >> sh) : 0; /* ceil(size / 2^sh) - 1 */
@@ -220,10 +219,16 @@ static bool words_may_far(const vx_svo_model* m, uint32_t from) {
     return (acc >> 16) & 1u;
 }
 
+uint32_t vx__render_model_deep(const vx_svo_model* m, uint32_t* rebase) {
+    *rebase = 0;
+    if (m->root >= VX_SVO_ROOT_LEAF || m->depth <= VX_RENDER_EXACT_DEPTH) return 0;
+    if (m->depth <= VX_RENDER_REBASE_DEPTH) return 1;
+    *rebase = m->depth - VX_RENDER_FRAME_LEVELS;
+    return 2;
+}
+
 static void deep_model(const vx_svo_model* m, vx__gpu_model* gm) {
-    if (m->root >= VX_SVO_ROOT_LEAF) return;
-    if (m->depth > VX_RENDER_EXACT_DEPTH) gm->flags |= VX__MODEL_EXACT;
-    if (m->depth > VX_RENDER_REBASE_DEPTH) gm->rebase = m->depth - VX_RENDER_FRAME_LEVELS;
+    if (vx__render_model_deep(m, &gm->rebase)) gm->flags |= VX__MODEL_EXACT;
 }
 
 /* The GPU form of the plain layout's descriptors (issue 21). The node buffer
@@ -445,7 +450,7 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
         top_list(rs, i, m->nodes, m->node_count, m->root);
         gm[i] = (vx__gpu_model){.node_off = wo, .color_off = co, .depth = m->depth, .root = m->root,
                                 .root_attr = m->root_attr, .flags = m->attrs ? VX__MODEL_HAS_COLOR : 0};
-        gm[i].box = model_box(m);
+        gm[i].box = vx__render_model_box(m);
         deep_model(m, &gm[i]);
         rs->deep = deep_level(rs->deep, &gm[i]);
         if (words_may_far(m, 0)) gm[i].flags |= VX__MODEL_FAR, rs->far = true;
@@ -1658,7 +1663,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
     /* the words below wvalid stay: the FAR bit is kept and ORed with the new ones' */
-    gm.flags &= VX__MODEL_HAS_COLOR | VX__MODEL_FAR, gm.rebase = 0, gm.box = model_box(m);
+    gm.flags &= VX__MODEL_HAS_COLOR | VX__MODEL_FAR, gm.rebase = 0, gm.box = vx__render_model_box(m);
     if (words_may_far(m, wvalid)) gm.flags |= VX__MODEL_FAR;
     deep_model(m, &gm);
     bool cmd = nwb.buf || ncb.buf || wp.moved || cp.moved || wst || cst || !rs->models.map;

@@ -275,17 +275,7 @@ vec2 box_t(vec3 o, vec3 rd_inv, vec3 lo, vec3 hi) {
     return vec2(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z));
 }
 
-float entry_tau(vec3 oa, vec3 oa_lo, vec3 d, vec3 lo, float sz) {
-    // precise as trace_common.glsl's entry_tau (whose comment says why: no
-    // reassociation may drop oa_lo); test_spirv_precise requires all 6
-    precise vec3 pl = vec3(d.x < 0.0 ? lo.x + sz : lo.x, d.y < 0.0 ? lo.y + sz : lo.y, d.z < 0.0 ? lo.z + sz : lo.z);
-    precise vec3 tau = ((pl - oa) - oa_lo) / d;
-    float r = 0.0;
-    if (d.x != 0.0) r = max(r, tau.x);
-    if (d.y != 0.0) r = max(r, tau.y);
-    if (d.z != 0.0) r = max(r, tau.z);
-    return r;
-}
+#include "entry_tau.glsl" // trace_common.glsl's
 
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 // LADDER: the stack's pushed scales, S_MAX - 7 (DEEP 0: models of up to 8

@@ -4,13 +4,7 @@
 # the same frames on fresh devices (issue 18; lavapipe in CI).
 if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   set(vx_cache_spv ${CMAKE_CURRENT_BINARY_DIR}/cache_value.comp.h)
-  add_custom_command(
-    OUTPUT ${vx_cache_spv}
-    COMMAND ${GLSLANG_VALIDATOR} -V --target-env ${VX_SPIRV_TARGET_ENV} --vn vx_test_cache_value_spv -o ${vx_cache_spv}
-            ${CMAKE_CURRENT_LIST_DIR}/shaders/cache_value.comp
-    DEPENDS ${CMAKE_CURRENT_LIST_DIR}/shaders/cache_value.comp
-    COMMENT "glslangValidator cache_value.comp"
-    VERBATIM)
+  vx_spirv_header(${vx_cache_spv} ${CMAKE_CURRENT_LIST_DIR}/shaders/cache_value.comp vx_test_cache_value_spv)
   vx_add_test(test_pipeline_cache SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_pipeline_cache.c ${vx_cache_spv}
               LIBS vx_photons vx_cones vx_probes vx_render vx_trace vx_svo)
   target_include_directories(test_pipeline_cache PRIVATE ${CMAKE_CURRENT_BINARY_DIR})

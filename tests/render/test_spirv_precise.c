@@ -383,7 +383,7 @@ static int check_shared(const char* label, const uint32_t* w, size_t bytes, cons
 
 /* Checks one kernel; need: the variables must be there (the float trace
  * kernels, whose DEEP 2 code holds them), else a kernel without them passes.
- * tau: entry_tau (a deep model's exact hit t, trace_common.glsl) must be there
+ * tau: entry_tau (a deep model's exact hit t, entry_tau.glsl) must be there
  * and wholly precise; else its count is only printed. It is precise in every
  * kernel, walk contractible or not: its ((pl - oa) - oa_lo) / d takes the
  * plane's distance from the hi/lo origin, and a driver's exact algebra
@@ -448,8 +448,7 @@ static void check_listed(void) {
 
 static void test_embedded(void) {
     check_kernel("trace.comp", vx__trace_spv_arr, sizeof vx__trace_spv_arr, 1, 1);
-    /* the compact kernel's entry_tau is a copy of its own (trace_compact.comp, not trace_common.glsl's), precise
-     * the same way */
+    /* the compact kernel's entry_tau is trace_common.glsl's too (both include render/shaders/entry_tau.glsl) */
     check_kernel("trace_compact.comp", vx__trace_compact_spv_arr, sizeof vx__trace_compact_spv_arr, 1, 1);
     /* the pass pipeline's kernels trace through trace_common.glsl too */
     check_kernel("frame.comp", vx__frame_spv_arr, sizeof vx__frame_spv_arr, 0, 1);

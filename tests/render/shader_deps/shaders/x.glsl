@@ -1,0 +1,3 @@
+// included by a.comp from its own folder; includes y.glsl
+#include "y.glsl"
+float x_val() { return y_val() + 1.0; }
