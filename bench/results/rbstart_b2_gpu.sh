@@ -7,29 +7,14 @@
 # Payload: A/B/C_render_bench.gz, T_test_render_gpu.gz, k.tgz (t_main.spv), A_COMMIT, B_COMMIT, C_COMMIT.
 # SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=96x54 RUNS=1 WU=0 TS=20).
 LIM=${LIM:-280}
-s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
 T=/tmp/rbstart; rm -rf $T; mkdir -p $T; for x in A B C; do gunzip -c ${x}_render_bench.gz > $T/$x; chmod +x $T/$x; done
 gunzip -c T_test_render_gpu.gz > $T/T; chmod +x $T/T
 tar xzf k.tgz -C $T
-SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-15}; WU=${WU:-0.5}
-smi() { nvidia-smi --query-gpu=clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate --format=csv,noheader 2>/dev/null | head -1; }
-stamp() { while IFS= read -r l; do printf '%s %s\n' "$(date -u +%T.%1N)" "$l"; done; }
-flt() { sed -u -E "s|$T/||g; s/  *\[warps[^]]*\]//; s/  *\[traced[^]]*\]//; s/^(.{300}).*/\1/"; }
-F='^scene|^terrain|^  \(|px differ|^device|^render_bench|^stats: '
-echo "== rbstart batch 2 on $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1) $(nproc) CPUs $(date -u +%T); A = main $(cat A_COMMIT), B = rbstart $(cat B_COMMIT), C = $(cat C_COMMIT)"
-nvidia-smi --query-gpu=timestamp,clocks.sm --format=csv,noheader -lms 250 > $T/smi.log 2>/dev/null &
-smipid=$!
-run() { # label max-seconds args...: one process if 8 s of the whole are left
-  local x=$1 mx=$2; shift 2; local l=$(left $LIM); [ $l -gt $((8 * ${TS:-1})) ] || { echo "   $x: no time left"; return; }
-  [ $l -gt $(($mx * ${TS:-1})) ] && l=$(($mx * ${TS:-1}))
-  echo "-- $x $(date -u +%T): clock $(smi)"
-  timeout $l "$@" 2>&1 | grep --line-buffered -E "$F" | flt | sed -u "s/^/$x /" | stamp
-}
+. "$(dirname "$0")/gpu_payload_lib.sh" # (the payload carried these lines inline)
+echo "== rbstart batch 2 on $(gpu_name) $(nproc) CPUs $(date -u +%T); A = main $(cat A_COMMIT), B = rbstart $(cat B_COMMIT), C = $(cat C_COMMIT)"
+clock_start
 echo "-- T $(date -u +%T): B's test_render_gpu"
 VX_TEST_ONLY=test_path_start,test_path_start_deep,test_deep_float,test_stack_levels,test_deep_octrees timeout $(( 110 * ${TS:-1} )) $T/T 2>&1 | grep --line-buffered -E '^\[|passed|FAIL|path start:|deep float|deep octrees|differ' | sed -u 's/^/T /' | stamp
 for r in 1 2 3; do for x in A B C; do run $x$r 20 $T/$x --generate --no-esvo --sizes $SIZE --runs $RUNS --warmup $WU; done; done
 run KC 30 $T/C --generate --no-esvo --sizes $SIZE --runs $RUNS --warmup $WU --views oblique,closeup --kernels $T/t_main.spv@c1p0,@c1p0
-kill $smipid 2>/dev/null; wait $smipid 2>/dev/null
-echo "-- clock samples: $(wc -l < $T/smi.log), SM MHz min/median/max $(cut -d, -f2 $T/smi.log | tr -dc '0-9\n' | sort -n | awk '{a[NR]=$1} END {if (NR) print a[1], a[int((NR+1)/2)], a[NR]}')"
-[ -n "$OUT" ] && tar czf $OUT/rbstart.tar.gz -C $T smi.log
-echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
+payload_end rbstart
