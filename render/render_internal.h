@@ -193,8 +193,8 @@ void vx__smap_free(vx_gpu* g, vx__smap* sm);
  * DAG's shared block is listed again under each), with its word (the plain
  * layout's model-relative word, the compact layout's slot) and the entry of
  * its first inner child (the others follow in octant order; VX__TOP_NONE
- * where they are not listed). At most VX__TOP_NODES entries a model: the
- * start stops where the list does. */
+ * where they are not listed). At most vx__top_src.max_nodes entries a model
+ * (VX__TOP_NODES where 0): the start stops where the list does. */
 typedef struct vx__top_node {
     uint32_t desc, word, kids;
 } vx__top_node;
@@ -211,16 +211,22 @@ typedef struct vx__top_src {
     uint32_t (*desc)(const void* ctx, uint32_t word);
     bool (*block)(const void* ctx, uint32_t word, uint32_t desc, uint32_t k, uint32_t* blk);
     uint32_t max_depth;
+    uint32_t max_nodes; /* the list's length limit; 0: VX__TOP_NODES */
 } vx__top_src;
 /* The list from node root (render_scene.c), *count its entries; NULL without memory. */
 vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count);
 /* The starts of a scene of one instance: the list of its model (top), that
  * model's Model.box and rebase (trace.comp's), the shallowest level node X
  * may have (the compact layout: 3, the page level's parent if paged; 0 or
- * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any). */
+ * 1: any) and the fewest pushes a start must skip (X's depth; 0 or 1: any).
+ * in_frame: X may lie at a rebased model's rebase depth k or below (trace.comp
+ * starts such a ray in the frame of X's depth-k ancestor); false: X is at most
+ * k - 1 deep (trace_compact.comp, whose walk moves into that frame by a push
+ * of its own). */
 typedef struct vx__path_model {
     const vx__top_node* top;
     uint32_t box, rebase, min_level, min_dq;
+    bool in_frame;
 } vx__path_model;
 /* Writes the frame block's tile grid (tile_info, tiles) and start records
  * (paths) for f (render_scene.c): per screen tile the record of node X

@@ -320,7 +320,8 @@ static bool plain_block(const void* ctx, uint32_t word, uint32_t desc, uint32_t 
 
 vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, uint32_t root, uint32_t* count) {
     *count = 0;
-    vx__top_node* t = vx_alloc(alloc, VX__TOP_NODES * sizeof *t);
+    uint32_t cap = src->max_nodes ? src->max_nodes : VX__TOP_NODES;
+    vx__top_node* t = vx_alloc(alloc, cap * sizeof *t);
     if (!t) return NULL;
     uint32_t n = 1, level_end = 1, depth = 0;
     t[0] = (vx__top_node){.desc = src->desc(src->ctx, root), .word = root, .kids = VX__TOP_NONE};
@@ -330,11 +331,18 @@ vx__top_node* vx__top_list(const vx_allocator* alloc, const vx__top_src* src, ui
         uint32_t d = t[i].desc, inner = vx_svo_desc_valid(d) & ~vx_svo_desc_leaf(d);
         uint32_t k = (uint32_t)__builtin_popcount(inner), blk;
         if (!k) continue;
-        if (k > VX__TOP_NODES - n) break; /* the list ends: this and later entries keep VX__TOP_NONE */
+        if (k > cap - n) break; /* the list ends: this and later entries keep VX__TOP_NONE */
         if (!src->block(src->ctx, t[i].word, d, k, &blk)) break;
         t[i].kids = n;
         for (uint32_t c = 0; c < k; c++)
             t[n++] = (vx__top_node){.desc = src->desc(src->ctx, blk + c), .word = blk + c, .kids = VX__TOP_NONE};
+    }
+    /* kept at its length (a scene holds a list per model) */
+    vx__top_node* kept = vx_alloc(alloc, n * sizeof *kept);
+    if (kept) {
+        memcpy(kept, t, n * sizeof *kept);
+        vx_free(alloc, t);
+        t = kept;
     }
     *count = n;
     return t;
@@ -350,7 +358,12 @@ static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32
     rs->top_count[mi] = 0;
     if (!w || root >= n) return;
     plain_words pw = {.w = w, .n = n};
-    vx__top_src src = {.ctx = &pw, .desc = plain_desc, .block = plain_block, .max_depth = UINT32_MAX};
+    /* 4x VX__TOP_NODES: trace.comp's starts one level deeper where a model's
+     * top is broad (terrain4096's close-up: X at depth 6, not 5, 11.6 steps a
+     * ray, not 12.6: 1.075x main's primary rays on the H200 against 1.044;
+     * issue 21, rbstart) */
+    vx__top_src src = {
+        .ctx = &pw, .desc = plain_desc, .block = plain_block, .max_depth = UINT32_MAX, .max_nodes = 4 * VX__TOP_NODES};
     rs->top[mi] = vx__top_list(&rs->alloc, &src, root, &rs->top_count[mi]);
 }
 
@@ -2009,7 +2022,8 @@ static bool ray_start(const vx__frame* f, const double inv[12], const double bhi
  * X without an advance), so the box only proposes: a ray whose start lies
  * elsewhere walks from the root. X is no deeper than a rebased model's
  * frame level less one (the walk moves into that frame by a push of its
- * own). Distinct starts take records in order; past VX__PATHS a tile takes
+ * own) unless pm->in_frame (the kernel then starts the ray in that frame).
+ * Distinct starts take records in order; past VX__PATHS a tile takes
  * the deepest record whose X holds its box, or none. Not for LOD or the
  * beam (their walks start otherwise) or the float64 variant. Tiles whose
  * rays enter the model box (oblique views, overviews) get none: their
@@ -2037,7 +2051,7 @@ uint32_t vx__render_scene_paths(const vx_render_scene* rs, const vx__frame* f, c
     uint32_t min_level = pm->min_level ? pm->min_level : 1, min_dq = pm->min_dq ? pm->min_dq : 1;
     if (m->depth <= min_level) return 0;
     uint32_t max_dq = m->depth - min_level;
-    if (rebase && rebase - 1 < max_dq) max_dq = rebase - 1;
+    if (rebase && !pm->in_frame && rebase - 1 < max_dq) max_dq = rebase - 1;
     if (max_dq > 24) max_dq = 24;
     uint32_t npaths = 0;
     for (uint32_t y = 0; y < ty; y++)
@@ -2113,7 +2127,9 @@ static void frame_paths(const vx_render_scene* rs, const vx__frame* f, bool prec
     uint32_t mi = rs->inst_count == 1 ? rs->inst[0].model : UINT32_MAX;
     bool on = !precise && !beam && rs->top && mi < rs->model_count && rs->top[mi];
     vx__path_model pm = {0};
-    if (on) pm = (vx__path_model){.top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1};
+    if (on)
+        pm = (vx__path_model){
+            .top = rs->top[mi], .box = rs->gm[mi].box, .rebase = rs->gm[mi].rebase, .min_level = 1, .in_frame = true};
     (void)vx__render_scene_paths(rs, f, on ? &pm : NULL, gf);
 }
 

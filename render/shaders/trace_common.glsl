@@ -576,10 +576,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // frame, |dl|, the model frame's bias, t_r. State the loop needs only at
     // a rebase, on the way back or after the loop lives here rather than in
     // registers (they bound the kernel's occupancy).
+#ifdef TRACE_PATH
+    // (+ the primary ray's start below N, trace_model's TRACE_PATH block: X,
+    // the scale of X's children and K's corner in N's frame)
+    const int RB_SLOTS = 33;
+#else
     const int RB_SLOTS = 28;
+#endif
     const int RB_OHI = S_MAX, RB_OLO = S_MAX + 3, RB_T0 = S_MAX + 6, RB_POS = S_MAX + 7, RB_PARENT = S_MAX + 10,
               RB_TMAX = S_MAX + 11, RB_ADL = S_MAX + 12, RB_BIAS = S_MAX + 15, RB_TBASE = S_MAX + 18,
-              RB_OALO = S_MAX + 19;
+              RB_OALO = S_MAX + 19, RB_JX = S_MAX + 28, RB_JS = S_MAX + 29, RB_JPOS = S_MAX + 30;
     // exact models: the box entry point oa and the direction d for the hit's
     // t, kept in memory rather than in registers across the loop: in slots
     // 0-5 where DEEP is 1 (its models, at most VX_RENDER_REBASE_DEPTH deep,
@@ -637,6 +643,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #endif
         int idx = 0;
         WALK_FIRST_CHILD(RVEC3)
+#if defined(TRACE_PATH) && !defined(PRECISE)
+        // (the switch's state, below: declared here for the path start, and
+        // below in the other kernels, whose SPIR-V stays as it was)
+        int pending = 0, rb_step = 0;
+        uint rb_cbit = 0u;
+#endif
 #ifdef TRACE_PATH
         // A primary ray whose walk starts at a point well inside the cube
         // of K, a child of node X (F.paths[g_path], the host's guess for
@@ -676,6 +688,36 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 pos = pk;
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+#ifndef PRECISE
+                if (REBASE && scale < rb_scale) {
+                    // X at depth k or below (in the frame of its depth-k
+                    // ancestor N): the walk would push to N in the model
+                    // frame and switch into N's frame there (pending 1).
+                    // Start at that switch instead, so that it runs before
+                    // the loop (its code, the same arithmetic, from N's
+                    // corner pos and N's parent), and continue below N as
+                    // above: X, K's corner in N's frame (exact: pk and N's
+                    // corner lie on K's grid, the scale a power of 2). The
+                    // start is 2^-16 of the model cube inside K, 2^(k-16)
+                    // of N's, far above the rebased frame's rounding (the
+                    // hi/lo origin's few 2^-23 of N's cube), so the pushes
+                    // skipped below N hold the start too. N's word sits in
+                    // its slot as a parent (depth k's: X's when dx == k),
+                    // where N's walk would store it.
+                    int k = S_MAX - rb_scale;
+                    stk_node[S_MAX - 1 - dx] = int(parent);
+                    stk_node[RB_JX] = int(parent), stk_node[RB_JS] = scale + k;
+                    vec3 pn = intBitsToFloat((floatBitsToInt(pk) >> rb_scale) << rb_scale); // N's corner
+                    vec3 pj = 1.0 + (pk - pn) * intBitsToFloat((127 + k) << 23);
+                    stk_node[RB_JPOS] = floatBitsToInt(pj.x), stk_node[RB_JPOS + 1] = floatBitsToInt(pj.y);
+                    stk_node[RB_JPOS + 2] = floatBitsToInt(pj.z);
+                    parent = uint(stk_node[S_MAX - k]); // N's parent, at depth k - 1
+                    pos = pn;
+                    scale_exp2 = intBitsToFloat((127 - k) << 23);
+                    scale = S_MAX; // past the loop, to the switch
+                    pending = 1, rb_cbit = 0u;
+                }
+#endif
             }
         }
 #endif
@@ -707,9 +749,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         }
         // the two-frame walk's switches run outside the walk's loop, so that
         // their code and registers stay out of it: 1 into the depth-k child
-        // rb_cbit of parent, 2 out of N through the faces rb_step
+        // rb_cbit of parent (0: the path start's N, trace.comp), 2 out of N
+        // through the faces rb_step
+#ifndef TRACE_PATH
         int pending = 0, rb_step = 0;
         uint rb_cbit = 0u;
+#endif
         while (true) {
 #endif
         while (scale < S_MAX) {
@@ -956,7 +1001,11 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 precise vec3 bb = sq - a;
                 precise vec3 se = (a - (sq - bb)) - (pr + bb);
                 precise vec3 q = sq + ((se - pe) + olm_lo);
+#ifdef TRACE_PATH
+                int k = S_MAX - rb_scale; // (scale at a push's switch; past the loop for the path start's)
+#else
                 int k = S_MAX - scale;
+#endif
                 float sk = intBitsToFloat((127 + k) << 23); // 2^k
                 vec3 qn = 1.0 + q * sk;
                 bias = coef * qn;
@@ -970,21 +1019,34 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 rb_scale = -100;
                 // N (level >= 3 in COMPACT): its slot is in the block cnd.y
                 // (desc in the file's form where FILE_FORM, else the GPU form)
-#ifdef CELL_WALK
-                if (virt)
-                    ; // N lies in a leaf: a full node (parent unused)
-                else
+#ifdef TRACE_PATH
+                if (rb_cbit == 0u) {
+                    // the path start's N: on at X, K's corner in N's frame
+                    parent = uint(stk_node[RB_JX]);
+                    scale = stk_node[RB_JS];
+                    scale_exp2 = intBitsToFloat((scale - S_MAX + 127) << 23);
+                    pos = SLOTS3(RB_JPOS);
+                    ivec3 sh = floatBitsToInt(pos) >> scale;
+                    idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
+                } else
 #endif
-                if (FILE_FORM)
-                    parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
-                                     : child_node_file(parent, desc, rb_cbit, nbase);
-                else
-                    parent = COMPACT ? cnd.y + uint(bitCount(desc & (rb_cbit - 1u))) : child_node(parent, desc, rb_cbit, nbase);
-                idx = 0;
-                scale = S_MAX - 1;
-                scale_exp2 = 0.5;
-                pos = vec3(1.0);
-                WALK_FIRST_CHILD(vec3)
+                {
+#ifdef CELL_WALK
+                    if (virt)
+                        ; // N lies in a leaf: a full node (parent unused)
+                    else
+#endif
+                    if (FILE_FORM)
+                        parent = COMPACT ? cnd.y + uint(bitCount((desc >> 8) & ~desc & (rb_cbit - 1u)))
+                                         : child_node_file(parent, desc, rb_cbit, nbase);
+                    else
+                        parent = COMPACT ? cnd.y + uint(bitCount(desc & (rb_cbit - 1u))) : child_node(parent, desc, rb_cbit, nbase);
+                    idx = 0;
+                    scale = S_MAX - 1;
+                    scale_exp2 = 0.5;
+                    pos = vec3(1.0);
+                    WALK_FIRST_CHILD(vec3)
+                }
                 loaded = false; if (SENT) desc = 0u;
 #ifdef CELL_WALK
                 if (virt) desc = FULL_DESC, loaded = true;

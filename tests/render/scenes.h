@@ -116,6 +116,14 @@ static vx_svo_instance ts_inst(uint32_t model, const double m9[9], double tx, do
     return in;
 }
 
+/* The world point of model point m under instance in (world = M m + t). */
+static inline void ts_inst_point(const vx_svo_instance* in, const double m[3], double w[3]) {
+    for (int k = 0; k < 3; k++) {
+        w[k] = in->xform[4 * k + 3];
+        for (int c = 0; c < 3; c++) w[k] += in->xform[4 * k + c] * m[c];
+    }
+}
+
 /* A scene whose only instance (untransformed) is one model `side` cells on a
  * side (a power of two) holding the n cells xyz (palette indices pal): the
  * deep-model tests' (test_render_gpu, test_passes). *depth: its levels. */

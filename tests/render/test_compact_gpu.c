@@ -815,14 +815,8 @@ static void test_path_start(void) {
                     for (int k = 0; k < 3; k++) c[k] = (uint32_t)e[k] < side ? (uint32_t)e[k] : side - 1;
                     if (used[((size_t)c[2] * side + c[1]) * side + c[0]]) e[2] += 0.5; /* in a cell: still exact */
                 }
-                for (int k = 0; k < 3; k++) {
-                    double we = e[k], wt = t[k];
-                    if (tf) {
-                        we = wt = in.xform[4 * k + 3];
-                        for (int c = 0; c < 3; c++) we += in.xform[4 * k + c] * e[c], wt += in.xform[4 * k + c] * t[c];
-                    }
-                    d.camera.eye[k] = we, d.camera.target[k] = wt;
-                }
+                ts_inst_point(&in, e, d.camera.eye);
+                ts_inst_point(&in, t, d.camera.target);
                 for (int k = 0; k < 2; k++) {
                     char nm[128];
                     snprintf(nm, sizeof nm, "compact start, %s, %s, %s, view %d", side == 64 ? "64^3" : side ? "256^3" : sc == 2 ? "11 levels" : "13 levels",

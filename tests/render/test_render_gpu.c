@@ -896,6 +896,77 @@ static void test_path_start(void) {
     CHECK(vx_gpu_validation_errors(gpu) == 0);
 }
 
+/* The primary rays' start below a rebased model's frame level (issue 21,
+ * rbstart): where node X lies at depth k = depth - VX_RENDER_FRAME_LEVELS or
+ * below, trace_model starts the ray in the frame of X's depth-k ancestor N
+ * (the switch into N's frame before the walk's loop, then on at X). Octrees
+ * 11 to 16 levels deep (deep_scene: two frames) seen from eyes a few cells
+ * from each place's blocks (X several levels below k), on the planes of the
+ * root's, N's and X's cubes and 1e-4 cells beside them, in depth and colour,
+ * the instance rotated and not: every
+ * pixel's instance, cell, depth bits and colour must be those of the walk
+ * from the root (path_frames), and most frames from off the planes must
+ * take fewer iterations. */
+static void test_path_start_deep(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const double rot[9] = {0, 0, -1, 1, 0, 0, 0, -1, 0};
+    const uint32_t depths[] = {11, 12, 14, 16};
+    size_t frames = 0, fewer = 0, differ = 0, off_frames = 0, off_fewer = 0;
+    double saved = 0;
+    for (size_t di = 0; di < sizeof depths / sizeof depths[0]; di++) {
+        uint32_t depth = depths[di], side = 1u << depth, nside = 1u << VX_RENDER_FRAME_LEVELS;
+        vx_svo_scene s;
+        uint32_t base[3][3];
+        deep_scene(depth, &s, base);
+        for (int tf = 0; tf < 2; tf++) {
+            vx_svo_instance in = ts_inst(0, tf ? rot : NULL, tf ? 3 : 0, tf ? -4 : 0, tf ? 7 : 0);
+            s.instances[0] = in;
+            vx_svo_scene_update_bounds(&s);
+            vx_render_scene* rs = NULL;
+            vx_error err = {0};
+            REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+            for (int c = 0; c < 3; c++) {
+                double t[3] = {base[c][0] + 5.0, base[c][1] + 3.0, base[c][2] + 3.0};
+                for (int v = 0; v < 8; v++) {
+                    /* the eye in model cells: off the planes (0, 1), on the root's mid-plane x (2), on N's planes
+                     * (3, 4: the multiple of nside nearest the blocks on x, y), 1e-4 beside them (5), on X's
+                     * planes (6: multiples of 8 cells; 7: 1e-4 beside them) */
+                    double e[3] = {t[0] + 7.31, t[1] - 9.17, t[2] + 6.53};
+                    if (v == 1) e[0] = t[0] - 2.13, e[1] = t[1] - 3.71, e[2] = t[2] + 2.9;
+                    if (v == 2) e[0] = side / 2;
+                    for (int k = 0; k < 2 && (v == 3 || v == 4 || v == 5); k++)
+                        if (v != 3 + k || v == 5) {
+                            double pl = floor(t[k] / nside + 0.5) * nside;
+                            if (pl <= 0) pl = nside;
+                            e[k] = pl + (v == 5 ? 1e-4 : 0);
+                        }
+                    if (v >= 6)
+                        for (int k = 0; k < 3; k++) e[k] = floor(e[k] / 8 + 0.5) * 8 + (v == 7 ? 1e-4 : 0);
+                    vx_render_desc d = {.width = 40, .height = 30, .mode = v % 2 ? VX_RENDER_COLOR : VX_RENDER_DEPTH};
+                    d.camera.set = true, d.camera.fov = 70;
+                    ts_inst_point(&in, e, d.camera.eye);
+                    ts_inst_point(&in, t, d.camera.target);
+                    char nm[96];
+                    snprintf(nm, sizeof nm, "deep path start, depth %u, %s, place %d view %d", depth,
+                             tf ? "rotated" : "identity", c, v);
+                    size_t f0 = fewer;
+                    differ += path_frames(nm, rs, d, &fewer, &saved);
+                    frames++;
+                    if (v < 2) off_frames++, off_fewer += fewer > f0;
+                }
+            }
+            vx_render_scene_destroy(rs);
+        }
+        vx_svo_scene_free(&s);
+    }
+    printf("deep path start: %zu frames, %zu with fewer iterations (%zu of %zu from eyes off the planes), %.2f "
+           "iterations a ray saved on average, %zu pixels differ\n",
+           frames, fewer, off_fewer, off_frames, saved / (double)frames, differ);
+    CHECK(differ == 0);
+    CHECK(off_fewer * 4 >= off_frames * 3);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+}
+
 static void test_modes(void);
 static void test_precise_variant(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
@@ -1380,6 +1451,7 @@ int main(void) {
     RUN(test_modes);
     RUN(test_screen_cull);
     RUN(test_path_start);
+    RUN(test_path_start_deep);
     RUN(test_corpus);
     if (gpu) {
         CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));

@@ -1,0 +1,25 @@
+# The lines the H200 payloads of issue 21 share (deep3_gpu_lib.sh, rbstart_b1_gpu.sh, rbstart_b2_gpu.sh; the payloads
+# that ran carried them inline), sourced once T (a fresh temporary folder) and LIM (the whole run's seconds) are set:
+# the time left, the clock, a time stamp per line, the rows' filter, one labelled process (run), the clock's log
+# (clock_start) and the end (payload_end NAME: $OUT/NAME.tar.gz holds the clock's log).
+# SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=96x54 RUNS=1 WU=0 TS=20).
+s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
+SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-15}; WU=${WU:-0.5}
+smi() { nvidia-smi --query-gpu=clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate --format=csv,noheader 2>/dev/null | head -1; }
+stamp() { while IFS= read -r l; do printf '%s %s\n' "$(date -u +%T.%1N)" "$l"; done; }
+flt() { sed -u -E "s|$T/||g; s/  *\[warps[^]]*\]//; s/  *\[traced[^]]*\]//; s/^(.{300}).*/\1/"; }
+F='^scene|^terrain|^  \(|px differ|^device|^render_bench|^stats: '
+gpu_name() { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1; }
+clock_start() { nvidia-smi --query-gpu=timestamp,clocks.sm --format=csv,noheader -lms 250 > $T/smi.log 2>/dev/null & smipid=$!; }
+run() { # label max-seconds args...: one process if 8 s of the whole are left
+  local x=$1 mx=$2; shift 2; local l=$(left $LIM); [ $l -gt $((8 * ${TS:-1})) ] || { echo "   $x: no time left"; return; }
+  [ $l -gt $(($mx * ${TS:-1})) ] && l=$(($mx * ${TS:-1}))
+  echo "-- $x $(date -u +%T): clock $(smi)"
+  timeout $l "$@" 2>&1 | grep --line-buffered -E "$F" | flt | sed -u "s/^/$x /" | stamp
+}
+payload_end() {
+  kill $smipid 2>/dev/null; wait $smipid 2>/dev/null
+  echo "-- clock samples: $(wc -l < $T/smi.log), SM MHz min/median/max $(cut -d, -f2 $T/smi.log | tr -dc '0-9\n' | sort -n | awk '{a[NR]=$1} END {if (NR) print a[1], a[int((NR+1)/2)], a[NR]}')"
+  [ -n "$OUT" ] && tar czf $OUT/$1.tar.gz -C $T smi.log
+  echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
+}
