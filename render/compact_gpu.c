@@ -14,8 +14,7 @@
 typedef struct cmodel_gpu {
     uint32_t root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2;
     uint32_t tab_word, tab_k; /* the model's start table (below): its first word in attr, its level (0: none) */
-    uint32_t value; /* flags & 4 (a model whose cells all hold one value, the whole layout): its colour; else the
-                     * word of its width table in attr (0: none; width_table) */
+    uint32_t value; /* flags & 4 (a model whose cells all hold one value, the whole layout): its colour */
     uint32_t rec3;  /* the whole layout: level-3 slot s's record is geometry slot rec3 + s (0: none; below) */
 } cmodel_gpu;
 /* a scene of one instance: its model's record in the frame block too (dispatch) */
@@ -371,39 +370,6 @@ static uint32_t tab_level(uint32_t depth, uint64_t budget) {
  * (eph_monu1, eph_menger), and the DEEP 2 kernels (rebased) have none
  * (docs/PERFORMANCE.md issue 18, branch ck11). */
 static bool records_on(uint32_t deep) { return deep == 1; }
-/* The width table of model mi (CModel.value, the whole layout; e: a byte a
- * block, four a word): a delta block's residual bits per value (the sum of
- * its four widths), else 0, so that a colour's decode finds its residuals'
- * word from the header without waiting for the payload's widths word, and
- * loads them with the minimum and widths (compact_attr.glsl decode_value).
- * Returns the delta blocks. */
-static uint32_t width_table(const vx_compact_scene* c, uint32_t mi, uint32_t* e) {
-    const vx_compact_model* m = &c->models[mi];
-    const uint32_t* w = c->attr ? c->attr + m->attr_base : c->attr_region[mi];
-    uint32_t nb = (uint32_t)(((uint64_t)m->voxels + m->block - 1) / m->block), delta = 0;
-    for (uint32_t b = 0; b < nb; b++) {
-        uint32_t g = w[b / VX_COMPACT_GROUP];
-        uint32_t h = w[(g & 0x7FFFFFFFu) + (g >> 31 ? 0 : b % VX_COMPACT_GROUP)], p = h >> 5, n = 0;
-        if ((h & 31u) == VX_COMPACT_DELTA && p + 1 < m->attr_words) {
-            uint32_t wc = w[p + 1];
-            n = (wc & 15u) + ((wc >> 4) & 15u) + ((wc >> 8) & 15u) + ((wc >> 12) & 15u);
-            delta++;
-        }
-        if (e) e[b / 4] |= n << (8 * (b % 4));
-    }
-    return delta;
-}
-/* Models with a width table: RGBA, not of one value, in the scenes whose
- * kernel is DEEP 1 (records_on), at least a quarter of their blocks delta
- * blocks (the helmet's 88%; the terrain's blocks are of one value). */
-static bool width_table_on(const vx_compact_scene* c, uint32_t mi, uint32_t flags, bool records) {
-    const vx_compact_model* m = &c->models[mi];
-    if (!records || (flags & 5u) != 1u || m->attr_kind != VX_COMPACT_ATTR_RGBA || !m->block || !m->voxels ||
-        m->root >= VX_SVO_ROOT_LEAF)
-        return false;
-    uint64_t nb = ((uint64_t)m->voxels + m->block - 1) / m->block;
-    return 4ull * width_table(c, mi, NULL) >= nb;
-}
 /* The start tables' smallest budget (entries, shared by the coloured models):
  * with the records, 2^18 entries (2 MB; the helmet at 512: a table of level
  * 3, whose path loads the entry and the record only, no level-4 slots),
@@ -459,26 +425,12 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         cm[i].tab_k = K, cm[i].tab_word = (uint32_t)(c->attr_words + tab_words);
         tab_words += 2ull << (3 * (c->models[i].depth - K));
     }
-    /* the width tables after the start tables (models of one value, flag 4
-     * below, keep theirs unused: their hits read no block) */
-    uint64_t start_words = tab_words;
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        if (!width_table_on(c, i, cm[i].flags, records)) continue;
-        uint64_t nw = ((uint64_t)c->models[i].voxels + c->models[i].block - 1) / c->models[i].block;
-        nw = (nw + 3) / 4;
-        if (c->attr_words + tab_words + nw > 0xFFFFFFFFull) continue;
-        cm[i].value = (uint32_t)(c->attr_words + tab_words);
-        tab_words += nw;
-    }
     /* the tables after the attribute words in one buffer (the passes' binding 2),
      * uploaded apart so that the host holds no second copy of the words */
     uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
     vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if (!r && tw) {
-        for (size_t w = 0; w < start_words; w++) tw[w] = w % 2 ? 0u : TAB_EMPTY;
-        for (size_t w = start_words; w < tab_words; w++) tw[w] = 0u;
-        for (uint32_t i = 0; i < s->model_count; i++)
-            if (cm[i].value) width_table(c, i, tw + (cm[i].value - c->attr_words));
+        for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_EMPTY;
         for (uint32_t i = 0; i < s->model_count; i++)
             if (cm[i].tab_k) {
                 tab_fill f = {.c = c, .t = tw + (cm[i].tab_word - c->attr_words), .K = cm[i].tab_k,
@@ -501,7 +453,7 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
             if (cm[i].tab_k)
                 cg->uniform_entries += tab_uniform(c, i, tw + (cm[i].tab_word - c->attr_words), cm[i].tab_k,
                                                    c->models[i].depth - cm[i].tab_k, true, &filled);
-        for (size_t w = 0; w < start_words; w += 2)
+        for (size_t w = 0; w < tab_words; w += 2)
             if (tw[w] == TAB_EMPTY) tw[w] = TAB_FULL;
     }
     /* A model whose cells all hold one value (every attribute block of one

@@ -30,10 +30,7 @@
 // (x | y << D | z << 2D) of a level-K cube (D = depth - K) is its node's
 // slot and the cells before it, or CA_TAB_FULL and the index of its first
 // cell inside a full leaf cube
-// value: the colour of every cell where flags has 4 (a model of one value),
-// else the word of the model's width table in the attribute words (0: none;
-// the whole layout: compact_gpu.c width_table): block b's residual bits per
-// value in byte b & 3 of word value + (b >> 2)
+// value: the colour of every cell where flags has 4 (a model of one value), else 0
 // rec3: the whole layout: level-3 slot s's record (vx__compact_level3_records)
 // is slot rec3 + s of the geometry, 0 none (cell_index_path)
 struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value, rec3; };
@@ -333,9 +330,6 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     if (CA_UNI && attr_base >= CA_UNIFORM) return m.kind == 1u ? attr_base & 0xFFu : i; // a uniform cube's (cell_index)
     uint B = 1u << m.block_log2, width = m.kind == 1u ? 8u : 32u;
     uint blk = i >> m.block_log2, j = i & (B - 1u);
-    // the width table's byte (issued with the group word)
-    bool wt = CA_PAGES == 0u && m.value != 0u && (m.flags & 4u) == 0u;
-    uint nw = wt ? CA_ATTR(m.value + (blk >> 2)) : 0u;
     uint g = CA_ATTR(attr_base + (blk >> 6));
     uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
     uint code = h & 31u, p = attr_base + (h >> 5);
@@ -343,19 +337,10 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     if (code == 30u) {
         // a delta block: per channel the minimum and its residuals' width
         // (4 bits each), bit 16 the decorrelation (R - G, G, B - G)
-        // the value's residuals are adjacent (at most 32 bits): one
-        // extraction; with a width table their load waits on the header only
-        uint mn, wc, bits;
-        if (wt) {
-            uint n = bitfieldExtract(nw, int((blk & 3u) * 8u), 8);
-            bits = attr_bits(p + 2u, j * n, n);
-            mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
-        } else {
-            mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
-            uint n = (wc & 15u) + ((wc >> 4) & 15u) + ((wc >> 8) & 15u) + ((wc >> 12) & 15u);
-            bits = attr_bits(p + 2u, j * n, n);
-        }
-        uint o1 = wc & 15u, o2 = o1 + ((wc >> 4) & 15u), o3 = o2 + ((wc >> 8) & 15u);
+        uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
+        uint o1 = wc & 15u, o2 = o1 + ((wc >> 4) & 15u), o3 = o2 + ((wc >> 8) & 15u), n = o3 + ((wc >> 12) & 15u);
+        // the value's residuals are adjacent (at most 32 bits): one extraction
+        uint bits = attr_bits(p + 2u, j * n, n);
         // each residual in its byte, all four added to the minimum in one
         // add: the encoder's residuals are value - minimum per channel
         // (render/compact.c flush_block), so no byte carries into the next
