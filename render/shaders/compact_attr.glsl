@@ -17,9 +17,7 @@
 
 // flags: 1 has colours, 2 exact, 4 one value (value), 8 a delta block's
 // header has its residual bits per value in bits 26..31 and its payload's
-// offset in 5..25, 16 a block of one value's header has the value (a
-// palette index) in bits 5..12 (the whole layout: compact_gpu.c
-// gpu_headers); kind: 1 palette indices, 2 RGBA; box as
+// offset in 5..25 (the whole layout: compact_gpu.c width_headers); kind: 1 palette indices, 2 RGBA; box as
 // trace.comp's Model.box; rank_base: the word of slot 0's rank (the rank of
 // slot s of level >= 5 is word rank_base + s of the geometry, levels 3-4
 // keep theirs in bits 16..31 of word 0; the paged layout has a rank word
@@ -377,11 +375,7 @@ uint decode_value(CModel m, uint attr_base, uint i) {
             k = attr_bits(p, j * code, code);
             q = p + ((B * code + 31u) >> 5);
         }
-        if (CA_PAGES == 0u && code == 0u && (m.flags & 16u) != 0u) {
-            v = (h >> 5) & 0xFFu; // (flag 16: the value in the header)
-        } else {
-            v = attr_value(q, k, width);
-        }
+        v = attr_value(q, k, width);
     }
     return v;
 }
