@@ -370,49 +370,6 @@ static uint32_t tab_level(uint32_t depth, uint64_t budget) {
  * (eph_monu1, eph_menger), and the DEEP 2 kernels (rebased) have none
  * (docs/PERFORMANCE.md issue 18, branch ck11). */
 static bool records_on(uint32_t deep) { return deep == 1; }
-/* The headers of model mi as the whole layout uploads them where its
- * blocks have widths in them (CModel flag 8): a delta block's (code 30) with
- * the sum of its payload's four widths in bits 26..31 and its payload's
- * offset in 5..25 (a region of fewer than 2^21 words), so that a colour's
- * decode finds its residuals' word from the header alone and loads them with
- * the minimum and widths, not after them (compact_attr.glsl decode_value:
- * lean7's D7, the minimum and widths as constants, took the helmet's close-up
- * at 512 from 1.148 to 1.112 of trace.comp's frame on the H200,
- * docs/PERFORMANCE.md issue 18). The headers follow the group words
- * (render/compact.c): *first (the group count) and *count of them. NULL
- * where the model has no delta block, its region is too large or memory
- * is short: its headers stay as they are, flag 8 off. */
-static uint32_t* width_headers(const vx_compact_scene* c, uint32_t mi, const vx_allocator* a, uint32_t* first,
-                               uint32_t* count) {
-    const vx_compact_model* m = &c->models[mi];
-    const uint32_t* w = c->attr ? c->attr + m->attr_base : c->attr_region ? c->attr_region[mi] : NULL;
-    if (!w || m->attr_kind != VX_COMPACT_ATTR_RGBA || !m->block || !m->voxels || m->root >= VX_SVO_ROOT_LEAF ||
-        m->attr_words >= (1u << 21))
-        return NULL;
-    uint32_t nb = (uint32_t)(((uint64_t)m->voxels + m->block - 1) / m->block);
-    uint32_t ng = (nb + VX_COMPACT_GROUP - 1) / VX_COMPACT_GROUP, nh = 0;
-    if (ng > m->attr_words) return NULL;
-    for (uint32_t g = 0; g < ng; g++)
-        nh += w[g] >> 31 ? 1 : (nb - g * VX_COMPACT_GROUP < VX_COMPACT_GROUP ? nb - g * VX_COMPACT_GROUP : VX_COMPACT_GROUP);
-    if (nh > m->attr_words - ng) return NULL;
-    uint32_t* h = vx_alloc(a, (size_t)nh * 4);
-    if (!h) return NULL;
-    memcpy(h, w + ng, (size_t)nh * 4);
-    uint32_t delta = 0;
-    for (uint32_t i = 0; i < nh; i++) {
-        uint32_t p = h[i] >> 5;
-        if ((h[i] & 31u) != VX_COMPACT_DELTA || p + 1 >= m->attr_words) continue;
-        uint32_t wc = w[p + 1];
-        h[i] |= ((wc & 15u) + ((wc >> 4) & 15u) + ((wc >> 8) & 15u) + ((wc >> 12) & 15u)) << 26;
-        delta++;
-    }
-    if (!delta) {
-        vx_free(a, h);
-        return NULL;
-    }
-    *first = ng, *count = nh;
-    return h;
-}
 /* The start tables' smallest budget (entries, shared by the coloured models):
  * with the records, 2^18 entries (2 MB; the helmet at 512: a table of level
  * 3, whose path loads the entry and the record only, no level-4 slots),
@@ -558,13 +515,6 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (!r && c->attr_region) r = upload_regions(cg, c, &g->alloc, err);
     if (!r) r = upload_attr(cg, c->attr_words, tw, tab_words, err);
     vx_free(&g->alloc, tw);
-    for (uint32_t i = 0; !r && i < s->model_count; i++) {
-        uint32_t first = 0, count = 0, *h = (cm[i].flags & 5u) == 1u ? width_headers(c, i, &g->alloc, &first, &count) : NULL;
-        if (!h) continue;
-        r = upload_attr(cg, (uint64_t)c->models[i].attr_base + first, h, count, err);
-        vx_free(&g->alloc, h);
-        cm[i].flags |= 8u;
-    }
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
     /* the passes' binding 3 (trace_common.glsl CModels): the palette first, so that

@@ -15,9 +15,7 @@
 // the macros defined (the functions, after the buffers).
 #ifndef CA_SLOT
 
-// flags: 1 has colours, 2 exact, 4 one value (value), 8 a delta block's
-// header has its residual bits per value in bits 26..31 and its payload's
-// offset in 5..25 (the whole layout: compact_gpu.c width_headers); kind: 1 palette indices, 2 RGBA; box as
+// flags: 1 has colours, 2 exact; kind: 1 palette indices, 2 RGBA; box as
 // trace.comp's Model.box; rank_base: the word of slot 0's rank (the rank of
 // slot s of level >= 5 is word rank_base + s of the geometry, levels 3-4
 // keep theirs in bits 16..31 of word 0; the paged layout has a rank word
@@ -334,26 +332,15 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     uint blk = i >> m.block_log2, j = i & (B - 1u);
     uint g = CA_ATTR(attr_base + (blk >> 6));
     uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
-    bool hw = CA_PAGES == 0u && (m.flags & 8u) != 0u;
-    uint code = h & 31u, p = attr_base + ((h >> 5) & (hw ? 0x1FFFFFu : 0x7FFFFFFu));
+    uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
     if (code == 30u) {
         // a delta block: per channel the minimum and its residuals' width
-        // (4 bits each), bit 16 the decorrelation (R - G, G, B - G); the
-        // value's residuals are adjacent (at most 32 bits): one extraction,
-        // its load issued with the minimum's where the header has their
-        // widths' sum (flag 8)
-        uint mn, wc, bits;
-        if (hw) {
-            uint n = h >> 26;
-            bits = attr_bits(p + 2u, j * n, n);
-            mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
-        } else {
-            mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
-            uint n = (wc & 15u) + ((wc >> 4) & 15u) + ((wc >> 8) & 15u) + ((wc >> 12) & 15u);
-            bits = attr_bits(p + 2u, j * n, n);
-        }
-        uint o1 = wc & 15u, o2 = o1 + ((wc >> 4) & 15u), o3 = o2 + ((wc >> 8) & 15u);
+        // (4 bits each), bit 16 the decorrelation (R - G, G, B - G)
+        uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
+        uint o1 = wc & 15u, o2 = o1 + ((wc >> 4) & 15u), o3 = o2 + ((wc >> 8) & 15u), n = o3 + ((wc >> 12) & 15u);
+        // the value's residuals are adjacent (at most 32 bits): one extraction
+        uint bits = attr_bits(p + 2u, j * n, n);
         // each residual in its byte, all four added to the minimum in one
         // add: the encoder's residuals are value - minimum per channel
         // (render/compact.c flush_block), so no byte carries into the next
