@@ -344,6 +344,10 @@ uint decode_value(CModel m, uint attr_base, uint i) {
         // each residual in its byte, all four added to the minimum in one
         // add: the encoder's residuals are value - minimum per channel
         // (render/compact.c flush_block), so no byte carries into the next
+        // (with the arithmetic recorrelation below: the helmet's close-up at
+        // 512 0.871 -> 0.878 of trace.comp's albedo rays/s on the H200;
+        // its residuals' load issued before the widths arrive lost,
+        // docs/PERFORMANCE.md issue 18, branch cdec)
         uint x = bitfieldExtract(bits, 0, int(o1)) | (bitfieldExtract(bits, int(o1), int(o2 - o1)) << 8) |
                  (bitfieldExtract(bits, int(o2), int(o3 - o2)) << 16) | ((bits >> o3) << 24);
         v = mn + x;
