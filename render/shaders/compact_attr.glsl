@@ -69,11 +69,20 @@ uint ca_child(int lvl, uint desc, uint blk, uint k) {
     return CA_DICT && lvl == 3 && (desc & CA_INDEXED) != 0u ? ca_word(blk + k) & CA_BRICK_MASK : blk + k;
 }
 
+// The n bits (n <= 32) at bit pos of the attribute words from word. Both
+// words are loaded without a branch (the second is the first again where
+// the field does not straddle: its bits then land at or above 32 - sh >= n,
+// which the extraction drops), so their loads issue together.
 uint attr_bits(uint word, uint pos, uint n) {
     uint w = word + (pos >> 5), sh = pos & 31u;
-    uint v = CA_ATTR(w) >> sh;
-    if (sh + n > 32u) v |= CA_ATTR(w + 1u) << (32u - sh);
-    return n == 32u ? v : v & ((1u << n) - 1u);
+    uint hi = CA_ATTR(sh + n > 32u ? w + 1u : w);
+    return bitfieldExtract((CA_ATTR(w) >> sh) | ((hi << 1) << (31u - sh)), 0, int(n));
+}
+// The width-bit value k (width 8 or 32) of a payload's values from word:
+// byte or word aligned, so one load and one extraction.
+uint attr_value(uint word, uint k, uint width) {
+    uint pos = k * width;
+    return bitfieldExtract(CA_ATTR(word + (pos >> 5)), int(pos & 31u), int(width));
 }
 
 uint part1by2(uint x) {
@@ -315,11 +324,6 @@ uint cell_index_path(CModel m, uvec3 c, uint n3, uint n4, uvec2 brk, out uint at
     return base + before3 + below;
 }
 
-uint recorrelate(uint v) {
-    uint r = v & 0xFFu, g = (v >> 8) & 0xFFu, b = (v >> 16) & 0xFFu;
-    return (v & 0xFF00FF00u) | ((r + g - 128u) & 0xFFu) | (((b + g - 128u) & 0xFFu) << 16);
-}
-
 // The stored value of attribute index i (vx__compact_value: the palette
 // index of a palette model, else RGBA).
 uint decode_value(CModel m, uint attr_base, uint i) {
@@ -330,27 +334,39 @@ uint decode_value(CModel m, uint attr_base, uint i) {
     uint h = CA_ATTR(attr_base + (g & 0x7FFFFFFFu) + ((g >> 31) != 0u ? 0u : (blk & 63u)));
     uint code = h & 31u, p = attr_base + (h >> 5);
     uint v;
-    if (code == 31u) {
-        v = attr_bits(p, j * width, width);
-    } else if (code == 30u) {
+    if (code == 30u) {
+        // a delta block: per channel the minimum and its residuals' width
+        // (4 bits each), bit 16 the decorrelation (R - G, G, B - G)
         uint mn = CA_ATTR(p), wc = CA_ATTR(p + 1u);
-        uint wr = wc & 15u, wg = (wc >> 4) & 15u, wb = (wc >> 8) & 15u, wa = (wc >> 12) & 15u;
-        uint pos = j * (wr + wg + wb + wa);
+        uint o1 = wc & 15u, o2 = o1 + ((wc >> 4) & 15u), o3 = o2 + ((wc >> 8) & 15u), n = o3 + ((wc >> 12) & 15u);
         // the value's residuals are adjacent (at most 32 bits): one extraction
-        uint n = wr + wg + wb + wa;
-        uint bits = n != 0u ? attr_bits(p + 2u, pos, n) : 0u;
-        uint r = bits & ((1u << wr) - 1u);
-        bits >>= wr;
-        uint gg = bits & ((1u << wg) - 1u);
-        bits >>= wg;
-        uint b = bits & ((1u << wb) - 1u);
-        uint a = (bits >> wb) & ((1u << wa) - 1u);
-        v = ((mn + r) & 0xFFu) | (((mn >> 8) + gg) & 0xFFu) << 8 | (((mn >> 16) + b) & 0xFFu) << 16 |
-            (((mn >> 24) + a) & 0xFFu) << 24;
-        if (((wc >> 16) & 1u) != 0u) v = recorrelate(v);
+        uint bits = attr_bits(p + 2u, j * n, n);
+        // each residual in its byte, all four added to the minimum in one
+        // add: the encoder's residuals are value - minimum per channel
+        // (render/compact.c flush_block), so no byte carries into the next
+        // (with the arithmetic recorrelation below: the helmet's close-up at
+        // 512 0.871 -> 0.878 of trace.comp's albedo rays/s on the H200;
+        // its residuals' load issued before the widths arrive lost,
+        // docs/PERFORMANCE.md issue 18, branch cdec)
+        uint x = bitfieldExtract(bits, 0, int(o1)) | (bitfieldExtract(bits, int(o1), int(o2 - o1)) << 8) |
+                 (bitfieldExtract(bits, int(o2), int(o3 - o2)) << 16) | ((bits >> o3) << 24);
+        v = mn + x;
+        // recorrelate (R + G - 128, B + G - 128 mod 256) as arithmetic, no
+        // select: K is 0 where the block is not decorrelated; R and B each
+        // in a 16-bit lane, whose sum (at most 638) stays in the lane
+        uint K = ((wc >> 16) & 1u) * 0x00010001u;
+        uint t = (v & 0x00FF00FFu) + ((v >> 8) & 0xFFu) * K + (K << 7);
+        v = (v & 0xFF00FF00u) | (t & 0x00FF00FFu);
     } else {
-        uint k = code != 0u ? attr_bits(p, j * code, code) : 0u;
-        v = attr_bits(p + ((B * code + 31u) >> 5), k * width, width);
+        // raw values (code 31: value j), or a palette of the block's values
+        // and its indices (code bits each; 0: one value, which reads no
+        // index: the terrain's blocks, 96%)
+        uint k = code == 31u ? j : 0u, q = p;
+        if (code - 1u < 29u) {
+            k = attr_bits(p, j * code, code);
+            q = p + ((B * code + 31u) >> 5);
+        }
+        v = attr_value(q, k, width);
     }
     return v;
 }
