@@ -165,7 +165,11 @@ static void path_lists(vx_compact_gpu* cg, const cmodel_gpu* cm, const vx_compac
         cg->paths[i] = (vx__path_model){.box = cm[i].box, .rebase = cm[i].rebase, .min_level = min_level,
                                         .min_dq = START_MIN};
         if (models[i].root >= slots || models[i].depth <= min_level) continue;
-        vx__top_src src = {.ctx = &sw, .desc = slot_desc, .block = slot_block, .max_depth = models[i].depth - min_level};
+        vx__top_src src = {.ctx = &sw,
+                           .desc = slot_desc,
+                           .block = slot_block,
+                           .max_depth = models[i].depth - min_level,
+                           .max_nodes = count == 1 ? VX__TOP_NODES_ONE : 0};
         cg->paths[i].top = vx__top_list(&cg->gpu->alloc, &src, models[i].root, &n);
     }
 }

@@ -200,6 +200,12 @@ typedef struct vx__top_node {
 } vx__top_node;
 #define VX__TOP_NONE 0xFFFFFFFFu
 #define VX__TOP_NODES 4096u
+/* A scene of one model: its one list 4x as long, so that the primary rays of a
+ * broad model start a level deeper (terrain4096's close-up in trace.comp: 11.6
+ * steps a ray, not 12.6, issue 21 rbstart; the helmet's close-up in
+ * trace_compact.comp likewise). Scenes of more models keep VX__TOP_NODES: the
+ * host holds a list per model (a 65536^3 scene has thousands). */
+#define VX__TOP_NODES_ONE (4u * VX__TOP_NODES)
 /* What vx__top_list reads of a layout: desc(ctx, word) a node's descriptor
  * (valid mask in bits 8..15, leaf mask in bits 0..7, svo/svo.h's form);
  * block(ctx, word, desc, k, &blk) the word of the first of its k inner
