@@ -169,7 +169,7 @@ static void path_lists(vx_compact_gpu* cg, const cmodel_gpu* cm, const vx_compac
                            .desc = slot_desc,
                            .block = slot_block,
                            .max_depth = models[i].depth - min_level,
-                           .max_nodes = count == 1 ? VX__TOP_NODES_ONE : 0};
+                           .max_nodes = vx__top_cap(count)};
         cg->paths[i].top = vx__top_list(&cg->gpu->alloc, &src, models[i].root, &n);
     }
 }

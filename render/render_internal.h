@@ -206,6 +206,8 @@ typedef struct vx__top_node {
  * trace_compact.comp likewise). Scenes of more models keep VX__TOP_NODES: the
  * host holds a list per model (a 65536^3 scene has thousands). */
 #define VX__TOP_NODES_ONE (4u * VX__TOP_NODES)
+/* vx__top_src.max_nodes for a model of a scene of model_count models (both layouts). */
+static inline uint32_t vx__top_cap(uint32_t model_count) { return model_count == 1 ? VX__TOP_NODES_ONE : VX__TOP_NODES; }
 /* What vx__top_list reads of a layout: desc(ctx, word) a node's descriptor
  * (valid mask in bits 8..15, leaf mask in bits 0..7, svo/svo.h's form);
  * block(ctx, word, desc, k, &blk) the word of the first of its k inner

@@ -358,14 +358,11 @@ static void top_list(vx_render_scene* rs, uint32_t mi, const uint32_t* w, uint32
     rs->top_count[mi] = 0;
     if (!w || root >= n) return;
     plain_words pw = {.w = w, .n = n};
-    /* a scene of one model: VX__TOP_NODES_ONE (terrain4096's close-up: X at
-     * depth 6, not 5: 1.075x main's primary rays on the H200 against 1.044;
-     * issue 21, rbstart) */
     vx__top_src src = {.ctx = &pw,
                        .desc = plain_desc,
                        .block = plain_block,
                        .max_depth = UINT32_MAX,
-                       .max_nodes = rs->model_count == 1 ? VX__TOP_NODES_ONE : 0};
+                       .max_nodes = vx__top_cap(rs->model_count)};
     rs->top[mi] = vx__top_list(&rs->alloc, &src, root, &rs->top_count[mi]);
 }
 
