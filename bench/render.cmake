@@ -12,3 +12,9 @@ if(VX_WITH_VULKAN)
   target_include_directories(render_bench PRIVATE ${VX_BENCH_SPV_DIR})
   target_link_libraries(render_bench PRIVATE vx_render vx_convert vx_formats vx_svo)
 endif()
+# Issue 18's speed goal as written (the tracer of the day the issue was filed): trace.comp's albedo rays/s on
+# compact_bench's views; the same source builds in that day's tree (bench/today_bench.c says how).
+if(VX_WITH_VULKAN)
+  add_executable(today_bench ${CMAKE_CURRENT_LIST_DIR}/today_bench.c)
+  target_link_libraries(today_bench PRIVATE vx_render vx_convert vx_formats vx_svo)
+endif()
