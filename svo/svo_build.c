@@ -1303,6 +1303,13 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
         return false;
     }
+    /* filled once, a page fault per 4 KB otherwise (the 4096^3 helmet's
+     * 74 M materials: 148 MB) */
+    vx__svo_advise_huge(m->palette, na);
+    if (!own) vx__svo_advise_huge(m->rgba, na * 4);
+    vx__svo_advise_huge(m->normal, na * 4);
+    vx__svo_advise_huge(m->material, na * 2);
+    vx__svo_advise_huge(m->density, na * 4);
     rec_fill f = {b, own ? m->rgba : o->ids, own, m};
     if (!own || b->attrs != VX_ATTR_RGBA8) /* (the rgba array alone: nothing left to fill) */
         par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
@@ -2792,6 +2799,23 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
                 b.pool = NULL;
                 b.cappool = 0;
             }
+        }
+    }
+    if (d->max_records) {
+        /* the words and records at their declared sizes (bounded by the
+         * stream's bytes, check_declared; untouched pages cost no memory):
+         * grown by doubling they were copied by realloc up to the mmap
+         * threshold and faulted in a 4 KB page at a time, the kernel's
+         * faults and clearing a quarter of the 4096^3 helmet's read on a
+         * VM. Where it cannot be had they grow as before: same words. */
+        size_t nw = (size_t)u.max_words, nr = (size_t)d->max_records;
+        if (nw <= SIZE_MAX / 4 && (o.w = (uint32_t*)vx_alloc(b.a, nw * 4)) != NULL) {
+            o.cap = nw;
+            vx__svo_advise_huge(o.w, nw * 4);
+        }
+        if (b.attrs && nr <= SIZE_MAX / 4 && (o.ids = (uint32_t*)vx_alloc(b.a, nr * 4)) != NULL) {
+            o.capid = nr;
+            vx__svo_advise_huge(o.ids, nr * 4);
         }
     }
     if (!lj.started) { /* no layout thread: the layout fused into the reconstruction */

@@ -225,6 +225,12 @@ typedef struct vx__svo_unpack_desc {
      * split streams the completed-node list is taken from it at its size
      * (one node a valid mask: the valid streams' bytes) and given back. */
     struct vx__svo_scratch* scratch;
+    /* The declared attr_count (the split form's caller sets it, with
+     * max_words): the words and the records' ids are taken at the declared
+     * sizes up front, as 2 MB pages (vx__svo_advise_huge), instead of grown
+     * by doubling (a valid stream fills them exactly; any other is an error
+     * and grows them as before). 0: grown. The result never depends on it. */
+    uint64_t max_records;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by

@@ -310,7 +310,9 @@ void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, 
         }
     }
     *cap = n ? n : 1;
-    return vx_alloc(A, *cap);
+    void* p = vx_alloc(A, *cap);
+    vx__svo_advise_huge(p, *cap); /* fresh: a decoded stream or the node list, written whole before it is read */
+    return p;
 }
 
 void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap) {
