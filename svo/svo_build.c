@@ -2817,6 +2817,22 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
             o.capid = nr;
             vx__svo_advise_huge(o.ids, nr * 4);
         }
+        if (b.runs && b.dag) {
+            /* the run table at the size it grows to: the runs stream's 1s
+             * are the runs stored (run_take), so it never grows (each growth
+             * a fresh table and every entry placed again), and 2 MB pages
+             * for its probes at random (the 4096^3 helmet's 1.2 M runs: 32
+             * MB). Which run a lookup finds does not depend on the table's
+             * size (run_slot): same words. */
+            size_t ones = 0, cap = 4096;
+            for (size_t i = 0; i < b.runs_n; i++) ones += b.runs[i] == 1;
+            while (cap / 2 < ones + 1 && cap <= SIZE_MAX / 16) cap *= 2;
+            if ((o.runh = (uint64_t*)vx_alloc(b.a, cap * sizeof *o.runh)) != NULL) {
+                vx__svo_advise_huge(o.runh, cap * sizeof *o.runh);
+                memset(o.runh, 0, cap * sizeof *o.runh);
+                o.runcap = cap;
+            }
+        }
     }
     if (!lj.started) { /* no layout thread: the layout fused into the reconstruction */
         u.fused = true;
