@@ -2843,10 +2843,12 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         memset(&u.lerr, 0, sizeof u.lerr);
         u.pf_on = b.dag && b.attrs;
     }
-    if (d->scratch && src->cur) {
+    if (src->cur) {
         /* every node read takes one valid mask: the list at its final size
-         * (no growth, each a copy into fresh pages) in pages an earlier
-         * model of this thread faulted in already */
+         * (no growth, each a copy into fresh pages), in pages an earlier
+         * model of this thread faulted in already where there is a scratch,
+         * else fresh as 2 MB pages (vx__svo_scratch_get; the 4096^3 helmet
+         * on one thread: 425 K faults a read, most of them this list's) */
         size_t nodes = 1, bytes = 0;
         for (unsigned i = 0; i < 4; i++) nodes += src->cur->n[i];
         if (nodes <= SIZE_MAX / sizeof *u.done) u.done = (unp_node*)vx__svo_scratch_get(d->scratch, b.a, nodes * sizeof *u.done, &bytes);
