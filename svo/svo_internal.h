@@ -347,6 +347,9 @@ typedef struct vx__svo_split_sink {
 } vx__svo_split_sink;
 /* runs: the sink has the runs stream (put as VX__SYM_RUN, ctx 0). */
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A);
+/* Room for `values` values in each channel's array up front (a hint: the
+ * puts grow it past that as before; nothing where it cannot be had). */
+void vx__svo_split_sink_reserve(vx__svo_split_sink* k, size_t values);
 /* The put where its stream has no room (grows it; k->oom without memory). */
 void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
 static inline void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {

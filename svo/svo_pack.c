@@ -1407,6 +1407,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             /* the split form: straight into its streams, one walk */
             x.runs = split && m->attrs && dag && vx__svo_split_runs(hooks);
             if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, x.runs, A))) ok = false;
+            if (split && ok) vx__svo_split_sink_reserve(x.sink, m->attr_count); /* (the values: about one a record) */
             if (ok) ext_visit(&x, m->root, m->depth);
             if (x.oom) ok = false;
             structural = ok && !x.bad;
