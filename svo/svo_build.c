@@ -2779,6 +2779,40 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     }
     if (u.max_words == 0)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a tree declared with 0 words");
+    if (d->max_records) {
+        /* the words and records at their declared sizes (bounded by the
+         * stream's bytes, check_declared; untouched pages cost no memory):
+         * grown by doubling they were copied by realloc up to the mmap
+         * threshold and faulted in a 4 KB page at a time, the kernel's
+         * faults and clearing a quarter of the 4096^3 helmet's read on a
+         * VM. Where it cannot be had they grow as before: same words. Before
+         * any layout thread starts: it uses o. */
+        size_t nw = (size_t)u.max_words, nr = (size_t)d->max_records;
+        if (nw <= SIZE_MAX / 4 && (o.w = (uint32_t*)vx_alloc(b.a, nw * 4)) != NULL) {
+            o.cap = nw;
+            vx__svo_advise_huge(o.w, nw * 4);
+        }
+        if (b.attrs && nr <= SIZE_MAX / 4 && (o.ids = (uint32_t*)vx_alloc(b.a, nr * 4)) != NULL) {
+            o.capid = nr;
+            vx__svo_advise_huge(o.ids, nr * 4);
+        }
+        if (b.runs && b.dag) {
+            /* the run table at the size it grows to: the runs stream's 1s
+             * are the runs stored (run_take), so it never grows (each growth
+             * a fresh table and every entry placed again), and 2 MB pages
+             * for its probes at random (the 4096^3 helmet stores 1.2 M runs).
+             * Which run a lookup finds does not depend on the table's size
+             * (run_slot): same words. */
+            size_t ones = 0, cap = 4096;
+            for (size_t i = 0; i < b.runs_n; i++) ones += b.runs[i] == 1;
+            while (cap / 2 < ones + 1 && cap <= SIZE_MAX / 16) cap *= 2;
+            if ((o.runh = (uint64_t*)vx_alloc(b.a, cap * sizeof *o.runh)) != NULL) {
+                vx__svo_advise_huge(o.runh, cap * sizeof *o.runh);
+                memset(o.runh, 0, cap * sizeof *o.runh);
+                o.runcap = cap;
+            }
+        }
+    }
     /* The layout follows the decoding on other threads (as it follows the
      * build): the pool is allocated once at its bound, at most max_words
      * nodes (each new non-root node is one of the declared words) of at most
@@ -2798,39 +2832,6 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
                 vx_free(b.a, b.pool);
                 b.pool = NULL;
                 b.cappool = 0;
-            }
-        }
-    }
-    if (d->max_records) {
-        /* the words and records at their declared sizes (bounded by the
-         * stream's bytes, check_declared; untouched pages cost no memory):
-         * grown by doubling they were copied by realloc up to the mmap
-         * threshold and faulted in a 4 KB page at a time, the kernel's
-         * faults and clearing a quarter of the 4096^3 helmet's read on a
-         * VM. Where it cannot be had they grow as before: same words. */
-        size_t nw = (size_t)u.max_words, nr = (size_t)d->max_records;
-        if (nw <= SIZE_MAX / 4 && (o.w = (uint32_t*)vx_alloc(b.a, nw * 4)) != NULL) {
-            o.cap = nw;
-            vx__svo_advise_huge(o.w, nw * 4);
-        }
-        if (b.attrs && nr <= SIZE_MAX / 4 && (o.ids = (uint32_t*)vx_alloc(b.a, nr * 4)) != NULL) {
-            o.capid = nr;
-            vx__svo_advise_huge(o.ids, nr * 4);
-        }
-        if (b.runs && b.dag) {
-            /* the run table at the size it grows to: the runs stream's 1s
-             * are the runs stored (run_take), so it never grows (each growth
-             * a fresh table and every entry placed again), and 2 MB pages
-             * for its probes at random (the 4096^3 helmet's 1.2 M runs: 32
-             * MB). Which run a lookup finds does not depend on the table's
-             * size (run_slot): same words. */
-            size_t ones = 0, cap = 4096;
-            for (size_t i = 0; i < b.runs_n; i++) ones += b.runs[i] == 1;
-            while (cap / 2 < ones + 1 && cap <= SIZE_MAX / 16) cap *= 2;
-            if ((o.runh = (uint64_t*)vx_alloc(b.a, cap * sizeof *o.runh)) != NULL) {
-                vx__svo_advise_huge(o.runh, cap * sizeof *o.runh);
-                memset(o.runh, 0, cap * sizeof *o.runh);
-                o.runcap = cap;
             }
         }
     }
