@@ -1303,6 +1303,13 @@ static bool finish_model(bld* b, outw* o, vx_svo_model* m, bool empty) {
             b->fail = vx_fail(b->err, VX_ERR_NOMEM, VX_NO_OFFSET, "svo build: cannot allocate %zu attribute records", na);
         return false;
     }
+    /* filled once, a page fault per 4 KB otherwise (the 4096^3 helmet's
+     * 74 M materials: 148 MB) */
+    vx__svo_advise_huge(m->palette, na);
+    if (!own) vx__svo_advise_huge(m->rgba, na * 4);
+    vx__svo_advise_huge(m->normal, na * 4);
+    vx__svo_advise_huge(m->material, na * 2);
+    vx__svo_advise_huge(m->density, na * 4);
     rec_fill f = {b, own ? m->rgba : o->ids, own, m};
     if (!own || b->attrs != VX_ATTR_RGBA8) /* (the rgba array alone: nothing left to fill) */
         par_for(b, na, rec_fill_range, &f); /* many records (a large region from the GPU): on the builder's threads */
@@ -2772,6 +2779,40 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
     }
     if (u.max_words == 0)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo: section NODE: a tree declared with 0 words");
+    if (d->max_records) {
+        /* the words and records at their declared sizes (bounded by the
+         * stream's bytes, check_declared; untouched pages cost no memory):
+         * grown by doubling they were copied by realloc up to the mmap
+         * threshold and faulted in a 4 KB page at a time, the kernel's
+         * faults and clearing a quarter of the 4096^3 helmet's read on a
+         * VM. Where it cannot be had they grow as before: same words. Before
+         * any layout thread starts: it uses o. */
+        size_t nw = (size_t)u.max_words, nr = (size_t)d->max_records;
+        if (nw <= SIZE_MAX / 4 && (o.w = (uint32_t*)vx_alloc(b.a, nw * 4)) != NULL) {
+            o.cap = nw;
+            vx__svo_advise_huge(o.w, nw * 4);
+        }
+        if (b.attrs && nr <= SIZE_MAX / 4 && (o.ids = (uint32_t*)vx_alloc(b.a, nr * 4)) != NULL) {
+            o.capid = nr;
+            vx__svo_advise_huge(o.ids, nr * 4);
+        }
+        if (b.runs && b.dag) {
+            /* the run table at the size it grows to: the runs stream's 1s
+             * are the runs stored (run_take), so it never grows (each growth
+             * a fresh table and every entry placed again), and 2 MB pages
+             * for its probes at random (the 4096^3 helmet stores 1.2 M runs).
+             * Which run a lookup finds does not depend on the table's size
+             * (run_slot): same words. */
+            size_t ones = 0, cap = 4096;
+            for (size_t i = 0; i < b.runs_n; i++) ones += b.runs[i] == 1;
+            while (cap / 2 < ones + 1 && cap <= SIZE_MAX / 16) cap *= 2;
+            if ((o.runh = (uint64_t*)vx_alloc(b.a, cap * sizeof *o.runh)) != NULL) {
+                vx__svo_advise_huge(o.runh, cap * sizeof *o.runh);
+                memset(o.runh, 0, cap * sizeof *o.runh);
+                o.runcap = cap;
+            }
+        }
+    }
     /* The layout follows the decoding on other threads (as it follows the
      * build): the pool is allocated once at its bound, at most max_words
      * nodes (each new non-root node is one of the declared words) of at most
@@ -2803,10 +2844,12 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
         memset(&u.lerr, 0, sizeof u.lerr);
         u.pf_on = b.dag && b.attrs;
     }
-    if (d->scratch && src->cur) {
+    if (src->cur) {
         /* every node read takes one valid mask: the list at its final size
-         * (no growth, each a copy into fresh pages) in pages an earlier
-         * model of this thread faulted in already */
+         * (no growth, each a copy into fresh pages), in pages an earlier
+         * model of this thread faulted in already where there is a scratch,
+         * else fresh as 2 MB pages (vx__svo_scratch_get; the 4096^3 helmet
+         * on one thread: 425 K faults a read, most of them this list's) */
         size_t nodes = 1, bytes = 0;
         for (unsigned i = 0; i < 4; i++) nodes += src->cur->n[i];
         if (nodes <= SIZE_MAX / sizeof *u.done) u.done = (unp_node*)vx__svo_scratch_get(d->scratch, b.a, nodes * sizeof *u.done, &bytes);

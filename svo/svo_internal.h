@@ -225,6 +225,12 @@ typedef struct vx__svo_unpack_desc {
      * split streams the completed-node list is taken from it at its size
      * (one node a valid mask: the valid streams' bytes) and given back. */
     struct vx__svo_scratch* scratch;
+    /* The declared attr_count (the split form's caller sets it, with
+     * max_words): the words and the records' ids are taken at the declared
+     * sizes up front, as 2 MB pages (vx__svo_advise_huge), instead of grown
+     * by doubling (a valid stream fills them exactly; any other is an error
+     * and grows them as before). 0: grown. The result never depends on it. */
+    uint64_t max_records;
 } vx__svo_unpack_desc;
 
 /* Rebuilds a model's node words and records from its depth-first symbols by
@@ -341,6 +347,9 @@ typedef struct vx__svo_split_sink {
 } vx__svo_split_sink;
 /* runs: the sink has the runs stream (put as VX__SYM_RUN, ctx 0). */
 vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_allocator* A);
+/* Room for `values` values in each channel's array up front (a hint: the
+ * puts grow it past that as before; nothing where it cannot be had). */
+void vx__svo_split_sink_reserve(vx__svo_split_sink* k, size_t values);
 /* The put where its stream has no room (grows it; k->oom without memory). */
 void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v);
 static inline void vx__svo_split_put(vx__svo_split_sink* k, unsigned kind, unsigned ctx, uint32_t v) {

@@ -1407,6 +1407,7 @@ bool vx__svo_pack_model(const vx_svo_model* m, const vx_allocator* A, int chunke
             /* the split form: straight into its streams, one walk */
             x.runs = split && m->attrs && dag && vx__svo_split_runs(hooks);
             if (split && !(x.sink = vx__svo_split_sink_new(m->attrs, x.runs, A))) ok = false;
+            if (split && ok) vx__svo_split_sink_reserve(x.sink, m->attr_count); /* (the values: about one a record) */
             if (ok) ext_visit(&x, m->root, m->depth);
             if (x.oom) ok = false;
             structural = ok && !x.bad;
@@ -2028,6 +2029,7 @@ static vx_result unpack_split(const uint8_t* p, size_t n, uint64_t base, vx_svo_
     ud.const_attrs = vx__svo_split_constants(d, m->attrs, &ud.const_rec);
     ud.runs = vx__svo_split_runs_stream(d, &ud.runs_n);
     ud.scratch = cpus <= 1 ? sc : NULL; /* (one thread: the scratch has no lock) */
+    ud.max_records = m->attr_count ? m->attr_count : 1; /* (the words and records at the declared sizes) */
     r = vx__svo_unpack(&ud, &src, m, err);
     if (r != VX_OK) {
         if (r == VX_ERR_INVALID_ARG) r = VX_ERR_BAD_FORMAT;

@@ -117,6 +117,20 @@ vx__svo_split_sink* vx__svo_split_sink_new(uint32_t attrs, bool runs, const vx_a
     return k;
 }
 
+void vx__svo_split_sink_reserve(vx__svo_split_sink* k, size_t values) {
+    /* grown by doubling from nothing, each array was copied by realloc at
+     * every step below glibc's mmap threshold (32 MB after a few large
+     * frees) and faulted in a 4 KB page at a time: with the 4096^3 helmet's
+     * write, most of its page faults. At the model's record count, advised
+     * as 2 MB pages, untouched pages cost nothing. */
+    for (unsigned c = 0; c < 5; c++) {
+        if (!k->cs[c] || k->val[c] || !values || values > SIZE_MAX / sizeof *k->val[c]) continue;
+        if ((k->val[c] = (uint32_t*)vx_alloc(k->A, values * sizeof *k->val[c])) == NULL) continue;
+        k->capval[c] = values;
+        vx__svo_advise_huge(k->val[c], values * sizeof *k->val[c]);
+    }
+}
+
 void vx__svo_split_sink_free(vx__svo_split_sink* k) {
     if (!k) return;
     for (unsigned s = 0; s <= VX__SPLIT_FIXED; s++) vx_free(k->A, k->p[s]);
@@ -128,6 +142,7 @@ void vx__svo_split_sink_free(vx__svo_split_sink* k) {
 static bool sink_room(vx__svo_split_sink* k, unsigned s) {
     if (k->n[s] + 5 <= k->cap[s]) return true;
     if (!vx_grow(k->A, (void**)&k->p[s], &k->cap[s], k->n[s] + 5, 1)) return k->oom = true, false;
+    vx__svo_advise_huge(k->p[s], k->cap[s]); /* the pages the growth adds: 2 MB ones (see put_slow) */
     return true;
 }
 
@@ -138,6 +153,11 @@ void vx__svo_split_put_slow(vx__svo_split_sink* k, unsigned kind, unsigned ctx, 
             k->oom = true;
             return;
         }
+        /* the pages the growth adds (realloc moves a large block's pages and
+         * keeps its advice), faulted in as 2 MB pages: the sink's arrays, a
+         * 4 KB fault at a time, were most of the 4096^3 helmet's split
+         * write's 390 K faults */
+        vx__svo_advise_huge(k->val[ctx], k->capval[ctx] * sizeof *k->val[ctx]);
         k->val[ctx][k->nval[ctx]++] = v;
         return;
     }
@@ -203,6 +223,7 @@ bool vx__svo_split_sink_code(vx__svo_split_sink* k, bool dag, uint32_t limit, un
             ok = false;
             break;
         }
+        vx__svo_advise_huge(planes[c], cnt * w); /* fresh, written whole */
         planes_put(planes[c], k->val[c], cnt, w);
         j.raw[s] = planes[c];
         j.n[s] = cnt * w;
@@ -310,7 +331,9 @@ void* vx__svo_scratch_get(vx__svo_scratch* sc, const vx_allocator* A, size_t n, 
         }
     }
     *cap = n ? n : 1;
-    return vx_alloc(A, *cap);
+    void* p = vx_alloc(A, *cap);
+    vx__svo_advise_huge(p, *cap); /* fresh: a decoded stream or the node list, written whole before it is read */
+    return p;
 }
 
 void vx__svo_scratch_put(vx__svo_scratch* sc, const vx_allocator* A, void* p, size_t cap) {
