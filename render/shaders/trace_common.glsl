@@ -410,25 +410,6 @@ uint child_node_file(uint parent, uint desc, uint cbit, uint nbase) {
 #define SLOTS3(i) vec3(intBitsToFloat(stk_node[i]), intBitsToFloat(stk_node[(i) + 1]), intBitsToFloat(stk_node[(i) + 2]))
 #endif
 
-#if defined(TRACE_PATH) && !defined(PRECISE)
-// The late switch (trace.comp's rebased walk; issue 21, branch late, measured and
-// not kept: see docs/PERFORMANCE.md): the walk stays in the model frame below the
-// rebase depth k and switches into the frame of the depth-k ancestor N only when it
-// pushes into a node at depth late_level(k) (LATE_LEVELS below k, at most LATE_MAX,
-// where the model frame's cells are still exact); a return out of N goes back to that
-// level's test. The decisions between depth k and late_level are then the model
-// frame's, not N's: other roundings, so other pixels than the switch at k where a
-// ray passes within rounding of a plane there (1 of 129,600 on terrain4096's
-// overview on lavapipe from LATE_LEVELS 2). LATE_LEVELS 0 is the switch at k.
-#ifndef LATE_LEVELS
-#define LATE_LEVELS 3
-#endif
-#ifndef LATE_MAX
-#define LATE_MAX 9
-#endif
-int late_level(int k) { return max(k, min(k + LATE_LEVELS, LATE_MAX)); }
-#endif
-
 #ifdef TRACE_STACK_SELECTS
 // The walk's stack as a ladder of selects (trace.comp, float variant): on CPU
 // devices (NODES_FILE) every access to stk_node is at a constant index, so
@@ -572,12 +553,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // rb_scale the scale of a depth-k cube in the model frame (-100 while
     // rebased: no second rebase)
     int koff = 0;
-#ifdef TRACE_PATH
-    // (trace.comp: the scale of the late switch's level, late_level below)
-    int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - late_level(int(m.rebase)) : -100;
-#else
     int rb_scale = (REBASE && m.rebase > 0u) ? S_MAX - int(m.rebase) : -100;
-#endif
 #endif
 
     WPREC REAL tmin = max(max(2.0 * coef.x - bias.x, 2.0 * coef.y - bias.y), 2.0 * coef.z - bias.z);
@@ -713,7 +689,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 ivec3 sh = floatBitsToInt(pos) >> scale;
                 idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
 #ifndef PRECISE
-                if (REBASE && scale < rb_scale) { // (X at depth late_level or below)
+                if (REBASE && scale < rb_scale) {
                     // X at depth k or below (in the frame of its depth-k
                     // ancestor N): the walk would push to N in the model
                     // frame and switch into N's frame there (pending 1).
@@ -728,10 +704,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     // skipped below N hold the start too. N's word sits in
                     // its slot as a parent (depth k's: X's when dx == k),
                     // where N's walk would store it.
-                    int k = int(m.rebase);
+                    int k = S_MAX - rb_scale;
                     stk_node[S_MAX - 1 - dx] = int(parent);
                     stk_node[RB_JX] = int(parent), stk_node[RB_JS] = scale + k;
-                    vec3 pn = intBitsToFloat((floatBitsToInt(pk) >> (S_MAX - k)) << (S_MAX - k)); // N's corner
+                    vec3 pn = intBitsToFloat((floatBitsToInt(pk) >> rb_scale) << rb_scale); // N's corner
                     vec3 pj = 1.0 + (pk - pn) * intBitsToFloat((127 + k) << 23);
                     stk_node[RB_JPOS] = floatBitsToInt(pj.x), stk_node[RB_JPOS + 1] = floatBitsToInt(pj.y);
                     stk_node[RB_JPOS + 2] = floatBitsToInt(pj.z);
@@ -885,25 +861,6 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     if (REBASE && scale == rb_scale) {
                         // into node N at depth k: after the loop
                         pending = 1, rb_cbit = cbit;
-#ifdef TRACE_PATH
-                        int k = int(m.rebase);
-                        if (scale != S_MAX - k) {
-                            // the late switch: into K (this child, at late_level) of X
-                            // (parent), in the frame of K's depth-k ancestor N, set up
-                            // as the path start's (rb_cbit 0): on at X, K's corner in
-                            // N's frame; the walk's start there is the ray's tmin now
-                            stk_node[RB_JX] = int(parent), stk_node[RB_JS] = scale + k;
-                            vec3 pn = intBitsToFloat((floatBitsToInt(pos) >> (S_MAX - k)) << (S_MAX - k));
-                            vec3 pj = 1.0 + (pos - pn) * intBitsToFloat((127 + k) << 23);
-                            stk_node[RB_JPOS] = floatBitsToInt(pj.x), stk_node[RB_JPOS + 1] = floatBitsToInt(pj.y);
-                            stk_node[RB_JPOS + 2] = floatBitsToInt(pj.z);
-                            stk_node[RB_T0] = floatBitsToInt(tmin);
-                            parent = uint(stk_node[S_MAX - k]); // N's parent, at depth k - 1
-                            pos = pn;
-                            scale_exp2 = intBitsToFloat((127 - k) << 23);
-                            rb_cbit = 0u;
-                        }
-#endif
                         break;
                     }
 #endif
@@ -911,13 +868,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 #ifdef PRECISE
                     if (tc_max < hh) stk_node[scale] = int(parent);
 #else
-#ifdef TRACE_PATH
-                    // (the late switch reads N's parent and the rebased walk pops to the
-                    // entries the model frame pushed from depth k - 1 on: always stored)
-                    bool store = LEAN ? true : tc_max < hh || scale <= rb_scale + LATE_LEVELS;
-#else
                     bool store = LEAN ? true : tc_max < hh;
-#endif
                     if (store) {
 #ifdef TRACE_STACK_SELECTS
                         if (STK_REG) STK_PUT(scale - koff, int(parent))
@@ -1051,7 +1002,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                 precise vec3 se = (a - (sq - bb)) - (pr + bb);
                 precise vec3 q = sq + ((se - pe) + olm_lo);
 #ifdef TRACE_PATH
-                int k = int(m.rebase); // (N's depth; the switch's scale is late_level's)
+                int k = S_MAX - rb_scale; // (scale at a push's switch; past the loop for the path start's)
 #else
                 int k = S_MAX - scale;
 #endif
@@ -1118,11 +1069,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             ivec3 nb = (floatBitsToInt(pos) >> scale) & 1;
             idx = nb.x | (nb.y << 1) | (nb.z << 2);
             bias = SLOTS3(RB_BIAS);
-#ifdef TRACE_PATH
-            rb_scale = S_MAX - late_level(koff);
-#else
             rb_scale = scale;
-#endif
             koff = 0;
             hh = 0.0;
             loaded = false; if (SENT) desc = 0u;
