@@ -1047,16 +1047,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
                     pos = vec3(1.0);
                     WALK_FIRST_CHILD(vec3)
                 }
-#ifdef TRACE_PATH
-                // (trace.comp) the loop's first step loads this node's descriptor: loaded here
-                // already, the same word, so that the load overlaps the switch's last arithmetic
-                if (!COMPACT) {
-                    desc = nodes[parent];
-                    if (TURN_LOAD) desc = desc_gpu_form(desc);
-                    loaded = true;
-                } else
-#endif
-                { loaded = false; if (SENT) desc = 0u; }
+                loaded = false; if (SENT) desc = 0u;
 #ifdef CELL_WALK
                 if (virt) desc = FULL_DESC, loaded = true;
 #endif
@@ -1125,14 +1116,7 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             pos = intBitsToFloat(sh << scale);
             idx = (sh.x & 1) | ((sh.y & 1) << 1) | ((sh.z & 1) << 2);
             hh = 0.0;
-#ifdef TRACE_PATH
-            if (!COMPACT) {
-                desc = nodes[parent];
-                if (TURN_LOAD) desc = desc_gpu_form(desc);
-                loaded = true;
-            } else
-#endif
-            { loaded = false; if (SENT) desc = 0u; }
+            loaded = false; if (SENT) desc = 0u;
         }
 #endif
         if (scale >= S_MAX || g_iter > MAX_ITER) hit = false;
