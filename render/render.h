@@ -99,7 +99,13 @@ extern "C" {
  * begins in the frame of X's depth-k ancestor, its switch made before the
  * walk's loop (the close-up's switches from the loop 1.21 -> 0.21 a ray, its
  * steps 15.6 -> 11.6 with X a level deeper from a longer listed top, 7.5%
- * more rays/s on the H200; issue 21, rbstart).
+ * more rays/s on the H200; issue 21, rbstart). A return out of N into a
+ * sibling that is an inner node goes straight to that sibling's switch, the
+ * loop's step there taken outside the loop (the same decisions; 0.78 of the
+ * oblique's 1.86 returns a ray, 1.4-2.6% more rays/s on terrain4096's views
+ * on the H200; issue 21, late). Walking a few levels below k in the model
+ * frame before switching (a late switch) cut the switches 4x but changed
+ * pixels and lost speed: not kept (same).
  * Shallower models keep the plain
  * loop: the trace kernel's REBASE constant is off for scenes without a model deeper than
  * VX_RENDER_EXACT_DEPTH (shaders/trace_common.glsl, trace_model). Every

@@ -1078,7 +1078,32 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
             if ((step & 2) != 0) { diff |= floatBitsToUint(pos.y) ^ floatBitsToUint(pos.y - us); pos.y -= us; }
             if ((step & 4) != 0) { diff |= floatBitsToUint(pos.z) ^ floatBitsToUint(pos.z - us); pos.z -= us; }
             idx ^= step;
-            if ((idx & step) == 0) continue; // into a sibling of N
+            if ((idx & step) == 0) {
+                // into a sibling N' of N
+#ifdef TRACE_PATH
+                // (trace.comp) where N' is an inner child the loop's next step would push into
+                // it and leave the loop again to switch into its frame (pending 1): take that
+                // step here, the same decisions on the same values (N''s valid and leaf bits,
+                // tmin <= tmax unless lean), and go to the switch without re-entering the loop
+                if (!LOD && !COMPACT) {
+                    uint dp = nodes[parent];
+                    if (TURN_LOAD) dp = desc_gpu_form(dp);
+                    desc = dp, loaded = true;
+                    int cs = idx ^ oct7;
+                    uint cbit = 1u << cs;
+                    uint cm = dp << uint(idx ^ oct);
+                    bool lean = LEAN && !any_hit && !USE_BVH;
+                    bool push = (MASKS ? dp & (cbit << 8) : cm & 0x8000u) != 0u && (lean || tmin <= tmax);
+                    bool is_leaf = FILE_FORM ? (dp & cbit) != 0u : (MASKS ? dp & cbit : cm & 0x80u) == 0u;
+                    if (push && !is_leaf) {
+                        if (GUARD) g_iter++;
+                        pending = 1, rb_cbit = cbit;
+                        scale = S_MAX; // past the loop, to the switch
+                    }
+                }
+#endif
+                continue;
+            }
             scale = findMSB(diff);
             if (scale >= S_MAX) break;
             scale_exp2 = uintBitsToFloat(uint(scale - S_MAX + 127) << 23);
