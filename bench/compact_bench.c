@@ -54,6 +54,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench/bench_compact_view.h"
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "render/compact.h"
@@ -227,15 +228,7 @@ static void gpu_rows(vx_gpu* g, const char* name, const vx_svo_scene* s, uint32_
     vx_svo_scene_world_bounds(s, lo, hi);
     for (int view = 0; view < 2; view++) {
         vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_ALBEDO, .want_hits = true};
-        if (view == 1) {
-            d.camera.set = true;
-            d.camera.fov = 70;
-            for (int k = 0; k < 3; k++) {
-                double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
-                d.camera.target[k] = mid - 0.05 * ext;
-                d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
-            }
-        }
+        if (view == 1) bench_compact_closeup(lo, hi, &d);
         /* pixels whose instance or cell differ, colour, t bits, t by more than 1e-5 relative */
         uint64_t hits = 0, differ[8] = {0}, dcol[8] = {0}, dt[8] = {0}, dtbig[8] = {0}, ita = 0, dnh[8] = {0};
         uint64_t itv[8] = {0}; /* each compact kernel's steps */

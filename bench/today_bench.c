@@ -6,13 +6,14 @@
  * compiles against the tree of the day the issue was filed (00625c1, the commit before issue 18's first; one
  * include changed, below) and against today's main, so that one process of each on the same GPU gives "today's" rates beside
  * compact_bench's compact kernel (bench/results/today_gpu_run.sh). In main it is the target today_bench; in
- * 00625c1's tree a copy with the same target added to bench/render.cmake by hand.
+ * 00625c1's tree a copy (with bench/bench_compact_view.h) and the same target added to bench/render.cmake by hand.
  * Usage: today_bench [--gpu WxH] [--reps N] [--terrain EXTENT] FILE.vox|FILE.svo ... */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench/bench_compact_view.h"
 #include "bench/bench_load.h"
 #include "bench/bench_stats.h"
 #include "bench/bench_terrain.h"
@@ -32,15 +33,7 @@ static void rows(vx_gpu* gpu, const char* name, vx_svo_scene* s, uint32_t W, uin
     vx_svo_scene_world_bounds(s, lo, hi);
     for (int view = 0; view < 2; view++) {
         vx_render_desc d = {.width = W, .height = H, .mode = VX_RENDER_ALBEDO, .want_hits = true};
-        if (view == 1) {
-            d.camera.set = true;
-            d.camera.fov = 70;
-            for (int k = 0; k < 3; k++) {
-                double mid = 0.5 * (lo[k] + hi[k]), ext = hi[k] - lo[k];
-                d.camera.target[k] = mid - 0.05 * ext;
-                d.camera.eye[k] = mid + (k == 1 ? -0.3 : 0.2) * ext;
-            }
-        }
+        if (view == 1) bench_compact_closeup(lo, hi, &d);
         vx_render_image img = {0};
         uint64_t hits = 0;
         if (vx_render_frame(rs, &d, &img, &err)) {

@@ -751,6 +751,20 @@ static uint32_t run_append(bld* b, outw* o, const uint32_t* ids, unsigned n) {
     return st;
 }
 
+/* The run table at the size run_intern_exact's growth reaches for `runs`
+ * runs (4096 doubled while more than half would be full), so that it is
+ * never grown and rehashed; huge: advised as 2 MB pages (its probes land at
+ * random). Nothing where it cannot be had: the table grows as usual. */
+static void run_table_presize(bld* b, outw* o, size_t runs, bool huge) {
+    size_t cap = 4096;
+    while (cap / 2 < runs + 1 && cap <= SIZE_MAX / 16) cap *= 2;
+    o->runh = (uint64_t*)vx_alloc(b->a, cap * sizeof *o->runh);
+    if (!o->runh) return;
+    if (huge) vx__svo_advise_huge(o->runh, cap * sizeof *o->runh);
+    memset(o->runh, 0, cap * sizeof *o->runh);
+    o->runcap = cap;
+}
+
 static uint32_t run_intern_exact(bld* b, outw* o, const uint32_t* ids, unsigned n, bool add, const uint64_t* hp) {
     uint64_t h = 0;
     size_t j = 0;
@@ -1500,12 +1514,7 @@ static bool pool_take(bld* b, const vx__svo_pool* p, bool thread, lay_job* lj, l
     /* the layout's tables and outputs sized for the nodes to come (at most
      * one run and one block per node, at most the pool's words), not grown
      * and rehashed step by step; where an allocation fails they grow as usual */
-    if (b->dag && cnt && !o->runh) {
-        size_t nodes = cnt / (N_KIDS + 1) + 2, cap = 4096;
-        while (cap < 2 * nodes + 2) cap *= 2;
-        o->runh = (uint64_t*)vx_calloc(b->a, cap, sizeof *o->runh);
-        if (o->runh) o->runcap = cap;
-    }
+    if (b->dag && cnt && !o->runh) run_table_presize(b, o, cnt / (N_KIDS + 1) + 2, false);
     if (cnt) {
         vx_grow(b->a, (void**)&o->w, &o->cap, cnt + 2, sizeof *o->w);
         vx_grow(b->a, (void**)&o->ids, &o->capid, cnt, sizeof *o->ids);
@@ -2803,14 +2812,9 @@ vx_result vx__svo_unpack(const vx__svo_unpack_desc* d, const vx__svo_src* src, v
              * for its probes at random (the 4096^3 helmet stores 1.2 M runs).
              * Which run a lookup finds does not depend on the table's size
              * (run_slot): same words. */
-            size_t ones = 0, cap = 4096;
+            size_t ones = 0;
             for (size_t i = 0; i < b.runs_n; i++) ones += b.runs[i] == 1;
-            while (cap / 2 < ones + 1 && cap <= SIZE_MAX / 16) cap *= 2;
-            if ((o.runh = (uint64_t*)vx_alloc(b.a, cap * sizeof *o.runh)) != NULL) {
-                vx__svo_advise_huge(o.runh, cap * sizeof *o.runh);
-                memset(o.runh, 0, cap * sizeof *o.runh);
-                o.runcap = cap;
-            }
+            run_table_presize(&b, &o, ones, true);
         }
     }
     /* The layout follows the decoding on other threads (as it follows the
