@@ -9,7 +9,9 @@ BUILD=${1:-build}
 TYPE=Release
 EXTRA=""
 if [ "${VX_SANITIZE:-0}" = 1 ]; then
-    TYPE=Debug; EXTRA="-DVX_SANITIZE=ON"
+    # The benchmarks are left out (-DVX_BENCH=OFF): no test runs them under the sanitizers, and the release
+    # build of command (2) compiles them; about a tenth of the build (docs/TESTING.md).
+    TYPE=Debug; EXTRA="-DVX_SANITIZE=ON -DVX_BENCH=OFF"
     # The Vulkan validation layer checks the API calls, which are the same in
     # both builds: the release run (command (2)) checks them; under ASan the
     # layer's own allocations made the GPU tests 1.5 times slower. VX_VALIDATE=1 keeps it.

@@ -47,12 +47,21 @@ static int vx_t_pass, vx_t_fail, vx_t_skip;
         return;                                                                  \
     } while (0)
 
-/* 1 when fn's name holds one of the comma-separated NAMEs of list. */
+/* 1 when fn's name holds one of the comma-separated NAMEs of list; a NAME
+ * ending in '$' must be the whole name (test_path_start$ is not
+ * test_path_start_deep). */
 static inline int vx_t_listed(const char* fn, const char* list) {
     char buf[512];
     snprintf(buf, sizeof buf, "%s", list);
-    for (char* t = strtok(buf, ","); t; t = strtok(NULL, ","))
-        if (strstr(fn, t)) return 1;
+    for (char* t = strtok(buf, ","); t; t = strtok(NULL, ",")) {
+        size_t n = strlen(t);
+        if (n > 1 && t[n - 1] == '$') {
+            t[n - 1] = 0;
+            if (!strcmp(fn, t)) return 1;
+        } else if (strstr(fn, t)) {
+            return 1;
+        }
+    }
     return 0;
 }
 

@@ -69,7 +69,8 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_frames")
   # the corpus models' GI frames (cones, photons, probes over the compact layout) are lavapipe's time (over 240 s
   # under ASan); the generated scene's and the room's GI frames run the same host code under the sanitizers
-  vx_sanitize_trim(test_compact_passes SKIP test_corpus_gi_frames)
+  # (the room's GI frames too: the same host code as the generated scene's, which stay)
+  vx_sanitize_trim(test_compact_passes SKIP test_corpus_gi_frames test_room_gi_frames)
   vx_test_cost(test_compact_passes 273)
   # the room's frames (one instance) in the descriptors' GPU form: the compact G-buffer's lean walk (trace_common.glsl
   # LEAN) against the plain one's, which lavapipe's file form does not run (issue 18, lean3)
@@ -79,6 +80,8 @@ if(VX_WITH_VULKAN AND TARGET vx_cones AND TARGET vx_photons)
   add_test(NAME test_compact_passes_bakes COMMAND test_compact_passes)
   set_tests_properties(test_compact_passes_bakes PROPERTIES TIMEOUT 900 ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=_bakes")
+  # the corpus models' bakes: the generated scene's and the room's bakes run the same host code under the sanitizers
+  vx_sanitize_trim(test_compact_passes_bakes SKIP test_corpus_bakes)
 endif()
 # The compact layout built model by model from a file (vx_compact_build_reader,
 # svo/svo.h's model reader): the whole-scene build's words, damaged models. CPU only.

@@ -786,7 +786,11 @@ static void test_path_start(void) {
                 bool outside = v >= views;
                 double e[3], t[3];
                 vx_render_desc d = {.width = 40, .height = 30};
-                d.mode = v % 3 == 0 ? VX_RENDER_DEPTH : v % 3 == 1 ? VX_RENDER_ALBEDO : VX_RENDER_COLOR;
+                /* one mode a model (colour on the 64^3 blocks and the 13 levels, albedo on the 256^3 blocks, depth on
+                 * the 11 levels): the start is taken before the mode's shading, and each mode is a kernel of its own
+                 * for lavapipe to compile for every model, layout and start setting (all three modes a model: 1,002 s
+                 * of this test in Release on 2 cores with a cold shader cache, as CI's; docs/TESTING.md) */
+                d.mode = sc == 1 ? VX_RENDER_ALBEDO : sc == 2 ? VX_RENDER_DEPTH : VX_RENDER_COLOR;
                 d.camera.set = true, d.camera.fov = 70;
                 double dir[3], dl = 0;
                 for (int k = 0; k < 3; k++) dir[k] = (double)(ts_rng(&seed) % 2001) - 1000, dl += dir[k] * dir[k];
