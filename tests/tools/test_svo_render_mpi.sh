@@ -16,7 +16,7 @@ gpu=1
 "$BIN/svo_render" "$T/demo.svo" "$T/one.exr" $O >"$T/one.out" 2>&1 || { cat "$T/one.out"; echo "no Vulkan device: GPU cases skipped"; gpu=0; }
 "$BIN/svo_render" "$T/demo.svo" "$T/cpu.exr" $O --cpu --threads 1 >/dev/null || fail "single CPU render"
 "$BIN/svo_render" "$T/demo.svo" "$T/cpu.png" $O --cpu --threads 1 >/dev/null || fail "single CPU render (PNG)"
-for n in 2 3; do
+for n in ${VX_MPI_RANKS:-2 3}; do
   if [ $gpu = 1 ]; then
     t0=$(date +%s.%N)
     run $n "$BIN/svo_render" "$T/demo.svo" "$T/g$n.exr" $O -v >"$T/g$n.out" 2>&1 || { cat "$T/g$n.out"; fail "mpirun -n $n"; }
@@ -37,7 +37,7 @@ done
 if [ $gpu = 1 ]; then
   B="--mode pathtrace --size 24x20 --spp 1100 --seed 4"
   "$BIN/svo_render" "$T/demo.svo" "$T/b1.pfm" $B >/dev/null 2>&1 || fail "single render, 1,100 spp"
-  for n in 2 3; do
+  for n in ${VX_MPI_RANKS:-2 3}; do
     run $n "$BIN/svo_render" "$T/demo.svo" "$T/b$n.pfm" $B >"$T/b$n.out" 2>&1 || { cat "$T/b$n.out"; fail "mpirun -n $n, 1,100 spp"; }
     cmp -s "$T/b1.pfm" "$T/b$n.pfm" || fail "mpirun -n $n, 1,100 spp (GPU) differs from one process"
   done

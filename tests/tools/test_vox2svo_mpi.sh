@@ -28,7 +28,7 @@ for m in $meshes; do
   "$BIN/vox2svo" "$m" "$T/one$k.svo" $O >"$T/one$k.out" || fail "vox2svo $m"
   models=$(sed -n 's/^  models *\([0-9]*\),.*/\1/p' "$T/one$k.out")
   [ "${models:-0}" -ge 4 ] || { cat "$T/one$k.out"; fail "$m at $O: $models models, expected several regions"; }
-  for n in 2 3; do
+  for n in ${VX_MPI_RANKS:-2 3}; do
     run $n "$BIN/vox2svo" "$m" "$T/m$k-$n.svo" $O -v >"$T/m$k-$n.out" 2>&1 || { cat "$T/m$k-$n.out"; fail "mpirun -n $n $m"; }
     cmp -s "$T/one$k.svo" "$T/m$k-$n.svo" || fail "mpirun -n $n: $m differs from one process"
     [ "$(grep -c "^rank [0-9]*: .* regions, .* peak " "$T/m$k-$n.out")" = $n ] || { cat "$T/m$k-$n.out"; fail "-v: not one line per rank"; }
