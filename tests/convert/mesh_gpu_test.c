@@ -1,7 +1,7 @@
 /* tests/convert/mesh_gpu_test.c - the GPU voxelizer (convert/mesh_gpu.h)
  * against the CPU one: the same .svo bytes (cells, colours, normals,
  * materials, regions and octrees) and the same cell lists, on every corpus
- * mesh at 32, 64 and 128 cells (and 128 in regions of 64), and on generated
+ * mesh at 32 and 64 cells and at 128 in regions of 64 (whole and in 3 shares), and on generated
  * meshes made to hit the hard cases: degenerate triangles (points,
  * segments, slivers), vertices and faces exactly on cell boundaries,
  * axis-aligned faces on the grid's bounds, textures with every wrap mode
@@ -256,8 +256,11 @@ static void test_corpus(void) {
             continue;
         }
         found++;
-        static const uint32_t res[] = {32, 64, 128};
-        for (size_t k = 0; k < 3; k++) {
+        /* whole at 32 and 64; 128 in regions of 64 (below) is the same voxelizer at 128 with the regions' seams:
+         * the whole file at 128 as well was a third of this test's 359 s in Release on 2 cores (lavapipe's
+         * float64 emulation; docs/TESTING.md, stop 59) */
+        static const uint32_t res[] = {32, 64};
+        for (size_t k = 0; k < 2; k++) {
             CHECKF(same_svo(&m, res[k], 0, true, corpus_meshes[i]), "%s at %u", corpus_meshes[i], res[k]);
             /* the .svo bytes cover the cells; the lists say where they differ */
             if (res[k] == 64) CHECKF(cell_diffs(&m, res[k], corpus_meshes[i]) == 0, "%s at %u", corpus_meshes[i], res[k]);

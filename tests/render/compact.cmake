@@ -34,6 +34,9 @@ if(VX_WITH_VULKAN)
                        "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated,test_inside_leaf,test_start_table,test_uniform_cubes;VX_GPU_NODE_FORM=gpu")
   # the GPU form's compact host code runs under the sanitizers in test_compact_passes_gpu_form
   vx_sanitize_trim(test_compact_gpu_gpu_form DISABLE)
+  # under the sanitizers the start table's frames (63 s of lavapipe in Release) are left out: the host code that
+  # writes the start records runs in test_compact_gpu_paths' test_path_records (stop 59, docs/TESTING.md)
+  vx_sanitize_trim(test_compact_gpu SKIP test_start_table)
   if(TARGET vx_conv_mesh)
     target_link_libraries(test_compact_gpu PRIVATE vx_conv_mesh)
     target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)

@@ -250,11 +250,14 @@ static void make_scenes(vx_svo_scene s[2]) {
 }
 
 /* The scenes and layouts drawn: each pair's variants compiled twice (on
- * its fresh device and on the shared one), so three of the four. */
+ * its fresh device and on the shared one), so two of the four: both
+ * scenes and both layouts on the shared device. The room's compact pair as
+ * well made it 303 s in Release with a cold shader cache, almost all of it
+ * lavapipe compiling (stop 59, docs/TESTING.md). */
 static const struct {
     int scene;
     vx_render_layout layout;
-} pairs[] = {{1, VX_RENDER_LAYOUT_PLAIN}, {0, VX_RENDER_LAYOUT_COMPACT}, {1, VX_RENDER_LAYOUT_COMPACT}};
+} pairs[] = {{1, VX_RENDER_LAYOUT_PLAIN}, {0, VX_RENDER_LAYOUT_COMPACT}};
 enum { NPAIRS = sizeof pairs / sizeof pairs[0] };
 
 static void test_frames_one_device(void) {
