@@ -72,10 +72,13 @@ if [ $rc -eq 0 ]; then
   # the texel centre rays of a 3x3x3 grid at R=32 meet solid cubes at their edges, where the plain layout's leaf
   # (a cube of one colour) and the compact layout's cells parted before the bake's cell walk (probe.comp
   # CELL_HITS): main eb010c8 wrote 338 bytes apart here on lavapipe (1,840 of 105.6 M on the H200's goal bake)
-  E="--grid 3,3,3 --res 32 --spp 1 -q"
-  "$BIN/svo_bake" "$T/demo.svo" "$T/ew.probes" $E >/dev/null || fail "GPU bake, --load whole, 3x3x3"
-  "$BIN/svo_bake" "$T/demo.svo" "$T/em.probes" $E --load models >/dev/null || fail "GPU bake, --load models, 3x3x3"
-  cmp -s "$T/ew.probes" "$T/em.probes" || fail "--load models differs from --load whole (3x3x3 at R=32: edge rays)"
+  # (VX_BAKE_EDGE_RAYS=0, the sanitizer run: the kernels' rays, not host code; tests/probes/probes.cmake)
+  if [ "${VX_BAKE_EDGE_RAYS:-1}" != 0 ]; then
+    E="--grid 3,3,3 --res 32 --spp 1 -q"
+    "$BIN/svo_bake" "$T/demo.svo" "$T/ew.probes" $E >/dev/null || fail "GPU bake, --load whole, 3x3x3"
+    "$BIN/svo_bake" "$T/demo.svo" "$T/em.probes" $E --load models >/dev/null || fail "GPU bake, --load models, 3x3x3"
+    cmp -s "$T/ew.probes" "$T/em.probes" || fail "--load models differs from --load whole (3x3x3 at R=32: edge rays)"
+  fi
   "$BIN/svo_bake" "$T/demo.svo" "$T/lm0.probes" $L --load models --shard 0/2 >/dev/null || fail "--load models shard 0"
   cp "$T/lm0.probes" "$T/lr.probes.partial"
   "$BIN/svo_bake" "$T/demo.svo" "$T/lr.probes" $L --load models | grep -q "resuming" || fail "--load models: no resume"

@@ -919,6 +919,9 @@ static void test_path_start_deep(void) {
         uint32_t base[3][3];
         deep_scene(depth, &s, base);
         for (int tf = 0; tf < 2; tf++) {
+            /* the rotated instance at 12 and 16 levels only (CI time, docs/TESTING.md stop 60): the frame
+             * switch's rotation is the same code at every depth */
+            if (tf && depth != 12 && depth != 16) continue;
             vx_svo_instance in = ts_inst(0, tf ? rot : NULL, tf ? 3 : 0, tf ? -4 : 0, tf ? 7 : 0);
             s.instances[0] = in;
             vx_svo_scene_update_bounds(&s);
