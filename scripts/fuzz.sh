@@ -2,7 +2,7 @@
 # Runs every libFuzzer target for SECONDS seconds each (default 60), seeded
 # with the corpus. Builds them with clang in build-fuzz. Any crash fails.
 #
-#   scripts/fuzz.sh [SECONDS] [TARGET...]    # CI: scripts/fuzz.sh 20
+#   scripts/fuzz.sh [SECONDS] [TARGET...]    # CI: scripts/fuzz.sh 10
 #
 # Targets: vox_fuzz (.vox), svo_fuzz (.svo), svo_reader_fuzz (.svo through the model
 # reader, against the whole read), gltf_fuzz (glTF with PNG/JPEG

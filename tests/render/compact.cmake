@@ -23,7 +23,9 @@ if(VX_WITH_VULKAN)
   # the compact kernels' forced starts of every depth over four models, paged too: 785 s in Release on a cold
   # shader cache, lavapipe compiling per-scene variants; under the sanitizers the starts' host code runs in
   # test_render_gpu's test_path_start and this entry's records and corpus (tests/CMakeLists.txt vx_sanitize_trim)
-  vx_sanitize_trim(test_compact_gpu_paths SKIP test_path_start)
+  # and the corpus files' frames (89 s under ASan, stop 60): the compact build over real files runs under the
+  # sanitizers in test_compact_passes' corpus frames
+  vx_sanitize_trim(test_compact_gpu_paths SKIP test_path_start test_corpus$)
   vx_test_cost(test_compact_gpu_paths 785)
   vx_test_cost(test_compact_gpu 213)
   # scenes of one instance in the descriptors' GPU form (VX_GPU_NODE_FORM=gpu): both kernels' lean walks (DEEP 0:
@@ -31,12 +33,15 @@ if(VX_WITH_VULKAN)
   # lavapipe's file form does not (trace_compact.comp and trace_common.glsl LEAN; issue 18, lean3)
   add_test(NAME test_compact_gpu_gpu_form COMMAND test_compact_gpu)
   set_tests_properties(test_compact_gpu_gpu_form PROPERTIES TIMEOUT 900 ENVIRONMENT
-                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated,test_inside_leaf,test_start_table,test_uniform_cubes;VX_GPU_NODE_FORM=gpu")
+                       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp;VX_TEST_ONLY=test_generated,test_inside_leaf,test_uniform_cubes;VX_GPU_NODE_FORM=gpu")
+  # (not the start table's frames, 63 s in Release on a cold shader cache: the DEEP 0 lean walk runs in the uniform
+  # cubes' models here, the start records on every device in test_compact_gpu; stop 60, docs/TESTING.md)
   # the GPU form's compact host code runs under the sanitizers in test_compact_passes_gpu_form
   vx_sanitize_trim(test_compact_gpu_gpu_form DISABLE)
   # under the sanitizers the start table's frames (63 s of lavapipe in Release) are left out: the host code that
-  # writes the start records runs in test_compact_gpu_paths' test_path_records (stop 59, docs/TESTING.md)
-  vx_sanitize_trim(test_compact_gpu SKIP test_start_table)
+  # writes the start records runs in test_compact_gpu_paths' test_path_records (stop 59, docs/TESTING.md); and the
+  # uniform cubes' frames (44 s under ASan, stop 60): the build's marking pass runs in every compact build
+  vx_sanitize_trim(test_compact_gpu SKIP test_start_table test_uniform_cubes)
   if(TARGET vx_conv_mesh)
     target_link_libraries(test_compact_gpu PRIVATE vx_conv_mesh)
     target_compile_definitions(test_compact_gpu PRIVATE VX_TEST_HAVE_MESH)
