@@ -25,6 +25,4 @@ if(VX_WITH_VULKAN AND VX_WITH_OIIO)
            ${VX_CORPUS_DIR})
   set_tests_properties(test_photons_tool PROPERTIES TIMEOUT 300 LABELS photons)
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_photons_tool 60)

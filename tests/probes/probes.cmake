@@ -54,6 +54,4 @@ if(VX_WITH_VULKAN)
   vx_add_test(test_lightfield SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_lightfield.c LIBS vx_probes vx_render vx_svo
               LABELS probes)
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_svo_bake 100)

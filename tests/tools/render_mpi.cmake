@@ -14,6 +14,4 @@ if(TARGET svo_render AND TARGET vx_tool_mpi_device)
   # process, lavapipe's time (tests/CMakeLists.txt vx_sanitize_trim)
   vx_sanitize_trim(test_svo_render_mpi ENV VX_MPI_RANKS=3)
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_svo_render_mpi 50)

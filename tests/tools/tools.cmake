@@ -12,6 +12,4 @@ if(TARGET svo_render AND TARGET svo_bake AND TARGET svo_info AND TARGET vox2svo)
            $<TARGET_FILE:vx_cut_preload> ${CMAKE_SOURCE_DIR}/tests/fuzz/svo_reader_seeds)
   set_tests_properties(test_tools_cut PROPERTIES TIMEOUT 300 LABELS tools)
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_tools 75)

@@ -13,6 +13,4 @@ if(TARGET vox2svo AND TARGET vx_conv_mesh_gpu)
   # and vox2svo's own in test_tools (docs/TESTING.md, stop 59)
   vx_sanitize_trim(test_vox2svo_gpu DISABLE)
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_vox2svo_gpu 60)

@@ -28,6 +28,4 @@ if(TARGET svo_view)
            ${CMAKE_CURRENT_BINARY_DIR}/view_script_out script)
   set_tests_properties(test_view_script PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()
-# a long tool script started early (ctest -j runs the highest COST first), so that neither run ends on one alone:
-# in stop 60's timed CI run test_view_script, last in order, ran alone 49 s (Release) and 54 s (ASan) (docs/TESTING.md)
 vx_test_cost(test_view_script 90)
