@@ -281,7 +281,7 @@ vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc_in, const vx_gltf_
     memset(s.world_from_grid, 0, sizeof s.world_from_grid);
     for (int a = 0; a < 3; a++) {
         s.world_from_grid[a * 4 + a] = grid.h;
-        s.world_from_grid[a * 4 + 3] = grid.min[a];
+        s.world_from_grid[a * 4 + 3] = grid.min[a] + mesh->origin[a]; /* pos is relative to origin */
     }
     /* every model's box known (the GPU build): no pass over the models */
     bool boxes = count > 0;
@@ -360,6 +360,9 @@ vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, 
             p[1] = -p[2];
             p[2] = y;
         }
+        double oy = m.origin[1];
+        m.origin[1] = -m.origin[2];
+        m.origin[2] = oy;
         for (uint32_t i = 0; i < m.light_count; i++) {
             double* v[2] = {m.lights[i].position, m.lights[i].direction};
             for (int k = 0; k < 2; k++) {

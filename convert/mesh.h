@@ -127,7 +127,8 @@ typedef struct vx_conv_mesh_grid {
     uint32_t size[3]; /* cells per axis */
 } vx_conv_mesh_grid;
 
-/* The grid of a triangle soup (pos: 9 floats per triangle, world space). */
+/* The grid of a triangle soup (pos: 9 floats per triangle, world space less the
+ * mesh's origin, vx_gltf_mesh.origin; grid.min is in the same frame). */
 vx_result vx_conv_mesh_grid_make(const float* pos, size_t tri_count, uint32_t res, vx_conv_mesh_grid* out,
                                  vx_error* err);
 

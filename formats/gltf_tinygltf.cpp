@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
+#include <sys/stat.h>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -39,6 +41,21 @@ bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::stri
     if (err) *err += "external file '" + path + "' refused (no_external)\n";
     return false;
 }
+// External files: only regular files. tinygltf's own reader opens a
+// directory (a URI that decodes to "" names the base directory), takes the
+// size its stream reports (2^63 - 1) and allocates it.
+bool regular_file(const std::string& path) {
+    struct stat st;
+    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+bool file_exists(const std::string& path, void*) { return regular_file(path); }
+bool file_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    if (!regular_file(path)) {
+        if (err) *err += "'" + path + "' is not a regular file\n";
+        return false;
+    }
+    return tinygltf::ReadWholeFile(out, err, path, user);
+}
 bool no_file_write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
 
 struct Ctx {
@@ -54,6 +71,8 @@ struct Ctx {
     std::vector<int> mat_texcoord;
     std::vector<vx_gltf_light> lights;
     bool any_color = false;
+    bool origin_set = false;
+    double origin[3] = {0, 0, 0}; // vx_gltf_mesh.origin
     uint64_t max_tris;
     uint32_t instances = 0;
 };
@@ -328,13 +347,18 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
             if (vi >= pos.count)
                 return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: index %zu out of range (%zu vertices)", mesh_idx, vi,
                             pos.count);
-            double x = pos.get(vi, 0), y = pos.get(vi, 1), z = pos.get(vi, 2);
+            double x = pos.get(vi, 0), y = pos.get(vi, 1), z = pos.get(vi, 2), w[3];
             for (int a = 0; a < 3; a++) {
-                double w = M[a] * x + M[4 + a] * y + M[8 + a] * z + M[12 + a];
-                if (!std::isfinite(w) || std::fabs(w) > 3.0e38)
+                w[a] = M[a] * x + M[4 + a] * y + M[8 + a] * z + M[12 + a];
+                if (!std::isfinite(w[a]) || std::fabs(w[a]) > 3.0e38)
                     return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: vertex %zu has a non-finite position", mesh_idx, vi);
-                c.pos.push_back((float)w);
             }
+            if (!c.origin_set) { // gltf.h: vx_gltf_mesh.origin
+                c.origin_set = true;
+                for (int a = 0; a < 3; a++)
+                    c.origin[a] = std::fabs(w[a]) >= VX_GLTF_ORIGIN_FAR ? 1024.0 * std::nearbyint(w[a] / 1024.0) : 0.0;
+            }
+            for (int a = 0; a < 3; a++) c.pos.push_back((float)(w[a] - c.origin[a]));
             if (has_uv) {
                 const std::array<double, 6>& x = c.mat_uvx[mat];
                 double u0 = uv.get(vi, 0), v0 = uv.get(vi, 1);
@@ -591,29 +615,97 @@ bool ext_supported(const std::string& e) {
     return false;
 }
 
-// Looks at extensionsRequired before tinygltf does: tinygltf fails on a
-// Draco or meshopt file with an unrelated message (an accessor without a
-// buffer view), and the user should learn which extension is missing.
+// The major and minor numbers of an asset version string ("2.0"), or false.
+bool version_numbers(const nlohmann::json& v, long* major, long* minor) {
+    if (!v.is_string()) return false;
+    const std::string& s = v.get_ref<const std::string&>();
+    char* end = nullptr;
+    *major = strtol(s.c_str(), &end, 10);
+    if (end == s.c_str() || *end != '.') return false;
+    const char* m = end + 1;
+    *minor = strtol(m, &end, 10);
+    return end != m;
+}
+
+// Compressed geometry (KHR_draco_mesh_compression) that a file uses without
+// requiring it must come with an uncompressed fallback: a primitive whose
+// POSITION accessor has neither a buffer view nor sparse values has none.
+// The primitive's index, or -1 (the mesh's in *mesh).
+long draco_without_fallback(const nlohmann::json& j, long* mesh) {
+    auto ms = j.find("meshes");
+    auto as = j.find("accessors");
+    if (ms == j.end() || !ms->is_array()) return -1;
+    for (size_t mi = 0; mi < ms->size(); mi++) {
+        const nlohmann::json& mj = (*ms)[mi];
+        if (!mj.is_object() || !mj.contains("primitives") || !mj["primitives"].is_array()) continue;
+        const nlohmann::json& prims = mj["primitives"];
+        for (size_t pi = 0; pi < prims.size(); pi++) {
+            const nlohmann::json& pj = prims[pi];
+            if (!pj.is_object() || !pj.contains("extensions") || !pj["extensions"].is_object() ||
+                !pj["extensions"].contains("KHR_draco_mesh_compression"))
+                continue;
+            const nlohmann::json* pos = nullptr;
+            if (pj.contains("attributes") && pj["attributes"].is_object() && pj["attributes"].contains("POSITION"))
+                pos = &pj["attributes"]["POSITION"];
+            if (!pos || !pos->is_number_unsigned() || as == j.end() || !as->is_array()) continue;
+            size_t ai = pos->get<size_t>();
+            if (ai >= as->size() || !(*as)[ai].is_object()) continue;
+            if (!(*as)[ai].contains("bufferView") && !(*as)[ai].contains("sparse")) {
+                *mesh = (long)mi;
+                return (long)pi;
+            }
+        }
+    }
+    return -1;
+}
+
+// Looks at the version and extensionsRequired before tinygltf does:
+// tinygltf fails on a Draco or meshopt file with an unrelated message (an
+// accessor without a buffer view), reads much of a glTF 1.0 file as an empty
+// 2.0 one, and the user should learn what is not supported.
 vx_result check_required(const unsigned char* b, size_t size, bool glb, vx_error* err) {
     const unsigned char* js = b;
     size_t jn = size;
     if (glb) {
         vx_rd r = vx_rd_make(b, size);
         uint32_t magic, version, length, clen, ctype;
-        if (!vx_rd_u32le(&r, &magic) || !vx_rd_u32le(&r, &version) || !vx_rd_u32le(&r, &length) ||
-            !vx_rd_u32le(&r, &clen) || !vx_rd_u32le(&r, &ctype) || ctype != 0x4E4F534Au || clen > vx_rd_left(&r))
+        if (vx_rd_u32le(&r, &magic) && vx_rd_u32le(&r, &version) && version != 2)
+            return vx_fail(err, VX_ERR_UNSUPPORTED, 4,
+                           "glb: binary glTF version %u is not supported (version 1 is glTF 1.0's KHR_binary_glTF; "
+                           "this reader implements glTF 2.0)", version);
+        if (!vx_rd_u32le(&r, &length) || !vx_rd_u32le(&r, &clen) || !vx_rd_u32le(&r, &ctype) ||
+            ctype != 0x4E4F534Au || clen > vx_rd_left(&r))
             return VX_OK; // tinygltf reports the malformed header
         js = b + r.off;
         jn = clen;
     }
     nlohmann::json j = nlohmann::json::parse(js, js + jn, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return VX_OK;
+    auto as = j.find("asset");
+    if (as != j.end() && as->is_object()) {
+        long major = 0, minor = 0;
+        auto v = as->find("version");
+        if (v != as->end() && version_numbers(*v, &major, &minor) && major != 2)
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "glTF version %s is not supported (this reader implements glTF 2.0)",
+                           v->get_ref<const std::string&>().c_str());
+        auto mv = as->find("minVersion");
+        if (mv != as->end() && version_numbers(*mv, &major, &minor) && (major != 2 || minor > 0))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "glTF minVersion %s is not supported (this reader implements glTF 2.0)",
+                           mv->get_ref<const std::string&>().c_str());
+    }
     auto it = j.find("extensionsRequired");
-    if (it == j.end() || !it->is_array()) return VX_OK;
-    for (const auto& e : *it)
-        if (e.is_string() && !ext_supported(e.get<std::string>()))
-            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "required glTF extension %s is not supported",
-                           e.get<std::string>().c_str());
+    if (it != j.end() && it->is_array())
+        for (const auto& e : *it)
+            if (e.is_string() && !ext_supported(e.get<std::string>()))
+                return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "required glTF extension %s is not supported",
+                               e.get<std::string>().c_str());
+    long mesh = -1, prim = draco_without_fallback(j, &mesh);
+    if (prim >= 0)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "mesh %ld primitive %ld: KHR_draco_mesh_compression (not supported) without an uncompressed "
+                       "fallback (its POSITION accessor has no bufferView)", mesh, prim);
     return VX_OK;
 }
 
@@ -731,6 +823,7 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         o.tri_count = c.mat.size();
         o.scene = scene_used;
         o.instance_count = c.instances;
+        for (int a = 0; a < 3; a++) o.origin[a] = c.origin[a];
         o.pos = copy_out(desc->alloc, c.pos);
         o.material = copy_out(desc->alloc, c.mat);
         if (any_tex) o.uv = copy_out(desc->alloc, c.uv);
@@ -775,8 +868,8 @@ extern "C" vx_result vx_gltf_read(const vx_gltf_read_desc* desc_in, const void* 
             fs.FileExists = no_file_exists;
             fs.ReadWholeFile = no_file_read;
         } else {
-            fs.FileExists = tinygltf::FileExists;
-            fs.ReadWholeFile = tinygltf::ReadWholeFile;
+            fs.FileExists = file_exists;
+            fs.ReadWholeFile = file_read;
         }
         fs.ExpandFilePath = same_path;
         fs.WriteWholeFile = no_file_write;

@@ -753,6 +753,138 @@ static void test_sparse(void) {
     CHECKF(strstr(err.msg, "sparse accessor 1: index 5") != NULL, "message: %s", err.msg);
 }
 
+/* What the reader does not implement is named, not misread: a glTF 1.0 file
+ * (asset.version, or a version 1 .glb container) and a minVersion above 2.0
+ * are VX_ERR_UNSUPPORTED naming the version (tinygltf read a 1.0 file as an
+ * empty 2.0 one: "no triangles"); a primitive compressed with
+ * KHR_draco_mesh_compression that the file uses without requiring it and
+ * without an uncompressed fallback names the extension (tinygltf said
+ * "accessor[0] invalid bufferView"); with a fallback it is read. */
+static const char* kVersionGltf =
+    "{\"asset\":{%s},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],%s"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}%s}]}],"
+    "\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"
+    "AAAAAAAAgD8AAAAA\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
+    "\"accessors\":[{%s\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]}]}";
+
+static void test_versions_and_draco(void) {
+    const char* draco_used = "\"extensionsUsed\":[\"KHR_draco_mesh_compression\"],";
+    const char* draco_prim =
+        ",\"extensions\":{\"KHR_draco_mesh_compression\":{\"bufferView\":0,\"attributes\":{\"POSITION\":0}}}";
+    struct {
+        const char *asset, *used, *prim, *view;
+        vx_result want;
+        const char* msg;
+    } cases[] = {
+        {"\"version\":\"2.0\"", "", "", "\"bufferView\":0,", VX_OK, NULL},
+        {"\"version\":\"2.1\"", "", "", "\"bufferView\":0,", VX_OK, NULL},
+        {"\"version\":\"1.0\"", "", "", "\"bufferView\":0,", VX_ERR_UNSUPPORTED, "glTF version 1.0 is not supported"},
+        {"\"version\":\"3.0\"", "", "", "\"bufferView\":0,", VX_ERR_UNSUPPORTED, "glTF version 3.0 is not supported"},
+        {"\"version\":\"2.0\",\"minVersion\":\"2.1\"", "", "", "\"bufferView\":0,", VX_ERR_UNSUPPORTED,
+         "glTF minVersion 2.1 is not supported"},
+        {"\"version\":\"2.0\"", draco_used, draco_prim, "", VX_ERR_UNSUPPORTED,
+         "mesh 0 primitive 0: KHR_draco_mesh_compression"},
+        {"\"version\":\"2.0\"", draco_used, draco_prim, "\"bufferView\":0,", VX_OK, NULL},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char json[4096];
+        snprintf(json, sizeof json, kVersionGltf, cases[i].asset, cases[i].used, cases[i].prim, cases[i].view);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m, &err);
+        CHECKF(r == cases[i].want, "case %zu: result %d (%s)", i, (int)r, err.msg);
+        if (r == VX_OK) {
+            CHECKF(m.tri_count == 1, "case %zu: %zu triangles", i, m.tri_count);
+            vx_gltf_mesh_free(&m);
+        } else if (cases[i].msg) {
+            CHECKF(strstr(err.msg, cases[i].msg) != NULL, "case %zu: message: %s", i, err.msg);
+        }
+    }
+    /* a .glb container of version 1 (glTF 1.0's KHR_binary_glTF): 20-byte
+     * header, then a JSON scene chunk of content format 0 */
+    static const char json1[] = "{\"asset\":{\"version\":\"1.0\"}}   ";
+    unsigned char glb[20 + sizeof json1 - 1];
+    uint32_t hdr[5] = {0x46546C67u, 1u, (uint32_t)sizeof glb, (uint32_t)(sizeof json1 - 1), 0u};
+    for (int k = 0; k < 5; k++)
+        for (int b = 0; b < 4; b++) glb[4 * k + b] = (unsigned char)(hdr[k] >> (8 * b));
+    memcpy(glb + 20, json1, sizeof json1 - 1);
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    CHECK(vx_gltf_read(&(vx_gltf_read_desc){0}, glb, sizeof glb, ".", &m, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(strstr(err.msg, "binary glTF version 1 is not supported") != NULL, "message: %s", err.msg);
+}
+
+/* A scene far from the origin (georeferenced: a node translation of 6e6,
+ * where floats are 0.5 apart) voxelizes to the same cells as the same scene
+ * at the origin: positions are kept relative to vx_gltf_mesh.origin (they
+ * were rounded to world floats, and the triangle lost cells), and the
+ * origin plus the grid's min is the world position of the grid. */
+static const char* kFarGltf =
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+    "\"nodes\":[{\"mesh\":0,\"translation\":[%s]}],"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+    "\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"
+    "AAAAAAAAgD8AAAAA\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+    "\"max\":[1,1,0]}]}";
+
+static int cell_cmp(const void* a, const void* b) {
+    return memcmp(a, b, 3 * sizeof(uint32_t));
+}
+
+static void test_far_origin(void) {
+    const char* at[2] = {"0.25,0.5,0.125", "6000000.25,0.5,-6000000.125"};
+    vx_gltf_mesh m[2];
+    vx_conv_mesh_grid g[2];
+    uint32_t* xyz[2] = {NULL, NULL};
+    size_t n[2] = {0, 0};
+    for (int i = 0; i < 2; i++) {
+        char json[2048];
+        snprintf(json, sizeof json, kFarGltf, at[i]);
+        vx_error err = {0};
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m[i], &err);
+        if (r) fprintf(stderr, "  %s\n", err.msg);
+        REQUIRE(r == VX_OK && m[i].tri_count == 1);
+        r = vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 64}, &m[i], &g[i], &xyz[i], NULL, &n[i], &err);
+        REQUIRE(r == VX_OK);
+        qsort(xyz[i], n[i], 3 * sizeof(uint32_t), cell_cmp);
+    }
+    CHECK(m[0].origin[0] == 0 && m[0].origin[1] == 0 && m[0].origin[2] == 0);
+    CHECKF(m[1].origin[0] == 5999616 && m[1].origin[1] == 0 && m[1].origin[2] == -5999616, "origin %g %g %g",
+           m[1].origin[0], m[1].origin[1], m[1].origin[2]);
+    CHECKF(n[0] == n[1] && n[0] > 0 && !memcmp(xyz[0], xyz[1], n[0] * 3 * sizeof(uint32_t)),
+           "%zu cells near the origin, %zu far", n[0], n[1]);
+    CHECK(g[0].h == g[1].h);
+    CHECKF(fabs(m[1].origin[0] + g[1].min[0] - 6000000.25) < 1e-6 &&
+               fabs(m[1].origin[2] + g[1].min[2] - (-6000000.125)) < 1e-6,
+           "grid at %.9g %.9g", m[1].origin[0] + g[1].min[0], m[1].origin[2] + g[1].min[2]);
+    for (int i = 0; i < 2; i++) {
+        vx_free(NULL, xyz[i]);
+        vx_gltf_mesh_free(&m[i]);
+    }
+}
+
+/* An external URI that names a directory (here "." next to the file) is an
+ * error naming it ("File not found : ."), not an allocation of the size a directory stream reports
+ * (2^63 - 1: VX_ERR_NOMEM in Release, an AddressSanitizer abort). */
+static void test_uri_directory(void) {
+    static const char json[] =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+        "\"buffers\":[{\"byteLength\":36,\"uri\":\".\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+        "\"max\":[1,1,0]}]}";
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_result r = vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m, &err);
+    CHECKF(r == VX_ERR_BAD_FORMAT, "result %d (%s)", (int)r, err.msg);
+    CHECKF(strstr(err.msg, "not found") != NULL || strstr(err.msg, "not a regular file") != NULL, "message: %s",
+           err.msg);
+}
+
 int main(void) {
     RUN(test_boundary_faces);
     RUN(test_bottle);
@@ -769,5 +901,8 @@ int main(void) {
     RUN(test_scene_select);
     RUN(test_texture_transform);
     RUN(test_sparse);
+    RUN(test_versions_and_draco);
+    RUN(test_far_origin);
+    RUN(test_uri_directory);
     return vx_test_finish();
 }
