@@ -33,7 +33,7 @@ every .vox under $VX_EXTRA_VOX when set (no size cap; a file the reader
 refuses, such as another program's .vox, must be refused by vox2svo too), and
 scenes this script writes itself: all 48 rotation bytes (24 turns, 24
 mirrored) on models of odd, even and unequal sides, turned and mirrored nested
-groups, hidden nodes, groups and layers (also with --keep-hidden against
+groups, group instances (several transforms on one group), hidden nodes, groups and layers (also with --keep-hidden against
 --dump --all), a default-palette model without a scene graph, and keyframes
 (_f) on a transform and a shape. An animated file is also checked at frames 1,
 2 and its last, a file with hidden parts also with --keep-hidden.
@@ -483,7 +483,29 @@ def generated_scenes(work):
     out.append((p, 0, sorted(place(IDENTITY, [0, 0, 0], size, v[:3]) + dpal[v[3]]
                           for v in model_cells(size, vox).items() for v in [v[0] + (v[1],)])))
 
-    # 4. keyframes: a transform and a shape's model both change at frame 2
+    # 4. group instances (as MagicaVoxel writes them: several transforms on
+    # one group): G3 under three transforms, G3 holding a turned shape and a
+    # group G7 that two transforms inside G3 share again (six copies of m1)
+    models = [_model((5, 3, 4), 10), _model((2, 3, 3), 11)]
+    r1, r2, r3, r4 = 0b0100001, 0b0011000, 0b1000110, 0b0110010
+    nodes = [("T", 0, {}, 1, -1, [{}]), ("G", 1, {}, [2, 10, 11]),
+             ("T", 2, {}, 3, 0, [{"_t": "0 0 0"}]),
+             ("T", 10, {}, 3, 0, [{"_r": str(r1), "_t": "30 1 -2"}]),
+             ("T", 11, {}, 3, 0, [{"_r": str(r2), "_t": "-3 -30 5"}]),
+             ("G", 3, {}, [4, 6, 12]),
+             ("T", 4, {}, 5, -1, [{"_r": str(r3), "_t": "2 -1 3"}]), ("S", 5, {}, [(0, {})]),
+             ("T", 6, {}, 7, -1, [{"_t": "7 7 0"}]), ("T", 12, {}, 7, -1, [{"_r": str(r4), "_t": "-6 4 1"}]),
+             ("G", 7, {}, [8]), ("T", 8, {}, 9, -1, [{"_t": "0 0 9"}]), ("S", 9, {}, [(1, {})])]
+    placed = []
+    for top in [(None, [0, 0, 0]), (r1, [30, 1, -2]), (r2, [-3, -30, 5])]:
+        placed.append((0, *comp(top, (r3, [2, -1, 3]))))
+        placed.append((1, *comp(top, (None, [7, 7, 0]), (None, [0, 0, 9]))))
+        placed.append((1, *comp(top, (r4, [-6, 4, 1]), (None, [0, 0, 9]))))
+    p = os.path.join(work, "gen_group_instances.vox")
+    write_vox(p, models, nodes, [(0, {})], rgba)
+    out.append((p, 0, expect(models, placed)))
+
+    # 5. keyframes: a transform and a shape's model both change at frame 2
     models = [_model((3, 4, 5), 8), _model((4, 4, 1), 9)]
     nodes = [("T", 0, {}, 1, -1, [{}]), ("G", 1, {}, [2]),
              ("T", 2, {}, 3, 0, [{"_f": "0", "_t": "1 2 3"}, {"_f": "2", "_r": str(0b0010110), "_t": "-5 0 4"}]),
