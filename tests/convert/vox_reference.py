@@ -33,7 +33,8 @@ every .vox under $VX_EXTRA_VOX when set (no size cap; a file the reader
 refuses, such as another program's .vox, must be refused by vox2svo too), and
 scenes this script writes itself: all 48 rotation bytes (24 turns, 24
 mirrored) on models of odd, even and unequal sides, turned and mirrored nested
-groups, group instances (several transforms on one group), hidden nodes, groups and layers (also with --keep-hidden against
+groups, group instances (several transforms on one group), models of side
+256, hidden nodes, groups and layers (also with --keep-hidden against
 --dump --all), a default-palette model without a scene graph, and keyframes
 (_f) on a transform and a shape. An animated file is also checked at frames 1,
 2 and its last, a file with hidden parts also with --keep-hidden.
@@ -505,7 +506,19 @@ def generated_scenes(work):
     write_vox(p, models, nodes, [(0, {})], rgba)
     out.append((p, 0, expect(models, placed)))
 
-    # 5. keyframes: a transform and a shape's model both change at frame 2
+    # 5. the largest side, 256 (even: pivot 128), turned and mirrored
+    models = [_model((256, 3, 2), 12), _model((1, 256, 1), 13)]
+    rb1, rb2 = 0b1010001, 0b0001001
+    nodes = [("T", 0, {}, 1, -1, [{}]), ("G", 1, {}, [2, 4, 6]),
+             ("T", 2, {}, 3, 0, [{"_t": "0 0 0"}]), ("S", 3, {}, [(0, {})]),
+             ("T", 4, {}, 5, 0, [{"_r": str(rb1), "_t": "5 -300 17"}]), ("S", 5, {}, [(0, {})]),
+             ("T", 6, {}, 7, 0, [{"_r": str(rb2), "_t": "-129 1 -64"}]), ("S", 7, {}, [(1, {})])]
+    p = os.path.join(work, "gen_side_256.vox")
+    write_vox(p, models, nodes, [(0, {})], rgba)
+    out.append((p, 0, expect(models, [(0, IDENTITY, [0, 0, 0]), (0, rot_from_byte(rb1), [5, -300, 17]),
+                                      (1, rot_from_byte(rb2), [-129, 1, -64])])))
+
+    # 6. keyframes: a transform and a shape's model both change at frame 2
     models = [_model((3, 4, 5), 8), _model((4, 4, 1), 9)]
     nodes = [("T", 0, {}, 1, -1, [{}]), ("G", 1, {}, [2]),
              ("T", 2, {}, 3, 0, [{"_f": "0", "_t": "1 2 3"}, {"_f": "2", "_r": str(0b0010110), "_t": "-5 0 4"}]),
