@@ -24,6 +24,12 @@
  * MagicaVoxel instances a group by pointing several transforms at it, so a
  * corrupt file of shared groups nested n deep would visit 2^n of them. */
 #define VOX_MAX_VISITS ((uint64_t)VX_VOX_MAX_INSTANCES)
+/* The flattenings' work (a node visit plus the keys it scans) beyond each
+ * frame's own node_count + key_count, summed over every frame of a read:
+ * without it a small corrupt file of nested shared groups and 65,536
+ * keyframes would make 65,536 walks of VOX_MAX_VISITS nodes (hours). About
+ * 1 s on dev; a real file's shared groups stay far below it. */
+#define VOX_MAX_EXTRA_WORK ((uint64_t)1 << 26)
 /* Rotation byte of the identity: row 0 -> column 0, row 1 -> column 1. */
 #define VOX_ROT_IDENTITY 4u
 
@@ -153,6 +159,8 @@ typedef struct vox_ctx {
     uint64_t pending_off;
     uint64_t voxels_total;
     uint64_t visits; /* transform nodes visited by the current flattening */
+    uint64_t work;   /* its node visits plus the keys they scan */
+    uint64_t extra_work; /* beyond each flattening's node_count + key_count, whole read (VOX_MAX_EXTRA_WORK) */
     bool have_pack;
     uint32_t pack_models;
 } vox_ctx;
@@ -766,6 +774,20 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
         return cfail(c, VX_ERR_LIMIT, n->off, "node %d: shared groups place more than %llu transform nodes", n->id,
                      (unsigned long long)(VOX_MAX_VISITS + c->node_count));
     }
+    /* this node's keys and its child's (a shape's models, a group's kids) */
+    uint64_t w = 1u + n->count, base = (uint64_t)c->node_count + c->key_count;
+    int64_t cw = find_node(c, n->child);
+    if (cw >= 0) w += c->nodes[cw].count;
+    c->work += w;
+    if (c->work > base) {
+        c->extra_work += c->work - w >= base ? w : c->work - base;
+        if (c->extra_work > VOX_MAX_EXTRA_WORK) {
+            set_node_chunk(c, n);
+            return cfail(c, VX_ERR_LIMIT, n->off,
+                         "node %d: shared groups make the scene graph's walk over all frames longer than %llu node "
+                         "visits and keys beyond the file's own", n->id, (unsigned long long)VOX_MAX_EXTRA_WORK);
+        }
+    }
     const vox_key* k = pick_key(c, n);
     int32_t Rl[9], Rn[9];
     int64_t tn[3];
@@ -846,6 +868,7 @@ static vx_result flatten(vox_ctx* c, int64_t root) {
     for (size_t i = 0; i < c->node_count; i++) c->nodes[i].state = NODE_UNSEEN;
     c->s.instance_count = 0;
     c->visits = 0;
+    c->work = 0;
     c->nodes[root].state = NODE_ON_PATH;
     return visit_trn(c, (uint32_t)root, 0, I, zero, false);
 }
