@@ -20,6 +20,16 @@
 /* Largest |t| of a composed translation: keeps every placed cell (t plus at
  * most 256 cells of pivot offset) inside int32 with a wide margin. */
 #define VOX_MAX_T (1 << 30)
+/* Transform nodes visited by one flattening beyond the file's own count:
+ * MagicaVoxel instances a group by pointing several transforms at it, so a
+ * corrupt file of shared groups nested n deep would visit 2^n of them. */
+#define VOX_MAX_VISITS ((uint64_t)VX_VOX_MAX_INSTANCES)
+/* The flattenings' work (a node visit plus the keys it scans) beyond each
+ * frame's own node_count + key_count, summed over every frame of a read:
+ * without it a small corrupt file of nested shared groups and 65,536
+ * keyframes would make 65,536 walks of VOX_MAX_VISITS nodes (hours). About
+ * 1 s on dev; a real file's shared groups stay far below it. */
+#define VOX_MAX_EXTRA_WORK ((uint64_t)1 << 26)
 /* Rotation byte of the identity: row 0 -> column 0, row 1 -> column 1. */
 #define VOX_ROT_IDENTITY 4u
 
@@ -148,6 +158,9 @@ typedef struct vox_ctx {
     uint32_t pending[3];
     uint64_t pending_off;
     uint64_t voxels_total;
+    uint64_t visits; /* transform nodes visited by the current flattening */
+    uint64_t work;   /* its node visits plus the keys they scan */
+    uint64_t extra_work; /* beyond each flattening's node_count + key_count, whole read (VOX_MAX_EXTRA_WORK) */
     bool have_pack;
     uint32_t pack_models;
 } vox_ctx;
@@ -738,15 +751,16 @@ static const vox_key* pick_key(vox_ctx* c, const vox_node* n) {
     return best ? best : first;
 }
 
+/* A node may have several parents (MagicaVoxel's group instances: several
+ * transforms pointing at one group, each placing a copy of it); only a node
+ * on the current path closes a cycle. */
 static vx_result enter(vox_ctx* c, const vox_node* parent, vox_node* n) {
-    if (n->state == NODE_UNSEEN) {
+    if (n->state != NODE_ON_PATH) {
         n->state = NODE_ON_PATH;
         return VX_OK;
     }
     set_node_chunk(c, parent);
-    if (n->state == NODE_ON_PATH)
-        return cfail(c, VX_ERR_BAD_FORMAT, parent->off, "node %d: child node %d closes a cycle", parent->id, n->id);
-    return cfail(c, VX_ERR_BAD_FORMAT, parent->off, "node %d: child node %d already has another parent", parent->id, n->id);
+    return cfail(c, VX_ERR_BAD_FORMAT, parent->off, "node %d: child node %d closes a cycle", parent->id, n->id);
 }
 
 static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9], const int64_t t[3], bool hidden) {
@@ -754,6 +768,25 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
     if (depth > VOX_MAX_DEPTH) {
         set_node_chunk(c, n);
         return cfail(c, VX_ERR_BAD_FORMAT, n->off, "node %d: scene graph deeper than %d levels", n->id, VOX_MAX_DEPTH);
+    }
+    if (++c->visits > VOX_MAX_VISITS + c->node_count) {
+        set_node_chunk(c, n);
+        return cfail(c, VX_ERR_LIMIT, n->off, "node %d: shared groups place more than %llu transform nodes", n->id,
+                     (unsigned long long)(VOX_MAX_VISITS + c->node_count));
+    }
+    /* this node's keys and its child's (a shape's models, a group's kids) */
+    uint64_t w = 1u + n->count, base = (uint64_t)c->node_count + c->key_count;
+    int64_t cw = find_node(c, n->child);
+    if (cw >= 0) w += c->nodes[cw].count;
+    c->work += w;
+    if (c->work > base) {
+        c->extra_work += c->work - w >= base ? w : c->work - base;
+        if (c->extra_work > VOX_MAX_EXTRA_WORK) {
+            set_node_chunk(c, n);
+            return cfail(c, VX_ERR_LIMIT, n->off,
+                         "node %d: shared groups make the scene graph's walk over all frames longer than %llu node "
+                         "visits and keys beyond the file's own", n->id, (unsigned long long)VOX_MAX_EXTRA_WORK);
+        }
     }
     const vox_key* k = pick_key(c, n);
     int32_t Rl[9], Rn[9];
@@ -791,6 +824,11 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
         /* Shapes are how MagicaVoxel instances a model: several transforms
          * may point at one. They are leaves, so sharing cannot multiply. */
         if (!h || c->d.keep_hidden) {
+            if (c->s.instance_count >= VX_VOX_MAX_INSTANCES) {
+                set_node_chunk(c, n);
+                return cfail(c, VX_ERR_LIMIT, n->off, "node %d: the scene graph places more than %u shapes", n->id,
+                             VX_VOX_MAX_INSTANCES);
+            }
             TRY(grow(c, (void**)&c->s.instances, &c->inst_cap, c->s.instance_count, 1, sizeof(vx_vox_instance),
                      "instances"));
             vx_vox_instance* in = &c->s.instances[c->s.instance_count++];
@@ -803,7 +841,7 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
             memcpy(in->name, n->name, sizeof in->name);
         }
     } else {
-        /* a group reached twice could double the instances at every level */
+        /* a group reached again (another transform's copy) is walked again */
         TRY(enter(c, n, ch));
         bool hg = h || ch->hidden;
         for (uint32_t i = 0; i < ch->count; i++) {
@@ -829,6 +867,8 @@ static vx_result flatten(vox_ctx* c, int64_t root) {
     static const int64_t zero[3] = {0, 0, 0};
     for (size_t i = 0; i < c->node_count; i++) c->nodes[i].state = NODE_UNSEEN;
     c->s.instance_count = 0;
+    c->visits = 0;
+    c->work = 0;
     c->nodes[root].state = NODE_ON_PATH;
     return visit_trn(c, (uint32_t)root, 0, I, zero, false);
 }

@@ -15,6 +15,10 @@
  *    A voxel at cell v of a model of size s lands in the world cell
  *        floor(R (v + 1/2 - floor(s/2)) + t)
  *    with the composed R (a signed permutation, mirrors included) and t.
+ *    A group (or transform) that several transform nodes point at, as
+ *    MagicaVoxel writes an instanced group, is placed once per path from the
+ *    root: each shape under it gives one instance per copy (at most
+ *    VX_VOX_MAX_INSTANCES, else VX_ERR_LIMIT); a cycle is an error.
  *  - Hidden transform nodes, groups and layers are left out unless
  *    keep_hidden is set (the instance then carries hidden = true).
  *  - Animation: keyframe values (_f) on nTRN and model keys on nSHP are
@@ -118,6 +122,10 @@ typedef struct vx_vox_read_desc {
     uint32_t max_dim;         /* 0 == 256: larger SIZE values are rejected */
     uint64_t max_voxels;      /* 0 == 1<<28 voxels in all models together */
 } vx_vox_read_desc;
+
+/* Most instances one frame's scene graph may place (shared groups multiply
+ * them), else VX_ERR_LIMIT. */
+#define VX_VOX_MAX_INSTANCES (1u << 20)
 
 /* all_frames: at most this many frames, and frame records of at most
  * VX_VOX_FRAMES_MAX_BYTES (else VX_ERR_LIMIT: convert single frames). */
