@@ -243,6 +243,18 @@ static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, v
     return -1;
 }
 
+/* OpenVDB point data (points::PointDataGrid: "Tree_ptdataidx32_5_4_3"). */
+static bool is_points_type(const char* type) { return strncmp(type, "Tree_ptdataidx", 14) == 0; }
+
+static bool has_points_grid(vx_vdb_file* f) {
+    uint32_t n = vx_vdb_grid_count(f);
+    for (uint32_t i = 0; i < n; i++) {
+        vx_vdb_grid_info gi;
+        if (vx_vdb_grid_get_info(f, i, &gi, NULL) == VX_OK && is_points_type(gi.type)) return true;
+    }
+    return false;
+}
+
 /* "'a' Tree_float_5_4_3, 'a[1]' Tree_float_5_4_3, ...": repeated names
  * with the index that selects them. */
 static void list_grids(vx_vdb_file* f, char* buf, size_t cap) {
@@ -341,9 +353,13 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_vdb_
         if (d->grid)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: no grid named '%s' (grids: %s)", d->grid,
                            names[0] ? names : "none");
-        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: no float or double grid (grids: %s)",
-                       names[0] ? names : "none");
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: no float or double grid%s (grids: %s)",
+                       has_points_grid(f) ? "; OpenVDB points grids are not converted" : "", names[0] ? names : "none");
     }
+    if (is_points_type(info.type))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "vdb: grid '%s' is an OpenVDB points grid (%s); points are not converted, only float or double grids",
+                       info.name, info.type);
     if (info.value_type != VX_VDB_TYPE_FLOAT && info.value_type != VX_VDB_TYPE_DOUBLE)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: grid '%s' has type %s; need a float or double grid",
                        info.name, info.type);

@@ -6,6 +6,7 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/math/Transform.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/points/PointConversion.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
 #include <algorithm>
@@ -498,6 +499,27 @@ void test_repeated_grid_names(void) {
     CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_INVALID_ARG);
 }
 
+// OpenVDB points grids (Tree_ptdataidx32, e.g. from Houdini or Cortex) are
+// not converted: the error says so rather than only naming the tree type.
+void test_points_grid_refused(void) {
+    std::vector<openvdb::Vec3R> pos = {{0, 0, 0}, {1.5, 0, 0}, {0, 2.5, 1}};
+    openvdb::points::PointAttributeVector<openvdb::Vec3R> wrapper(pos);
+    openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(0.5);
+    openvdb::points::PointDataGrid::Ptr p = openvdb::points::createPointDataGrid<openvdb::points::NullCodec,
+                                                                                  openvdb::points::PointDataGrid>(pos, *xf);
+    p->setName("points");
+    const std::string bytes = to_bytes({p});
+    vx_svo_scene s = {};
+    vx_conv_vdb_desc d = {};
+    vx_error err = {};
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(std::strstr(err.msg, "points grid") != nullptr, "%s", err.msg);
+    d.grid = "points";
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(std::strstr(err.msg, "points grid") != nullptr, "%s", err.msg);
+    (void)wrapper;
+}
+
 void test_frustum_refused(void) {
     openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
     g->tree().setValue(openvdb::Coord(1, 1, 1), 1.0f);
@@ -800,6 +822,7 @@ int main() {
     RUN(test_color_grid);
     RUN(test_half_and_grid_choice);
     RUN(test_repeated_grid_names);
+    RUN(test_points_grid_refused);
     RUN(test_frustum_refused);
     RUN(test_bad_input);
     RUN(test_length_caps);
