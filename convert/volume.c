@@ -194,13 +194,14 @@ static int cmp_keyed(const void* a, const void* b) {
 /* Index of grid i among the grids before it with the same name: 0 for the
  * first, N for the one OpenVDB calls "NAME[N]" (io::File's convention for a
  * name that occurs more than once; the file keeps the plain name for each).
- * -1 when a grid's info cannot be read. */
-static int same_name_index(vx_vdb_file* f, uint32_t i, const char* name) {
+ * -1 when grid i is out of range. */
+static int same_name_index(vx_vdb_file* f, uint32_t i) {
+    const char* name = vx_vdb_grid_name(f, i);
+    if (!name) return -1;
     int k = 0;
     for (uint32_t j = 0; j < i; j++) {
-        vx_vdb_grid_info o;
-        if (vx_vdb_grid_get_info(f, j, &o, NULL) != VX_OK) return -1;
-        if (strcmp(o.name, name) == 0) k++;
+        const char* o = vx_vdb_grid_name(f, j);
+        if (o && strcmp(o, name) == 0) k++;
     }
     return k;
 }
@@ -227,7 +228,8 @@ static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, v
     uint32_t n = vx_vdb_grid_count(f);
     for (uint32_t i = 0; i < n; i++) {
         if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
-        if (name ? strcmp(info->name, name) == 0
+        const char* full = vx_vdb_grid_name(f, i);
+        if (name ? full && strcmp(full, name) == 0
                  : (info->value_type == VX_VDB_TYPE_FLOAT || info->value_type == VX_VDB_TYPE_DOUBLE))
             return (int)i;
     }
@@ -237,7 +239,8 @@ static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, v
     uint32_t seen = 0;
     for (uint32_t i = 0; i < n; i++) {
         if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
-        if (strlen(info->name) != base_len || memcmp(info->name, name, base_len) != 0) continue;
+        const char* full = vx_vdb_grid_name(f, i);
+        if (!full || strlen(full) != base_len || memcmp(full, name, base_len) != 0) continue;
         if (seen++ == want) return (int)i;
     }
     return -1;
@@ -264,7 +267,7 @@ static void list_grids(vx_vdb_file* f, char* buf, size_t cap) {
     for (uint32_t i = 0; i < n && used + 1 < cap; i++) {
         vx_vdb_grid_info gi;
         if (vx_vdb_grid_get_info(f, i, &gi, NULL) != VX_OK) continue;
-        int k = same_name_index(f, i, gi.name);
+        int k = same_name_index(f, i);
         char suffix[16] = "";
         if (k > 0) snprintf(suffix, sizeof suffix, "[%d]", k);
         int w = snprintf(buf + used, cap - used, "%s'%s%s' %s", i ? ", " : "", gi.name, suffix, gi.type);

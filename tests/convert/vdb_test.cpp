@@ -499,6 +499,32 @@ void test_repeated_grid_names(void) {
     CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_INVALID_ARG);
 }
 
+// Grid names are matched whole: vx_vdb_grid_info.name keeps 127 bytes, and a
+// longer name cut there must neither hide its grid nor stand for a grid
+// whose whole name is the cut one.
+void test_long_grid_names(void) {
+    const std::string long_name(200, 'a'), cut(127, 'a');
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+    g->setName(long_name);
+    g->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+    openvdb::FloatGrid::Ptr h = openvdb::FloatGrid::create(0.0f);
+    h->setName(cut);
+    h->tree().setValue(openvdb::Coord(4, 5, 6), 1.0f);
+    const std::string bytes = to_bytes({g, h});
+    const std::string* names[] = {&long_name, &cut};
+    const std::vector<Cell> want[] = {{{1, 2, 3}}, {{4, 5, 6}}};
+    for (int k = 0; k < 2; k++) {
+        vx_svo_scene s = {};
+        vx_conv_vdb_desc d = {};
+        d.grid = names[k]->c_str();
+        REQUIRE(convert(bytes, d, &s));
+        Decoded got;
+        REQUIRE(decode(s, &got));
+        CHECKF(got.cells == want[k], "name of %zu bytes: %zu cells", names[k]->size(), got.cells.size());
+        vx_svo_scene_free(&s);
+    }
+}
+
 // OpenVDB points grids (Tree_ptdataidx32, e.g. from Houdini or Cortex) are
 // not converted: the error says so rather than only naming the tree type.
 void test_points_grid_refused(void) {
@@ -823,6 +849,7 @@ int main() {
     RUN(test_half_and_grid_choice);
     RUN(test_repeated_grid_names);
     RUN(test_points_grid_refused);
+    RUN(test_long_grid_names);
     RUN(test_frustum_refused);
     RUN(test_bad_input);
     RUN(test_length_caps);
