@@ -191,17 +191,75 @@ static int cmp_keyed(const void* a, const void* b) {
     return x->index < y->index ? -1 : (x->index > y->index); /* stable: keeps input order */
 }
 
+/* Index of grid i among the grids before it with the same name: 0 for the
+ * first, N for the one OpenVDB calls "NAME[N]" (io::File's convention for a
+ * name that occurs more than once; the file keeps the plain name for each).
+ * -1 when grid i is out of range. */
+static int same_name_index(vx_vdb_file* f, uint32_t i) {
+    const char* name = vx_vdb_grid_name(f, i);
+    if (!name) return -1;
+    int k = 0;
+    for (uint32_t j = 0; j < i; j++) {
+        const char* o = vx_vdb_grid_name(f, j);
+        if (o && strcmp(o, name) == 0) k++;
+    }
+    return k;
+}
+
+/* "NAME[N]" -> base length and N (true), else false. */
+static bool split_indexed_name(const char* name, size_t* base_len, uint32_t* index) {
+    size_t n = strlen(name);
+    if (n < 4 || name[n - 1] != ']') return false;
+    size_t open = n - 1;
+    while (open > 0 && name[open - 1] >= '0' && name[open - 1] <= '9') open--;
+    if (open == 0 || open == n - 1 || name[open - 1] != '[' || n - 1 - open > 9) return false;
+    uint32_t v = 0;
+    for (size_t k = open; k < n - 1; k++) v = v * 10u + (uint32_t)(name[k] - '0');
+    *base_len = open - 1;
+    *index = v;
+    return true;
+}
+
+/* The grid named name (NULL: the first float or double grid). A name that
+ * several grids share selects the first of them; "NAME[N]" selects the
+ * N-th after it (N counted from 0), as OpenVDB's io::File::readGrid does,
+ * unless a grid is literally named so. */
 static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, vx_error* err) {
     uint32_t n = vx_vdb_grid_count(f);
     for (uint32_t i = 0; i < n; i++) {
         if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
-        if (name ? strcmp(info->name, name) == 0
+        const char* full = vx_vdb_grid_name(f, i);
+        if (name ? full && strcmp(full, name) == 0
                  : (info->value_type == VX_VDB_TYPE_FLOAT || info->value_type == VX_VDB_TYPE_DOUBLE))
             return (int)i;
+    }
+    size_t base_len;
+    uint32_t want;
+    if (!name || !split_indexed_name(name, &base_len, &want)) return -1;
+    uint32_t seen = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
+        const char* full = vx_vdb_grid_name(f, i);
+        if (!full || strlen(full) != base_len || memcmp(full, name, base_len) != 0) continue;
+        if (seen++ == want) return (int)i;
     }
     return -1;
 }
 
+/* OpenVDB point data (points::PointDataGrid: "Tree_ptdataidx32_5_4_3"). */
+static bool is_points_type(const char* type) { return strncmp(type, "Tree_ptdataidx", 14) == 0; }
+
+static bool has_points_grid(vx_vdb_file* f) {
+    uint32_t n = vx_vdb_grid_count(f);
+    for (uint32_t i = 0; i < n; i++) {
+        vx_vdb_grid_info gi;
+        if (vx_vdb_grid_get_info(f, i, &gi, NULL) == VX_OK && is_points_type(gi.type)) return true;
+    }
+    return false;
+}
+
+/* "'a' Tree_float_5_4_3, 'a[1]' Tree_float_5_4_3, ...": repeated names
+ * with the index that selects them. */
 static void list_grids(vx_vdb_file* f, char* buf, size_t cap) {
     size_t used = 0;
     buf[0] = 0;
@@ -209,7 +267,10 @@ static void list_grids(vx_vdb_file* f, char* buf, size_t cap) {
     for (uint32_t i = 0; i < n && used + 1 < cap; i++) {
         vx_vdb_grid_info gi;
         if (vx_vdb_grid_get_info(f, i, &gi, NULL) != VX_OK) continue;
-        int w = snprintf(buf + used, cap - used, "%s'%s' %s", i ? ", " : "", gi.name, gi.type);
+        int k = same_name_index(f, i);
+        char suffix[16] = "";
+        if (k > 0) snprintf(suffix, sizeof suffix, "[%d]", k);
+        int w = snprintf(buf + used, cap - used, "%s'%s%s' %s", i ? ", " : "", gi.name, suffix, gi.type);
         if (w < 0) break;
         used += (size_t)w < cap - used ? (size_t)w : cap - used - 1;
     }
@@ -295,9 +356,13 @@ static vx_result convert_grid(const vx_conv_vdb_desc* d, vx_vdb_file* f, vx_vdb_
         if (d->grid)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb: no grid named '%s' (grids: %s)", d->grid,
                            names[0] ? names : "none");
-        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: no float or double grid (grids: %s)",
-                       names[0] ? names : "none");
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: no float or double grid%s (grids: %s)",
+                       has_points_grid(f) ? "; OpenVDB points grids are not converted" : "", names[0] ? names : "none");
     }
+    if (is_points_type(info.type))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "vdb: grid '%s' is an OpenVDB points grid (%s); points are not converted, only float or double grids",
+                       info.name, info.type);
     if (info.value_type != VX_VDB_TYPE_FLOAT && info.value_type != VX_VDB_TYPE_DOUBLE)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "vdb: grid '%s' has type %s; need a float or double grid",
                        info.name, info.type);

@@ -56,7 +56,9 @@ typedef struct vx_conv_vdb_desc {
     vx_svo_build_desc build;
     const vx_allocator* alloc;   /* NULL: malloc/free (the scene's arrays too) */
     const vx_logger* logger;     /* optional warnings */
-    const char* grid;            /* NULL: the first float or double grid */
+    const char* grid;            /* NULL: the first float or double grid; a name several grids
+                                    share selects the first, "NAME[N]" the N-th repeat (from 0),
+                                    OpenVDB's io::File convention; the same for color_grid */
     bool solid;                  /* cells with value < 0 (level-set interior) */
     bool threshold_set;          /* use threshold below (fog volumes) */
     double threshold;            /* cells with value >= threshold */

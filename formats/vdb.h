@@ -75,6 +75,9 @@ void vx_vdb_file_free(vx_vdb_file* f);
 
 uint32_t vx_vdb_grid_count(const vx_vdb_file* f);
 vx_result vx_vdb_grid_get_info(const vx_vdb_file* f, uint32_t grid, vx_vdb_grid_info* out, vx_error* err);
+/* The grid's whole name (vx_vdb_grid_info.name is cut at 127 bytes), owned by
+ * f until vx_vdb_file_free; NULL when f is NULL or grid out of range. */
+const char* vx_vdb_grid_name(const vx_vdb_file* f, uint32_t grid);
 
 /* One stored value: a voxel (log2dim 0) or a tile covering the aligned cube
  * [origin, origin + 2^log2dim) in index space. value[] holds `components`

@@ -201,6 +201,7 @@ struct Probe final : ProbeBase {
 struct Entry {
     openvdb::GridBase::Ptr grid;
     vx_vdb_value_type type = VX_VDB_TYPE_OTHER;
+    std::string name;                 // the whole name (vx_vdb_grid_info.name is cut at 127 bytes)
     std::unique_ptr<ProbeBase> probe; // made on first use
 };
 
@@ -321,6 +322,7 @@ vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error
                 Entry e;
                 e.grid = g;
                 e.type = classify(*g);
+                e.name = g->getName();
                 f->grids.push_back(std::move(e));
             }
         }
@@ -344,6 +346,11 @@ vx_result vx_vdb_read(const void* data, size_t size, vx_vdb_file** out, vx_error
 void vx_vdb_file_free(vx_vdb_file* f) { delete f; }
 
 uint32_t vx_vdb_grid_count(const vx_vdb_file* f) { return f ? static_cast<uint32_t>(f->grids.size()) : 0u; }
+
+const char* vx_vdb_grid_name(const vx_vdb_file* f, uint32_t grid) {
+    if (!f || grid >= f->grids.size()) return NULL;
+    return f->grids[grid].name.c_str();
+}
 
 vx_result vx_vdb_grid_get_info(const vx_vdb_file* f, uint32_t grid, vx_vdb_grid_info* out, vx_error* err) {
     vx_result r = grid_arg(f, out != NULL, grid, err);

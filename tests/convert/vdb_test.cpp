@@ -6,6 +6,7 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/math/Transform.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/points/PointConversion.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
 #include <algorithm>
@@ -445,6 +446,106 @@ void test_half_and_grid_choice(void) {
     CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
 }
 
+// Several grids may share a name (Arnold's and Houdini's writers do: three
+// fog grids all named "density"). OpenVDB's io::File selects the N-th
+// repeat as "NAME[N]"; so does vx_conv_vdb, and its list of grids names
+// them so. A grid literally named with brackets is still matched as is.
+void test_repeated_grid_names(void) {
+    openvdb::GridPtrVec grids;
+    for (int i = 0; i < 3; i++) {
+        openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+        g->setName("density");
+        g->setGridClass(openvdb::GRID_FOG_VOLUME);
+        g->tree().setValue(openvdb::Coord(i, 2 * i, 3 * i), 1.0f);
+        grids.push_back(g);
+    }
+    openvdb::FloatGrid::Ptr lit = openvdb::FloatGrid::create(0.0f);
+    lit->setName("x[1]");
+    lit->tree().setValue(openvdb::Coord(7, 7, 7), 1.0f);
+    grids.push_back(lit);
+    const std::string bytes = to_bytes(grids);
+    const char* names[] = {"density", "density[1]", "density[2]", "density[0]"};
+    const int which[] = {0, 1, 2, 0};
+    for (int k = 0; k < 4; k++) {
+        vx_svo_scene s = {};
+        vx_conv_vdb_desc d = {};
+        d.grid = names[k];
+        REQUIRE(convert(bytes, d, &s));
+        Decoded got;
+        REQUIRE(decode(s, &got));
+        const int i = which[k];
+        const std::vector<Cell> want = {{i, 2 * i, 3 * i}};
+        CHECKF(got.cells == want, "%s: %zu cells", names[k], got.cells.size());
+        vx_svo_scene_free(&s);
+    }
+    {
+        vx_svo_scene s = {};
+        vx_conv_vdb_desc d = {};
+        d.grid = "x[1]";
+        REQUIRE(convert(bytes, d, &s));
+        Decoded got;
+        REQUIRE(decode(s, &got));
+        const std::vector<Cell> want = {{7, 7, 7}};
+        CHECK(got.cells == want);
+        vx_svo_scene_free(&s);
+    }
+    vx_svo_scene s = {};
+    vx_conv_vdb_desc d = {};
+    vx_error err = {};
+    d.grid = "density[3]";
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_INVALID_ARG);
+    CHECKF(std::strstr(err.msg, "'density[2]'") != nullptr, "%s", err.msg); // the list names the repeats
+    d.grid = "density[";
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_INVALID_ARG);
+}
+
+// Grid names are matched whole: vx_vdb_grid_info.name keeps 127 bytes, and a
+// longer name cut there must neither hide its grid nor stand for a grid
+// whose whole name is the cut one.
+void test_long_grid_names(void) {
+    const std::string long_name(200, 'a'), cut(127, 'a');
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+    g->setName(long_name);
+    g->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+    openvdb::FloatGrid::Ptr h = openvdb::FloatGrid::create(0.0f);
+    h->setName(cut);
+    h->tree().setValue(openvdb::Coord(4, 5, 6), 1.0f);
+    const std::string bytes = to_bytes({g, h});
+    const std::string* names[] = {&long_name, &cut};
+    const std::vector<Cell> want[] = {{{1, 2, 3}}, {{4, 5, 6}}};
+    for (int k = 0; k < 2; k++) {
+        vx_svo_scene s = {};
+        vx_conv_vdb_desc d = {};
+        d.grid = names[k]->c_str();
+        REQUIRE(convert(bytes, d, &s));
+        Decoded got;
+        REQUIRE(decode(s, &got));
+        CHECKF(got.cells == want[k], "name of %zu bytes: %zu cells", names[k]->size(), got.cells.size());
+        vx_svo_scene_free(&s);
+    }
+}
+
+// OpenVDB points grids (Tree_ptdataidx32, e.g. from Houdini or Cortex) are
+// not converted: the error says so rather than only naming the tree type.
+void test_points_grid_refused(void) {
+    std::vector<openvdb::Vec3R> pos = {{0, 0, 0}, {1.5, 0, 0}, {0, 2.5, 1}};
+    openvdb::points::PointAttributeVector<openvdb::Vec3R> wrapper(pos);
+    openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(0.5);
+    openvdb::points::PointDataGrid::Ptr p = openvdb::points::createPointDataGrid<openvdb::points::NullCodec,
+                                                                                  openvdb::points::PointDataGrid>(pos, *xf);
+    p->setName("points");
+    const std::string bytes = to_bytes({p});
+    vx_svo_scene s = {};
+    vx_conv_vdb_desc d = {};
+    vx_error err = {};
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(std::strstr(err.msg, "points grid") != nullptr, "%s", err.msg);
+    d.grid = "points";
+    CHECK(vx_conv_vdb_memory(&d, bytes.data(), bytes.size(), &s, nullptr, &err) == VX_ERR_UNSUPPORTED);
+    CHECKF(std::strstr(err.msg, "points grid") != nullptr, "%s", err.msg);
+    (void)wrapper;
+}
+
 void test_frustum_refused(void) {
     openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
     g->tree().setValue(openvdb::Coord(1, 1, 1), 1.0f);
@@ -746,6 +847,9 @@ int main() {
     RUN(test_split_regions);
     RUN(test_color_grid);
     RUN(test_half_and_grid_choice);
+    RUN(test_repeated_grid_names);
+    RUN(test_points_grid_refused);
+    RUN(test_long_grid_names);
     RUN(test_frustum_refused);
     RUN(test_bad_input);
     RUN(test_length_caps);

@@ -93,7 +93,8 @@ _Noreturn static void usage(int status) {
 #endif
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
             "                     (x, y, z) -> (x, -z, y), so models stand upright as in MagicaVoxel)\n"
-            "    --grid NAME      OpenVDB: grid to convert (default: the first scalar grid)\n"
+            "    --grid NAME      OpenVDB: grid to convert (default: the first scalar grid); where\n"
+            "                     several grids share a name, NAME[N] is its N-th repeat (from 0)\n"
             "    --threshold X    OpenVDB fog volumes: keep active voxels with value >= X\n"
             "                     (default: any active value > 0)\n"
             "    --density        OpenVDB fog volumes: keep the values as a density attribute\n"
