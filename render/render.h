@@ -638,6 +638,16 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
 vx_result vx_render_scene_warm_up(vx_render_scene* rs, const vx_render_desc* desc, double seconds, double* frame_ms,
                                   vx_error* err);
 
+/* The default framing (camera.set false) of the world box [lo, hi] under
+ * desc's camera fov, ortho and up (desc NULL: the defaults): *out is desc's
+ * camera with eye and target set, an orthographic view's ortho_height where
+ * desc has none, and set true; a frame with it is the default frame of a
+ * scene whose bounds are [lo, hi]. Renders frame vx_svo_scene_world_bounds
+ * (an animation: the union over its frames, a camera that holds still), so a
+ * tool that renders one frame's view (vx_svo_scene_frame: that frame's
+ * bounds) keeps the animation's framing with this camera. */
+void vx_render_camera_default(const double lo[3], const double hi[3], const vx_render_desc* desc, vx_render_camera* out);
+
 /* The CPU reference: the same outputs in double precision (lod ignored). */
 vx_result vx_render_cpu(const vx_svo_scene* scene, const vx_render_desc* desc, const vx_allocator* alloc,
                         vx_render_image* out, vx_error* err);

@@ -292,6 +292,35 @@ void vx__frame_tiles(const vx__frame* f, const vx_bvh* bvh, uint16_t tiles[VX__T
     }
 }
 
+/* The centre (c may be NULL) and half diagonal of the box [lo, hi], 1 for an
+ * empty or degenerate box: the default framing's measure. */
+static void box_centre_radius(const double lo[3], const double hi[3], double c[3], double* rad) {
+    double r = 0;
+    for (int k = 0; k < 3; k++) {
+        if (c) c[k] = 0.5 * (lo[k] + hi[k]);
+        r += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    r = 0.5 * sqrt(r);
+    *rad = r > 0 ? r : 1;
+}
+
+void vx_render_camera_default(const double lo[3], const double hi[3], const vx_render_desc* desc, vx_render_camera* out) {
+    const vx_render_desc D = vx_render_desc_defaults();
+    vx_render_camera cam = desc ? desc->camera : (vx_render_camera){0};
+    double fov = (cam.fov > 0 ? cam.fov : D.camera.fov) * 3.14159265358979323846 / 180.0;
+    double c[3], rad;
+    box_centre_radius(lo, hi, c, &rad);
+    double dir[3] = {0.45, -1.0, 0.65};
+    norm3(dir);
+    double dist = cam.ortho ? 3 * rad : rad / sin(0.5 * fov) * 1.05;
+    for (int k = 0; k < 3; k++) cam.eye[k] = c[k] + dir[k] * dist, cam.target[k] = c[k];
+    /* vx__frame_setup's half height for a set camera without one is rad * 1.05
+     * of the frame's own bounds: the box's, stated (2 x is exact) */
+    if (cam.ortho && !(cam.ortho_height > 0)) cam.ortho_height = 2 * (rad * 1.05);
+    cam.set = true;
+    *out = cam;
+}
+
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc_in, vx__frame* f,
                           vx_error* err) {
     const vx_render_desc D = vx_render_desc_defaults(); /* what a zero field means */
@@ -309,22 +338,14 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
     f->lod_pixels = d.lod_pixels > 0 ? d.lod_pixels : D.lod_pixels;
     f->ambient = d.ambient > 0 ? d.ambient : D.ambient;
     double fov = (d.camera.fov > 0 ? d.camera.fov : D.camera.fov) * 3.14159265358979323846 / 180.0;
-    double c[3], rad = 0;
-    for (int k = 0; k < 3; k++) c[k] = 0.5 * (lo[k] + hi[k]), rad += (hi[k] - lo[k]) * (hi[k] - lo[k]);
-    rad = 0.5 * sqrt(rad);
-    if (!(rad > 0)) rad = 1;
+    double rad;
+    box_centre_radius(lo, hi, NULL, &rad);
+    if (!d.camera.set) vx_render_camera_default(lo, hi, &d, &d.camera);
     double up[3] = {d.camera.up[0], d.camera.up[1], d.camera.up[2]};
     if (up[0] == 0 && up[1] == 0 && up[2] == 0) up[2] = 1;
     double eye[3], target[3];
-    if (d.camera.set) {
-        memcpy(eye, d.camera.eye, sizeof eye);
-        memcpy(target, d.camera.target, sizeof target);
-    } else {
-        double dir[3] = {0.45, -1.0, 0.65};
-        norm3(dir);
-        double dist = d.camera.ortho ? 3 * rad : rad / sin(0.5 * fov) * 1.05;
-        for (int k = 0; k < 3; k++) eye[k] = c[k] + dir[k] * dist, target[k] = c[k];
-    }
+    memcpy(eye, d.camera.eye, sizeof eye);
+    memcpy(target, d.camera.target, sizeof target);
     double fwd[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
     if (!norm3(fwd)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "camera direction is degenerate");
     double right[3], upv[3];

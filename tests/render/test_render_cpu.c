@@ -221,6 +221,85 @@ static void test_cpu_root_leaf(void) {
     vx_svo_scene_free(&s);
 }
 
+/* vx_render_camera_default states the default framing: a frame with the
+ * camera it gives for the scene's bounds is the default frame, hit for hit and
+ * bit for bit (perspective at two fovs, orthographic with and without a
+ * height, another up), and a wider box moves the eye back (what svo_render
+ * gives an animation's frame: the camera of all its frames). */
+static void test_default_camera(void) {
+    uint32_t xyz[4 * 3] = {0, 0, 0, 5, 1, 2, 2, 6, 1, 7, 7, 7};
+    vx_svo_model m;
+    REQUIRE(ts_model(&m, (uint32_t[3]){8, 8, 8}, xyz, NULL, 4) == VX_OK);
+    vx_svo_instance in = ts_inst(0, NULL, 3, -2, 1);
+    vx_svo_scene s;
+    ts_scene(&s, &m, 1, &in, 1);
+    double lo[3], hi[3];
+    vx_svo_scene_world_bounds(&s, lo, hi);
+    for (int v = 0; v < 5; v++) {
+        vx_render_desc d = {.width = 48, .height = 36, .mode = VX_RENDER_DEPTH, .want_hits = true};
+        if (v == 1) d.camera.fov = 30;
+        if (v == 2 || v == 3) d.camera.ortho = true;
+        if (v == 3) d.camera.ortho_height = 5;
+        if (v == 4) d.camera.up[1] = 1;
+        vx_render_desc e = d;
+        vx_render_camera_default(lo, hi, &d, &e.camera);
+        CHECK(e.camera.set && e.camera.fov == d.camera.fov && e.camera.up[1] == d.camera.up[1]);
+        CHECK(v != 3 || e.camera.ortho_height == 5);
+        if (v != 3) { /* the framing holds the whole box, and not loosely: its corners project inside [-1, 1]^2, one
+                         past half of it (independent of the formulas: a camera too near or too far fails) */
+            double up[3] = {e.camera.up[0], e.camera.up[1], e.camera.up[2]}, fw[3], rt[3], uv[3], n = 0;
+            if (up[0] == 0 && up[1] == 0 && up[2] == 0) up[2] = 1;
+            for (int k = 0; k < 3; k++) fw[k] = e.camera.target[k] - e.camera.eye[k], n += fw[k] * fw[k];
+            for (int k = 0; k < 3; k++) fw[k] /= sqrt(n);
+            rt[0] = fw[1] * up[2] - fw[2] * up[1], rt[1] = fw[2] * up[0] - fw[0] * up[2], rt[2] = fw[0] * up[1] - fw[1] * up[0];
+            n = sqrt(rt[0] * rt[0] + rt[1] * rt[1] + rt[2] * rt[2]);
+            for (int k = 0; k < 3; k++) rt[k] /= n;
+            uv[0] = rt[1] * fw[2] - rt[2] * fw[1], uv[1] = rt[2] * fw[0] - rt[0] * fw[2], uv[2] = rt[0] * fw[1] - rt[1] * fw[0];
+            double th = tan(0.5 * (d.camera.fov > 0 ? d.camera.fov : 45) * 3.14159265358979323846 / 180), most = 0;
+            for (int c = 0; c < 8; c++) {
+                double q[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]}, x = 0, y = 0, z = 0;
+                for (int k = 0; k < 3; k++) {
+                    double r = q[k] - e.camera.eye[k];
+                    x += r * rt[k], y += r * uv[k], z += r * fw[k];
+                }
+                double sx = d.camera.ortho ? x / (0.5 * e.camera.ortho_height) / (48.0 / 36) : x / (z * th) / (48.0 / 36);
+                double sy = d.camera.ortho ? y / (0.5 * e.camera.ortho_height) : y / (z * th);
+                CHECKF(z > 0 && fabs(sx) <= 1 && fabs(sy) <= 1, "variant %d corner %d at %g %g (z %g)", v, c, sx, sy, z);
+                most = fmax(most, fmax(fabs(sx), fabs(sy)));
+            }
+            CHECKF(most > 0.5, "variant %d: the box fills at most %g of the view", v, most);
+        }
+        vx_render_image a, b;
+        vx_error err = {0};
+        REQUIRE(vx_render_cpu(&s, &d, NULL, &a, &err) == VX_OK);
+        REQUIRE(vx_render_cpu(&s, &e, NULL, &b, &err) == VX_OK);
+        uint32_t hit = 0, differ = 0;
+        for (uint32_t i = 0; i < 48 * 36; i++) {
+            hit += a.hits[i].instance != VX_RENDER_NO_HIT;
+            differ += a.hits[i].instance != b.hits[i].instance || memcmp(&a.hits[i].t, &b.hits[i].t, sizeof a.hits[i].t) ||
+                      memcmp(a.hits[i].cell, b.hits[i].cell, sizeof a.hits[i].cell);
+        }
+        CHECKF(hit > 20 && differ == 0, "variant %d: %u hits, %u differ", v, hit, differ);
+        vx_render_image_free(&a), vx_render_image_free(&b);
+        /* a box twice as wide around the same centre: the eye twice as far */
+        double lo2[3], hi2[3];
+        for (int k = 0; k < 3; k++) {
+            double c = 0.5 * (lo[k] + hi[k]), h = hi[k] - lo[k];
+            lo2[k] = c - h, hi2[k] = c + h;
+        }
+        vx_render_camera f;
+        vx_render_camera_default(lo2, hi2, &d, &f);
+        double d1 = 0, d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            d1 += (e.camera.eye[k] - e.camera.target[k]) * (e.camera.eye[k] - e.camera.target[k]);
+            d2 += (f.eye[k] - f.target[k]) * (f.eye[k] - f.target[k]);
+            CHECK(fabs(f.target[k] - e.camera.target[k]) < 1e-12);
+        }
+        CHECKF(fabs(sqrt(d2) - 2 * sqrt(d1)) < 1e-9 * sqrt(d2), "variant %d: %g against %g", v, sqrt(d2), sqrt(d1));
+    }
+    vx_svo_scene_free(&s);
+}
+
 /* The screen cull's rectangle (vx__frame_rect, which trace.comp traces; the
  * rest misses unseen): every pixel that the CPU reference sees hit lies inside
  * it, for cameras near, far, inside the scene, looking away, perspective and
@@ -428,6 +507,7 @@ int main(void) {
     RUN(test_desc_validation);
     RUN(test_too_deep_refused);
     RUN(test_cpu_root_leaf);
+    RUN(test_default_camera);
     RUN(test_screen_rect);
     RUN(test_screen_tiles);
     return vx_test_finish();

@@ -937,6 +937,16 @@ int main(int argc, char** argv) {
         return 1;
     }
     vx_svo_scene_frame(&owned, o.frame_first, &scene);
+    /* An animation's default camera frames all its frames (it holds still over
+     * --frames A..B); the paths that render the frame's view (the CPU
+     * reference, the probe modes, the pass pipeline) would frame that frame
+     * alone, so they get the animation's camera stated. (With rd the GPU scene
+     * comes from the reader and frames every frame itself.) */
+    if (!o.r.camera.set && !rd && vx_svo_scene_frames(&owned) > 1) {
+        double lo[3], hi[3];
+        vx_svo_scene_world_bounds(&owned, lo, hi);
+        vx_render_camera_default(lo, hi, &o.r, &o.r.camera);
+    }
     vx_light* frame_lights = NULL;
     float* sky_rgb = NULL; /* the path tracer's environment map (the file's sky) */
     uint32_t from_voxels = 0;
