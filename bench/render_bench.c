@@ -641,7 +641,12 @@ int main(int argc, char** argv) {
             fprintf(stderr, "render_bench: unknown option %s\n", argv[i]);
             usage(stderr, argv[0]);
             return 2;
-        } else if (nf < 64) files[nf++] = argv[i];
+        } else if (nf < 64) {
+            files[nf++] = argv[i];
+        } else { /* never drop a scene silently */
+            fprintf(stderr, "render_bench: at most 64 scene files a run (%s and after left out: run them apart)\n", argv[i]);
+            return 2;
+        }
     }
     vx_error err = {0};
     vx_gpu* gpu;
