@@ -35,6 +35,41 @@ bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::st
     return true;
 }
 
+// tinygltf takes a data URI of a media type it does not decode (image/webp,
+// image/ktx2) for a file name and warns "File not found : data:image/webp;
+// base64,..." (the payload after it), then "Failed to load external 'uri'
+// for image[N]": the user learns neither what nor why. Those two lines are
+// left out; the image then reaches add_image without bytes, whose warning
+// (gltf.image_unreadable) names the image and its media type. Other lines
+// stay tinygltf's.
+std::string plain_warnings(const std::string& w) {
+    static const std::string key = "File not found : data:", ext = "Failed to load external 'uri' for image[";
+    std::string out;
+    size_t at = 0;
+    bool after_data = false;
+    while (at < w.size()) {
+        size_t nl = w.find('\n', at);
+        std::string line = w.substr(at, nl == std::string::npos ? std::string::npos : nl - at);
+        at = nl == std::string::npos ? w.size() : nl + 1;
+        bool data = line.find(key) != std::string::npos;
+        bool skip = data || (after_data && line.compare(0, ext.size(), ext) == 0) || line.empty();
+        after_data = data;
+        if (skip) continue;
+        if (!out.empty()) out += '\n';
+        out += line;
+    }
+    return out;
+}
+
+// How a warning names an image's URI: a data URI by its media type only (not
+// its payload), a file by its name.
+std::string uri_label(const std::string& uri) {
+    if (uri.compare(0, 5, "data:") != 0) return "'" + uri + "'";
+    size_t e = uri.find_first_of(";,", 5);
+    size_t n = e == std::string::npos ? uri.size() - 5 : e - 5;
+    return "a data URI of media type '" + uri.substr(5, n < 40 ? n : 40) + "'";
+}
+
 bool no_file_exists(const std::string&, void*) { return false; }
 std::string same_path(const std::string& p, void*) { return p; }
 bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
@@ -562,7 +597,7 @@ vx_result decode_image(Ctx& c, int img_idx, vx_gltf_image* out) {
     uint64_t maxpix = c.desc->max_image_pixels ? c.desc->max_image_pixels : (1ull << 26);
     if (!bytes || n == 0 || n > INT32_MAX || !sniff_size(bytes, n, &w, &h) || w == 0 || h == 0) {
         vx_log(c.desc->logger, VX_LOG_WARN, "gltf.image_unreadable",
-               "image %d ('%s'): missing or not a PNG/JPEG, texture ignored", img_idx, im.uri.c_str());
+               "image %d (%s): missing or not a PNG/JPEG, texture ignored", img_idx, uri_label(im.uri).c_str());
         return VX_OK;
     }
     if ((uint64_t)w * h > maxpix)
@@ -888,7 +923,10 @@ extern "C" vx_result vx_gltf_read(const vx_gltf_read_desc* desc_in, const void* 
             return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "%s: %s", glb ? "glb" : "gltf",
                            e.empty() ? "tinygltf could not parse the file" : e.c_str());
         }
-        if (!w.empty()) vx_log(desc.logger, VX_LOG_WARN, "gltf.tinygltf_warning", "%.200s", w.c_str());
+        if (!w.empty()) {
+            std::string pw = plain_warnings(w);
+            if (!pw.empty()) vx_log(desc.logger, VX_LOG_WARN, "gltf.tinygltf_warning", "%.200s", pw.c_str());
+        }
         return convert(&desc, model, out, err);
     } catch (const std::bad_alloc&) {
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "gltf: out of memory");

@@ -671,6 +671,41 @@ static vx_result read_tri(const char* ext, vx_gltf_mesh* m, vx_error* err) {
     return vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", m, err);
 }
 
+/* An image whose data URI has a media type tinygltf does not decode (webp):
+ * the mesh is read, the image left out, and one warning names the image and
+ * its media type, not tinygltf's "File not found : data:image/webp;base64,..."
+ * and "Failed to load external 'uri'" */
+typedef struct warn_log {
+    char text[512];
+} warn_log;
+static void keep_warning(void* user, vx_log_level level, const char* id, const char* msg) {
+    warn_log* w = user;
+    if (level == VX_LOG_WARN) snprintf(w->text + strlen(w->text), sizeof w->text - strlen(w->text), "[%s] %s\n", id, msg);
+}
+static void test_unknown_image_media_type(void) {
+    char json[4096];
+    snprintf(json, sizeof json, kTriGltf, "");
+    const char* png = strstr(json, "data:image/png;base64,");
+    REQUIRE(png != NULL);
+    const char* end = strchr(png, '"');
+    REQUIRE(end != NULL);
+    char webp[4096];
+    snprintf(webp, sizeof webp, "%.*sdata:image/webp;base64,UklGRhwAAABXRUJQVlA4TA8AAAAv%s", (int)(png - json), json, end);
+    warn_log w = {{0}};
+    vx_logger lg = {keep_warning, &w};
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, webp, strlen(webp), ".", &m, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) return;
+    fprintf(stderr, "  warning: %s", w.text);
+    CHECK(m.tri_count == 1);
+    CHECKF(strstr(w.text, "image 0 (a data URI of media type 'image/webp'): missing or not a PNG/JPEG") &&
+               !strstr(w.text, "File not found") && !strstr(w.text, "base64") && !strstr(w.text, "external"),
+           "%s", w.text);
+    vx_gltf_mesh_free(&m);
+}
+
 static void test_texture_transform(void) {
     static const double uv0[6] = {0, 0, 1, 0, 0, 1}, uv1[6] = {0.5, 0.5, 0.75, 0.5, 0.5, 0.75};
     struct {
@@ -900,6 +935,7 @@ int main(void) {
     RUN(test_corpus_all);
     RUN(test_scene_select);
     RUN(test_texture_transform);
+    RUN(test_unknown_image_media_type);
     RUN(test_sparse);
     RUN(test_versions_and_draco);
     RUN(test_far_origin);
