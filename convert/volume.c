@@ -238,10 +238,9 @@ static int find_grid(vx_vdb_file* f, const char* name, vx_vdb_grid_info* info, v
     if (!name || !split_indexed_name(name, &base_len, &want)) return -1;
     uint32_t seen = 0;
     for (uint32_t i = 0; i < n; i++) {
-        if (vx_vdb_grid_get_info(f, i, info, err) != VX_OK) return -2;
         const char* full = vx_vdb_grid_name(f, i);
-        if (!full || strlen(full) != base_len || memcmp(full, name, base_len) != 0) continue;
-        if (seen++ == want) return (int)i;
+        if (!full || strlen(full) != base_len || memcmp(full, name, base_len) != 0 || seen++ != want) continue;
+        return vx_vdb_grid_get_info(f, i, info, err) == VX_OK ? (int)i : -2;
     }
     return -1;
 }

@@ -775,9 +775,9 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
                      (unsigned long long)(VOX_MAX_VISITS + c->node_count));
     }
     /* this node's keys and its child's (a shape's models, a group's kids) */
+    int64_t ci = find_node(c, n->child);
     uint64_t w = 1u + n->count, base = (uint64_t)c->node_count + c->key_count;
-    int64_t cw = find_node(c, n->child);
-    if (cw >= 0) w += c->nodes[cw].count;
+    if (ci >= 0) w += c->nodes[ci].count;
     c->work += w;
     if (c->work > base) {
         c->extra_work += c->work - w >= base ? w : c->work - base;
@@ -809,7 +809,6 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
         }
     }
     bool h = hidden || n->hidden || layer_hidden(c, n->layer);
-    int64_t ci = find_node(c, n->child);
     if (ci < 0) {
         set_node_chunk(c, n);
         return cfail(c, VX_ERR_BAD_FORMAT, n->off, "node %d: child node %d does not exist", n->id, n->child);

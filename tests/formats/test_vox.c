@@ -93,6 +93,18 @@ static inline void tb_shp(vx_buf* b, int32_t id, int32_t model) {
     tb_dict(b, 0);
     tb_end(b, at);
 }
+/* Groups shared `levels` deep from node 1 (a group with two transforms onto
+ * the next group, under a transform node 0 written by the caller), a shape
+ * of model 0 at the bottom: 2^levels copies of it. */
+static inline void tb_shared_groups(vx_buf* b, int levels) {
+    for (int lv = 0; lv < levels; lv++) {
+        int32_t g = 1 + 3 * lv, two[2] = {g + 1, g + 2};
+        tb_grp(b, g, false, 2, two);
+        tb_trn(b, g + 1, g + 3, -1, false, NULL, -1, 1, 0, 0);
+        tb_trn(b, g + 2, g + 3, -1, false, NULL, -1, 0, 1, 0);
+    }
+    tb_shp(b, 1 + 3 * levels, 0);
+}
 static inline void tb_layr(vx_buf* b, int32_t id, bool hidden) {
     size_t at = tb_begin(b, "LAYR");
     tb_u32(b, (uint32_t)id);
@@ -1027,13 +1039,7 @@ static void test_bad_input(void) {
         tb_file(&b, 150);
         tb_model(&b, 1, 1, 1, 1, vv);
         tb_trn(&b, 0, 1, -1, true, NULL, -1, 0, 0, 0);
-        for (int lv = 0; lv < 24; lv++) {
-            int32_t g = 1 + 3 * lv, two[2] = {g + 1, g + 2};
-            tb_grp(&b, g, false, 2, two);
-            tb_trn(&b, g + 1, g + 3, -1, false, NULL, -1, 1, 0, 0);
-            tb_trn(&b, g + 2, g + 3, -1, false, NULL, -1, 0, 1, 0);
-        }
-        tb_shp(&b, 1 + 3 * 24, 0);
+        tb_shared_groups(&b, 24);
         tb_finish(&b);
         expect_fail(&b, VX_ERR_LIMIT, "shared groups", "2^24 copies of shared groups");
         vx_buf_free(&b);
@@ -1052,13 +1058,7 @@ static void test_bad_input(void) {
         tb_dict(&b, 1, "_f", "0");
         tb_dict(&b, 1, "_f", "399");
         tb_end(&b, at0);
-        for (int lv = 0; lv < 18; lv++) {
-            int32_t g = 1 + 3 * lv, two[2] = {g + 1, g + 2};
-            tb_grp(&b, g, false, 2, two);
-            tb_trn(&b, g + 1, g + 3, -1, false, NULL, -1, 1, 0, 0);
-            tb_trn(&b, g + 2, g + 3, -1, false, NULL, -1, 0, 1, 0);
-        }
-        tb_shp(&b, 1 + 3 * 18, 0);
+        tb_shared_groups(&b, 18);
         tb_finish(&b);
         {
             vx_vox_scene s2;
