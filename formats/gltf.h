@@ -97,7 +97,12 @@ typedef struct vx_gltf_light {
  *   units from 0; there that vertex's coordinate rounded to a multiple of
  *   1024. A scene far from the origin (georeferenced: translations of 1e6)
  *   so keeps float precision (at 6e6 floats are 0.5 apart: a 3-unit model
- *   lost a fifth of its voxels); near the origin nothing changes.
+ *   lost a fifth of its voxels); near the origin nothing changes. Where
+ *   rounding moved positions by more than 2^-10 of the scene's extent
+ *   before they reach pos (the file's float coordinates, 2^-24 of each;
+ *   the double sum with a node's translation, 2^-52 of it: a small model
+ *   translated to 1e30 collapses to a point), or every triangle lies at one
+ *   point, the read succeeds with the warning "gltf.position_precision".
  * lights: KHR_lights_punctual lights of the scene's nodes, in visiting order.
  * A light with an unknown type, a negative or non-finite intensity, colour
  * or range, cone angles out of order, or a node that puts it at a

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdarg>
@@ -108,6 +109,10 @@ struct Ctx {
     bool any_color = false;
     bool origin_set = false;
     double origin[3] = {0, 0, 0}; // vx_gltf_mesh.origin
+    // the world positions' extent and the largest rounding step any of them
+    // took on the way (gltf.h: the warning gltf.position_precision)
+    double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double wstep = 0, wmag = 0;
     uint64_t max_tris;
     uint32_t instances = 0;
 };
@@ -387,6 +392,18 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
                 w[a] = M[a] * x + M[4 + a] * y + M[8 + a] * z + M[12 + a];
                 if (!std::isfinite(w[a]) || std::fabs(w[a]) > 3.0e38)
                     return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: vertex %zu has a non-finite position", mesh_idx, vi);
+                // rounding: the file's float coordinates (2^-24 of each
+                // term of the linear part) and the double sum (2^-52 of
+                // every term, the translation's too); the float store of
+                // w - origin below is near the origin and keeps 2^-24 of
+                // the scene's own size
+                double lin = std::fabs(M[a] * x) + std::fabs(M[4 + a] * y) + std::fabs(M[8 + a] * z);
+                double st = (pos.ctype == TINYGLTF_COMPONENT_TYPE_FLOAT ? lin * 0x1p-24 : 0.0) +
+                            (lin + std::fabs(M[12 + a])) * 0x1p-52;
+                if (st > c.wstep) c.wstep = st;
+                if (std::fabs(w[a]) > c.wmag) c.wmag = std::fabs(w[a]);
+                if (w[a] < c.wlo[a]) c.wlo[a] = w[a];
+                if (w[a] > c.whi[a]) c.whi[a] = w[a];
             }
             if (!c.origin_set) { // gltf.h: vx_gltf_mesh.origin
                 c.origin_set = true;
@@ -848,6 +865,24 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
             for (size_t i = 0; !r && i < m.nodes.size(); i++)
                 if (!child[i]) r = visit(c, (int)i, I, on_path, 0);
         }
+    }
+    if (!r && !c.mat.empty()) {
+        // gltf.h: a scene whose positions rounding moved by more than a
+        // quarter of a cell at the default resolution (2^-10 of its
+        // extent) has lost its shape before voxelization; far translations
+        // (1e30) collapsed a small model to one cell without a word
+        double ext = 0;
+        for (int a = 0; a < 3; a++) ext = std::max(ext, c.whi[a] - c.wlo[a]);
+        if (ext == 0)
+            vx_log(desc->logger, VX_LOG_WARN, "gltf.position_precision",
+                   "all %zu triangles lie at one point (%.9g %.9g %.9g): the scene has no extent", c.mat.size(),
+                   c.wlo[0], c.wlo[1], c.wlo[2]);
+        else if (c.wstep > ext * 0x1p-10)
+            vx_log(desc->logger, VX_LOG_WARN, "gltf.position_precision",
+                   "positions up to %.3g from 0 are rounded by up to %.3g, more than 1/1024 of the scene's extent "
+                   "%.3g: its shape is lost to rounding (a node translation or vertex coordinates far from the "
+                   "scene's own size)",
+                   c.wmag, c.wstep, ext);
     }
     if (!r) {
         bool any_tex = false;

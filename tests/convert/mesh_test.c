@@ -879,9 +879,12 @@ static void test_far_origin(void) {
         char json[2048];
         snprintf(json, sizeof json, kFarGltf, at[i]);
         vx_error err = {0};
-        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){0}, json, strlen(json), ".", &m[i], &err);
+        warn_log w = {{0}};
+        vx_logger lg = {keep_warning, &w};
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m[i], &err);
         if (r) fprintf(stderr, "  %s\n", err.msg);
         REQUIRE(r == VX_OK && m[i].tri_count == 1);
+        CHECKF(w.text[0] == 0, "no precision warning at %s: %s", at[i], w.text); /* rounding 2^-29 of the extent */
         r = vx_conv_mesh_cells(&(vx_conv_mesh_desc){.res = 64}, &m[i], &g[i], &xyz[i], NULL, &n[i], &err);
         REQUIRE(r == VX_OK);
         qsort(xyz[i], n[i], 3 * sizeof(uint32_t), cell_cmp);
@@ -898,6 +901,47 @@ static void test_far_origin(void) {
     for (int i = 0; i < 2; i++) {
         vx_free(NULL, xyz[i]);
         vx_gltf_mesh_free(&m[i]);
+    }
+}
+
+/* Rounding that loses a scene's shape is a warning, gltf.position_precision
+ * (gltf.h): a unit triangle translated to 1e30 (on x every vertex the same
+ * double; on every axis: one point) or to 1e14 (steps of 1/64), and a file whose float vertices sit at 1e9
+ * (floats 64 apart) for a 128-unit triangle; not a triangle at 6e6 (steps of
+ * 2^-29 of it: test_far_origin), one of 1e-6 near 0 or one at 250. */
+static void test_position_precision(void) {
+    static const struct {
+        const char* translation;
+        const char* scale;
+        bool warn;
+        const char* text;
+    } cases[] = {
+        {"1e30,0,0", "1,1,1", true, "lost to rounding"}, {"1e30,1e30,1e30", "1,1,1", true, "no extent"},
+        {"1e14,0,0", "1,1,1", true, "lost to rounding"},
+        {"0,0,0", "1e-6,1e-6,1e-6", false, ""},  {"250,0,0", "1,1,1", false, ""},
+        {NULL, NULL, true, "lost to rounding"}, /* the float vertices at 1e9 */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char tr[160], json[2048];
+        snprintf(tr, sizeof tr, "%s],\"scale\":[%s", cases[i].translation ? cases[i].translation : "0,0,0",
+                 cases[i].scale ? cases[i].scale : "1,1,1");
+        snprintf(json, sizeof json, kFarGltf, tr);
+        if (!cases[i].translation) { /* (1e9 0 0) (1e9 100 0) (1e9+128 0 0) as floats */
+            char* b = strstr(json, "base64,");
+            REQUIRE(b != NULL);
+            memcpy(b + 7, "KGtuTgAAAAAAAAAAKGtuTgAAyEIAAAAAKmtuTgAAAAAAAAAA", 48);
+        }
+        warn_log w = {{0}};
+        vx_logger lg = {keep_warning, &w};
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m, &err);
+        CHECKF(r == VX_OK, "case %zu: %s", i, err.msg);
+        if (r) continue;
+        bool warned = strstr(w.text, "[gltf.position_precision]") != NULL;
+        CHECKF(warned == cases[i].warn && strstr(w.text, cases[i].text), "case %zu (%s): '%s'", i,
+               cases[i].translation ? cases[i].translation : "floats at 1e9", w.text);
+        vx_gltf_mesh_free(&m);
     }
 }
 
@@ -939,6 +983,7 @@ int main(void) {
     RUN(test_sparse);
     RUN(test_versions_and_draco);
     RUN(test_far_origin);
+    RUN(test_position_precision);
     RUN(test_uri_directory);
     return vx_test_finish();
 }
