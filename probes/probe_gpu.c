@@ -1033,6 +1033,7 @@ static vx_result bake_frame(const vx_svo_scene* scene, vx__frame* f, vx_error* e
     double lo[3], hi[3];
     vx_svo_scene_world_bounds(scene, lo, hi);
     vx_result r = vx__frame_setup(lo, hi, &(vx_render_desc){.width = 1, .height = 1}, f, err);
+    if (!r) r = vx__gpu_float_range(lo, hi, err);
     for (int k = 0; k < 3; k++) f->ref[k] = 0.5 * (lo[k] + hi[k]);
     return r;
 }
@@ -1513,7 +1514,8 @@ static vx_result render(vx_probe_gpu* pg, const vx_probe_render_desc* desc, vx_r
     vx__prender P;
     vx_result r = vx__prender_setup(pg->scene, pg->ps, pg->complete, desc, &P, err);
     if (r) return r;
-    r = render_with(pg, &P, out, dst, dst_seconds, err);
+    r = vx__gpu_float_range(P.lo, P.hi, err);
+    if (!r) r = render_with(pg, &P, out, dst, dst_seconds, err);
     vx__prender_free(&P);
     return r;
 }

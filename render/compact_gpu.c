@@ -1041,6 +1041,7 @@ static vx_result dispatch(vx_compact_gpu* cg, const vx_render_desc* desc, bool w
     vx_gpu* g = cg->gpu;
     vx_result r = vx__frame_setup(cg->lo, cg->hi, desc, f, err);
     if (r) return r;
+    if ((r = vx__gpu_float_range(cg->lo, cg->hi, err))) return r;
     vx__buffer* scene[7];
     uint32_t sp[VX__SPEC_COUNT];
     if ((r = vx__render_scene_tables(cg->rs, f, scene, sp, err))) return r;

@@ -694,6 +694,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     if (!base.spp) base.spp = has_aa || has_dof ? 8 : 1;
     vx__frame f;
     if ((r = vx__frame_setup(fr->lo, fr->hi, &base, &f, err))) return r;
+    if ((r = vx__gpu_float_range(fr->lo, fr->hi, err))) return r;
     bool ids = desc->want_ids;
     uint32_t nl = desc->light_count;
     if (slot && (ids || !desc->no_readback || has_gi))

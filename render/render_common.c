@@ -389,6 +389,22 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
     return VX_OK;
 }
 
+vx_result vx__gpu_float_range(const double lo[3], const double hi[3], vx_error* err) {
+    const double big = 0x1p56, small = 0x1p-56;
+    double mag = 0, side = 0;
+    for (int k = 0; k < 3; k++) {
+        if (!(lo[k] <= hi[k])) return VX_OK; /* empty */
+        mag = fmax(mag, fmax(fabs(lo[k]), fabs(hi[k])));
+        side = fmax(side, hi[k] - lo[k]);
+    }
+    if (mag > big || (side > 0 && side < small)) /* side 0: an empty scene */
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "scene bounds [%.3g %.3g %.3g] - [%.3g %.3g %.3g] past the GPU tracer's float range "
+                       "(|x| <= 2^56, a side >= 2^-56); the CPU reference traces it",
+                       lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    return VX_OK;
+}
+
 double vx__frame_ray(const vx__frame* f, double u, double v, double P[3], double o[3], double d[3]) {
     double t_off;
     if (f->ortho) {

@@ -2139,6 +2139,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (r) return r;
     r = vx__frame_setup(rs->lo, rs->hi, desc, f, err);
     if (r) return r;
+    if ((r = vx__gpu_float_range(rs->lo, rs->hi, err))) return r;
     VkDeviceSize npx = (VkDeviceSize)f->width * f->height;
     if ((r = vx__buffer_ensure(g, &rs->pixels, npx * 16, "pixels", err))) return r;
     if (want_hits && (r = vx__buffer_ensure(g, &rs->hits, npx * 32, "hits", err))) return r;

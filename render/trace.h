@@ -40,6 +40,15 @@ typedef struct vx__frame {
 /* Resolves defaults and the camera into a frame. */
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc, vx__frame* f,
                           vx_error* err);
+/* The GPU kernels' float range: VX_ERR_LIMIT, naming the bounds, for a
+ * scene whose world bounds [lo, hi] reach past 2^56 from 0 or whose largest
+ * side is under 2^-56: a model scaled by 1e25 traced as empty and one scaled
+ * by 1e-20 off the CPU reference (1e-18 to 1e20 traced as it did: the limits
+ * keep a margin; test_render_gpu's test_float_range). Every GPU frame checks
+ * it (trace.comp's, the compact layout's, the pass pipeline's, the probe
+ * modes' and path tracer's) and so does the GPU bake. An empty scene
+ * (lo > hi, or bounds of side 0) passes. The CPU reference (double) has no such limit. */
+vx_result vx__gpu_float_range(const double lo[3], const double hi[3], vx_error* err);
 /* The pixels whose rays can meet the box [lo, hi] (world space), as the
  * rectangle [rect[0], rect[2]) x [rect[1], rect[3]) (empty: all four 0): the
  * box's corners projected with f's camera, two pixels of margin on each side

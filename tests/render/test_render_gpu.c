@@ -1006,6 +1006,47 @@ static void test_transforms(void) {
     }
 }
 
+/* The GPU tracer's float range (render/trace.h, vx__gpu_float_range): a
+ * scene scaled by 1e15 or 1e-15 traces as the CPU reference does; scaled by
+ * 1e25 (or translated to 1e25) or 1e-25 the frame is VX_ERR_LIMIT with a
+ * message naming the range, not an empty image (1e25: no pixel hit where the
+ * reference hit 30%; 1e-20: depths off), while the CPU reference still
+ * traces it. */
+static void test_float_range(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const struct {
+        double scale, t;
+        bool ok;
+    } cases[] = {{1e15, 0, true}, {1e-15, 0, true}, {1e25, 0, false}, {1, 1e25, false}, {1e-25, 0, false}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        double k = cases[i].scale, m[9] = {k, 0, 0, 0, k, 0, 0, 0, k};
+        vx_svo_scene s;
+        random_scene(&s, m, cases[i].t, 0, 0, 25);
+        vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 32, .height = 24};
+        char name[64];
+        snprintf(name, sizeof name, "scaled %g, at %g", k, cases[i].t);
+        if (cases[i].ok) {
+            check_scene(name, &s, d, 100);
+        } else {
+            vx_render_scene* rs = NULL;
+            vx_render_image gi = {0}, ci = {0};
+            vx_error err = {0};
+            vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+            if (!r) r = vx_render_frame(rs, &d, &gi, &err);
+            CHECKF(r == VX_ERR_LIMIT && strstr(err.msg, "float range"), "%s: result %d (%s)", name, (int)r, err.msg);
+            vx_error cerr = {0};
+            CHECKF(vx_render_cpu(&s, &d, NULL, &ci, &cerr) == VX_OK, "%s: CPU reference %s", name, cerr.msg);
+            size_t hits = 0;
+            for (size_t p = 0; ci.pixels && p < (size_t)d.width * d.height; p++) hits += isfinite(ci.pixels[4 * p]);
+            CHECKF(hits > 0, "%s: the CPU reference hit nothing", name);
+            vx_render_image_free(&gi);
+            vx_render_image_free(&ci);
+            vx_render_scene_destroy(rs);
+        }
+        vx_svo_scene_free(&s);
+    }
+}
+
 /* The walk's stack at every level it holds (issue 21, seventeenth and
  * eighteenth sittings): on devices with the file's node form (vx_gpu.nodes_file:
  * CPU devices) trace.comp keeps the walk's stack as selects over the indices
@@ -1442,6 +1483,7 @@ int main(void) {
     RUN(test_eye_inside);
     RUN(test_grazing);
     RUN(test_transforms);
+    RUN(test_float_range);
     RUN(test_deep_octrees);
     RUN(test_deep_float);
     RUN(test_deep_without_float64);
