@@ -18,7 +18,8 @@ fail() { echo "FAIL: $*"; exit 1; }
 "$BIN/svo_bake" "$T/demo.svo" "$T/x.probes" --load parts >/dev/null 2>&1; [ $? -eq 2 ] || fail "bad --load must exit 2"
 "$BIN/svo_bake" "$T/missing.svo" "$T/x.probes" --load models >/dev/null 2>&1; [ $? -eq 1 ] || fail "missing input, --load models, must exit 1"
 O="--grid 3,2,2 --res 16 --spp 2 --seed 5 -q --cpu"
-"$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >/dev/null || fail "bake"
+"$BIN/svo_bake" "$T/demo.svo" "$T/full.probes" $O --threads 1 >"$T/full.out" || fail "bake"
+[ "$(grep -c '^device:' "$T/full.out")" = 1 ] && grep -q '^device: CPU' "$T/full.out" || fail "CPU bake: one device line, the CPU's"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p0.probes" $O --shard 0/3 >/dev/null || fail "shard 0"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p1.probes" $O --shard 1/3 >/dev/null || fail "shard 1"
 "$BIN/svo_bake" "$T/demo.svo" "$T/p2.probes" $O --shard 2/3 >/dev/null || fail "shard 2"
@@ -50,6 +51,8 @@ if [ $rc -eq 0 ]; then
   # -v: the GPU torn down on its own thread beside the output's end; VX_BAKE_TEARDOWN=1 frees the rest too
   VX_BAKE_TEARDOWN=1 "$BIN/svo_bake" "$T/demo.svo" "$T/g2.probes" $G -v >"$T/g2.out" || fail "GPU bake 2"
   grep -q "torn down beside the output's end" "$T/g2.out" || fail "GPU bake 2: no teardown beside the output's end"
+  # one device line, the GPU's (a GPU bake printed "device: CPU (2 threads, double precision)" after it)
+  [ "$(grep -c '^device:' "$T/g2.out")" = 1 ] && ! grep -q '^device: CPU' "$T/g2.out" || fail "GPU bake: one device line, the GPU's"
   cmp -s "$T/g.probes" "$T/g2.probes" || fail "GPU: same seed, different bytes"
   "$BIN/svo_bake" "$T/demo.svo" "$T/q0.probes" $G --shard 0/2 >/dev/null || fail "GPU shard 0"
   "$BIN/svo_bake" "$T/demo.svo" "$T/q1.probes" $G --shard 1/2 >/dev/null || fail "GPU shard 1"

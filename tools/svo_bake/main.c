@@ -695,6 +695,7 @@ static int bake_single(bake_job* j) {
     if (j->rs && sun_nodes) vx_render_scene_take_sun_nodes(j->rs, sun_nodes); /* (--load models took its own) */
     else vx_render_sun_nodes_free(sun_nodes);
     if (j->gpu) printf("device: %s%s\n", vx_gpu_device_name(j->gpu), vx_gpu_is_cpu(j->gpu) ? " (software)" : "");
+    else printf("device: CPU (%u threads, double precision)\n", o->threads);
     /* the host's peak so far: the scene (or the layout from the reader's passes), the placement, the GPU scene (on a
      * CPU device its buffers are host memory too); the bake's own comes after */
     if (o->verbose) printf("host: peak %s before the bake (%s)\n", vx_tool_bytes(vx_peak_rss()), o->load_models ? "--load models" : "--load whole");
@@ -707,7 +708,6 @@ static int bake_single(bake_job* j) {
                li.file_passes, li.file_passes == 1 ? "" : "es", j->t_pass[1],
                j->place_passes ? "a second pass, each model's caster" : "from the layout", j->t_vk, j->t_scene);
     }
-    else printf("device: CPU (%u threads, double precision)\n", o->threads);
     int rc = 0;
     uint32_t moved = 0, disabled = 0;
     for (uint32_t i = 0; i < ps.probe_count; i++)
