@@ -54,7 +54,9 @@ typedef struct vx_gltf_material {
      *   the texture says where the metal is, the factor alone would turn the
      *   whole material into metal)
      * emissive: emissiveFactor x KHR_materials_emissive_strength (linear
-     *   radiance scale; default 0 0 0)
+     *   radiance scale; default 0 0 0); 0 0 0 with an emissiveTexture, which
+     *   is not sampled (the factor alone would light the whole material; the
+     *   warning "gltf.emissive_texture" names the material)
      * transmission: KHR_materials_transmission's factor (default 0)
      * ior: KHR_materials_ior (default 1.5, at least 1) */
     float metallic, roughness;

@@ -775,7 +775,7 @@ double ext_field(const tinygltf::Material& mt, const char* ext, const char* key,
 }
 
 // The metallic-roughness model beyond the base colour (gltf.h: vx_gltf_material).
-void pbr_rest(const tinygltf::Material& mt, vx_gltf_material* g) {
+void pbr_rest(const tinygltf::Material& mt, size_t index, const vx_logger* log, vx_gltf_material* g) {
     const tinygltf::PbrMetallicRoughness& pbr = mt.pbrMetallicRoughness;
     g->metallic = pbr.metallicRoughnessTexture.index >= 0 ? 0.f : clampf(pbr.metallicFactor, 0, 1, 1);
     g->roughness = clampf(pbr.roughnessFactor, 0, 1, 1);
@@ -783,6 +783,16 @@ void pbr_rest(const tinygltf::Material& mt, vx_gltf_material* g) {
     if (!(strength >= 0)) strength = 1.0;
     for (int k = 0; k < 3; k++)
         g->emissive[k] = clampf((mt.emissiveFactor.size() == 3 ? mt.emissiveFactor[(size_t)k] : 0.0) * strength, 0, 1e30, 0);
+    // gltf.h: an emissiveTexture (not sampled) says where the material glows;
+    // its factor alone lit every voxel of the material (DamagedHelmet: the
+    // whole helmet a white lamp, 23,203 emitting voxels)
+    if (mt.emissiveTexture.index >= 0 && (g->emissive[0] > 0 || g->emissive[1] > 0 || g->emissive[2] > 0)) {
+        vx_log(log, VX_LOG_WARN, "gltf.emissive_texture",
+               "material %zu ('%.40s'): its emissiveTexture is not sampled, so its emission is left out (the factor "
+               "alone would light the whole material)",
+               index, mt.name.c_str());
+        for (int k = 0; k < 3; k++) g->emissive[k] = 0;
+    }
     g->transmission = clampf(ext_field(mt, "KHR_materials_transmission", "transmissionFactor", 0.0), 0, 1, 0);
     g->ior = clampf(ext_field(mt, "KHR_materials_ior", "ior", 1.5), 1, 4, 1.5);
 }
@@ -812,7 +822,7 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         }
         g.image = -1;
         g.wrap_s = g.wrap_t = VX_GLTF_WRAP_REPEAT;
-        pbr_rest(m.materials[i], &g);
+        pbr_rest(m.materials[i], i, desc->logger, &g);
         int ti = pbr.baseColorTexture.index;
         if (ti < 0 || desc->no_images) continue;
         if ((size_t)ti >= m.textures.size())

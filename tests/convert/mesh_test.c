@@ -706,6 +706,38 @@ static void test_unknown_image_media_type(void) {
     vx_gltf_mesh_free(&m);
 }
 
+/* An emissiveTexture is not sampled: the material's emission is left out
+ * with the warning gltf.emissive_texture (formats/gltf.h), not its factor
+ * over the whole material (the corpus's DamagedHelmet converted into a
+ * white lamp); without the texture the factor stays. */
+static void test_emissive_texture(void) {
+    static const char* with =
+        "},\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,1],\"emissiveTexture\":{\"index\":0},"
+        "\"extras\":{\"a\":{\"b\":0";
+    static const char* without = "},\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,1],\"extras\":{\"a\":{\"b\":0";
+    for (int i = 0; i < 2; i++) {
+        char json[4096];
+        snprintf(json, sizeof json, kTriGltf, i ? without : with);
+        warn_log w = {{0}};
+        vx_logger lg = {keep_warning, &w};
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m, &err);
+        CHECKF(r == VX_OK, "%s", err.msg);
+        if (r) continue;
+        REQUIRE(m.material_count == 1);
+        const float* e = m.materials[0].emissive;
+        bool warned = strstr(w.text, "[gltf.emissive_texture] material 0") != NULL;
+        if (i == 0)
+            CHECKF(e[0] == 0 && e[1] == 0 && e[2] == 0 && warned, "with the texture: %g %g %g, '%s'", e[0], e[1], e[2],
+                   w.text);
+        else
+            CHECKF(e[0] == 1 && e[1] == 0.5f && e[2] == 1 && !warned, "without: %g %g %g, '%s'", e[0], e[1], e[2],
+                   w.text);
+        vx_gltf_mesh_free(&m);
+    }
+}
+
 static void test_texture_transform(void) {
     static const double uv0[6] = {0, 0, 1, 0, 0, 1}, uv1[6] = {0.5, 0.5, 0.75, 0.5, 0.5, 0.75};
     struct {
@@ -984,6 +1016,7 @@ int main(void) {
     RUN(test_versions_and_draco);
     RUN(test_far_origin);
     RUN(test_position_precision);
+    RUN(test_emissive_texture);
     RUN(test_uri_directory);
     return vx_test_finish();
 }
