@@ -2425,6 +2425,51 @@ static void test_bad_files(void) {
     CHECK(run_cmd("%s --help > /dev/null", g_view) == 0);
 }
 
+/* How many times `needle` occurs in `hay`. */
+static int count_str(const char* hay, const char* needle) {
+    int n = 0;
+    for (const char* p = hay ? strstr(hay, needle) : NULL; p; p = strstr(p + 1, needle)) n++;
+    return n;
+}
+
+/* A script's save or export that cannot write its file ends the run with
+ * status 1 (it went on and ended 0, the file missing), as a layer, model or
+ * instance that does not exist does (`layer N` and `setlayer`/`setmodel` ended
+ * 0 where `select N` ended 1); each message names the file once (the
+ * library's message names it already: it was printed twice). A file that
+ * does not open still leaves the run going (test_bad_files). */
+static void test_script_failures(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], ok[1024], bad[1024];
+    path(in, sizeof in, "fail_in.svo");
+    path(script, sizeof script, "fail.txt");
+    path(log, sizeof log, "fail.log");
+    path(ok, sizeof ok, "fail_ok.svo");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    /* the file that does not open goes on: the layer after it ends the run */
+    static const char* const cmds[] = {"save %s/no-such-dir/x.svo", "export %s/no-such-dir/x.vox",
+                                       "open %s/no-such-dir/x.svo\nlayer 3 hide", "select 0\nsetmodel 5"};
+    for (int k = 0; k < 4; k++) {
+        remove(ok);
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        snprintf(bad, sizeof bad, "%s/no-such-dir/x.%s:", g_dir, k == 1 ? "vox" : "svo");
+        fprintf(f, cmds[k], g_dir);
+        fprintf(f, "\nsave %s\nquit\n", ok);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+        char* out = slurp(log);
+        CHECKF(rc == 1, "'%s': status %d: %s", cmds[k], rc, out ? out : "(none)");
+        CHECKF(access(ok, R_OK) != 0, "'%s': the script went on", cmds[k]);
+        if (k < 3) CHECKF(count_str(out, bad) == 1, "'%s': the file named %d times: %s", cmds[k], count_str(out, bad),
+                          out ? out : "(none)");
+        free(out);
+    }
+}
+
 /* ---- mode gi ------------------------------------------------------------------------------ */
 
 /* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
@@ -2686,6 +2731,7 @@ int main(int argc, char** argv) {
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);
+    RUN(test_script_failures);
     RUN(test_gi_mode);
     return vx_test_finish();
 }
