@@ -2470,6 +2470,54 @@ static void test_script_failures(void) {
     }
 }
 
+/* The colour of grid cell g among c's cells (0: no such cell). */
+static uint32_t cell_colour(const cells* c, int64_t x, int64_t y, int64_t z) {
+    for (size_t i = 0; i < c->n; i++)
+        if (c->v[i].p[0] == x && c->v[i].p[1] == y && c->v[i].p[2] == z) return c->v[i].rgba;
+    return 0;
+}
+
+/* A new brush colour (`color #RRGGBB`) on a .vox opened as it is: its
+ * palette has all 255 entries set (MagicaVoxel writes them so) though the
+ * cells use a few, and the brush refused every colour not in it ("the palette
+ * is full"). It now takes an entry no cell used when the file was opened;
+ * one a brush took stays its own: a colour given after an undo does not take
+ * the undone paint's entry, so its redo keeps the colour. */
+static void test_script_new_colour(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], out[1024];
+    path(in, sizeof in, "colour_in.vox");
+    path(script, sizeof script, "colour.txt");
+    path(log, sizeof log, "colour.log");
+    path(out, sizeof out, "colour_out.svo");
+    vx_svo_scene s;
+    make_scene(&s, 1); /* entries 1..255 set, the cells use 1..4 */
+    vx_vox_scene vs;
+    REQUIRE(vx_conv_svo_to_vox(&s, NULL, &vs, NULL) == VX_OK);
+    REQUIRE(vx_vox_write_file(NULL, &vs, in, NULL) == VX_OK);
+    vx_vox_scene_free(&vs);
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\ncolor #123457\nvoxel paint 1 0 0\nundo\ncolor #654321\nredo\nvoxel paint 2 0 0\n"
+               "save %s\nquit\n", out);
+    fclose(f);
+    remove(out);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0, "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    vx_svo_scene got;
+    if (rc != 0 || vx_svo_read_file(NULL, out, &got, NULL) != VX_OK) return;
+    cells c = {0};
+    instance_cells(&got, &got.instances[0], &c); /* instance 0: model cell + (5, 6, 7) */
+    uint32_t p = cell_colour(&c, 6, 6, 7), q = cell_colour(&c, 7, 6, 7);
+    CHECKF(p == 0xFF573412u, "the redone paint: colour %08x, expected ff573412 (#123457)", p);
+    CHECKF(q == 0xFF214365u, "the second paint: colour %08x, expected ff214365 (#654321)", q);
+    free(c.v);
+    vx_svo_scene_free(&got);
+}
+
 /* ---- mode gi ------------------------------------------------------------------------------ */
 
 /* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
@@ -2732,6 +2780,7 @@ int main(int argc, char** argv) {
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);
     RUN(test_script_failures);
+    RUN(test_script_new_colour);
     RUN(test_gi_mode);
     return vx_test_finish();
 }

@@ -254,7 +254,8 @@ void sv_play(app* a, bool play);
 void sv_set_fps(app* a, double fps);
 /* The brush colour: a palette entry (false with a message when the file has
  * it empty), or an RGBA8 colour (palette models: the entry of that colour,
- * else the first empty entry takes it). */
+ * else an empty one, else one no cell used when the scene was opened:
+ * ved_palette_take; false with a message when none is left). */
 bool sv_brush_palette(app* a, uint32_t index);
 bool sv_brush_rgba(app* a, uint32_t rgba);
 /* Voxel edit with the brush at model cell c of the selected instance's model. */

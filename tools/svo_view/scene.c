@@ -232,6 +232,7 @@ bool sv_add(app* a, const char* path) {
         file_error(a, path, err.msg);
         ved_undo(&a->ed, NULL);
     } else {
+        ved_palette_scan(&a->ed); /* the added models' entries are in use */
         a->sel = n ? first : NO_SEL;
         sv_message(a, false, "added %s: %u instances", path, n);
     }
@@ -402,28 +403,20 @@ bool sv_brush_palette(app* a, uint32_t i) {
         return false;
     }
     a->brush.palette = (uint8_t)i;
-    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i];
+    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i], ved_palette_keep(&a->ed, i);
     return true;
 }
 
 bool sv_brush_rgba(app* a, uint32_t rgba) {
     a->brush.rgba = rgba;
     if (!a->scene.has_palette) return true;
-    /* palette models take the entry of that colour, or the first empty one */
-    uint32_t free_i = 0;
-    for (uint32_t i = 1; i < 256; i++) {
-        if (a->scene.palette[i] == rgba) {
-            a->brush.palette = (uint8_t)i;
-            return true;
-        }
-        if (!free_i && !a->scene.palette[i]) free_i = i;
-    }
-    if (!free_i) {
+    /* palette models take the entry of that colour, an empty one, or one no cell used */
+    uint32_t i = ved_palette_take(&a->ed, rgba);
+    if (!i) {
         sv_message(a, true, "the palette is full: pick one of its colours");
         return false;
     }
-    a->scene.palette[free_i] = rgba; /* stored in the file once a cell uses it */
-    a->brush.palette = (uint8_t)free_i;
+    a->brush.palette = (uint8_t)i;
     return true;
 }
 
