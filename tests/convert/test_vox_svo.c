@@ -39,10 +39,22 @@ static int cmp_cell(const void* a, const void* b) {
     return p->rgba < q->rgba ? -1 : p->rgba > q->rgba;
 }
 
+/* Hidden: by its nodes (hidden), or by its own layer's flag (formats/vox.h). */
+static bool vox_hidden(const vx_vox_scene* s, const vx_vox_instance* in) {
+    for (uint32_t l = 0; l < s->layer_count; l++)
+        if (s->layers[l].id == in->layer && s->layers[l].hidden) return true;
+    return in->hidden;
+}
+
+static bool svo_hidden(const vx_svo_scene* s, const vx_svo_instance* in) {
+    if (in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) return true;
+    return (in->flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+}
+
 static void cells_from_vox(const vx_vox_scene* s, cells* out) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_vox_instance* in = &s->instances[i];
-        if (in->hidden) continue;
+        if (vox_hidden(s, in)) continue;
         const vx_vox_model* m = &s->models[in->model];
         for (uint32_t k = 0; k < m->voxel_count; k++) {
             const uint8_t* v = m->xyzi + 4 * (size_t)k;
@@ -75,7 +87,7 @@ static bool on_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
 static bool cells_from_svo(const vx_svo_scene* s, cells* out) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
-        if (in->flags & VX_SVO_INSTANCE_HIDDEN) continue;
+        if (svo_hidden(s, in)) continue;
         dec_ctx c = {s, &s->models[in->model], in->xform, out};
         vx_error err = {0};
         if (vx_svo_decode_model(c.m, on_voxel, &c, &err) != VX_OK) {
@@ -361,7 +373,7 @@ static void test_unused_models(void) {
     CHECK(st.models_unused == 3 && s.model_count == 2);
     uint32_t hidden = 0;
     for (uint32_t i = 0; i < s.instance_count; i++) {
-        bool h = (s.instances[i].flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+        bool h = svo_hidden(&s, &s.instances[i]); /* its layer's flag (the instance's own is clear) */
         hidden += h;
         CHECK(s.instances[i].model == (h ? 1u : 0u));
     }

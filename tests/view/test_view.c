@@ -2518,6 +2518,51 @@ static void test_script_new_colour(void) {
     vx_svo_scene_free(&got);
 }
 
+/* A shape on a layer the .vox hides (opened with --keep-hidden): `layer N
+ * show` shows it, and the .vox export hides the layer, not its transform.
+ * The reader gave such a shape hidden = true besides its layer's flag, so
+ * the shown layer left it hidden and the export wrote _hidden on its
+ * transform too. */
+static void test_script_hidden_layer(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], out[1024], ex[1024];
+    path(in, sizeof in, "layer_in.vox");
+    path(script, sizeof script, "layer.txt");
+    path(log, sizeof log, "layer.log");
+    path(out, sizeof out, "layer_out.svo");
+    path(ex, sizeof ex, "layer_out.vox");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    vx_vox_scene vs;
+    REQUIRE(vx_conv_svo_to_vox(&s, NULL, &vs, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_vox_layer* l = vx_calloc(vs.alloc, 1, sizeof *l);
+    REQUIRE(l && vs.instance_count == 2);
+    *l = (vx_vox_layer){.id = 0, .hidden = true, .name = "off"};
+    vs.layers = l, vs.layer_count = 1;
+    vs.instances[1].layer = 0, vs.instances[1].hidden = false;
+    REQUIRE(vx_vox_write_file(NULL, &vs, in, NULL) == VX_OK);
+    vx_vox_scene_free(&vs);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "export %s\nlayer 0 show\nsave %s\nquit\n", ex, out);
+    fclose(f);
+    int rc = run_cmd("%s %s --keep-hidden --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    REQUIRE(rc == 0);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, out, &got, NULL) == VX_OK);
+    CHECKF(got.instance_count == 2 && visible(&got, 0) && visible(&got, 1), "the shown layer's shape %s",
+           got.instance_count == 2 && !visible(&got, 1) ? "stays hidden" : "is missing");
+    vx_svo_scene_free(&got);
+    /* the export: "_hidden" once, the layer's */
+    struct stat st;
+    char* b = slurp(ex);
+    int n = 0;
+    for (off_t i = 0; b && !stat(ex, &st) && i + 7 <= st.st_size; i++) n += !memcmp(b + i, "_hidden", 7);
+    CHECKF(n == 1, "the export holds _hidden %d times", n);
+    free(b);
+}
+
 /* ---- mode gi ------------------------------------------------------------------------------ */
 
 /* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
@@ -2781,6 +2826,7 @@ int main(int argc, char** argv) {
     RUN(test_bad_files);
     RUN(test_script_failures);
     RUN(test_script_new_colour);
+    RUN(test_script_hidden_layer);
     RUN(test_gi_mode);
     return vx_test_finish();
 }
