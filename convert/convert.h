@@ -66,9 +66,10 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
  * becomes an animated .vox scene (frame_instances, written as keyframes;
  * its hidden flags must not change between frames). Needs integer
  * signed-permutation instance matrices, integer translations, models of at
- * most 256 cells per side and palette attributes (RGBA8 attributes are
- * mapped to the nearest of up to 255 palette entries); otherwise
- * VX_ERR_UNSUPPORTED names what does not fit. */
+ * most 256 cells per side and at most 255 colours: palette models keep
+ * their entries, RGBA8 colours take entries of the same colour or ones no
+ * palette model uses (a scene may mix both); otherwise VX_ERR_UNSUPPORTED
+ * names what does not fit. */
 vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* alloc, vx_vox_scene* out, vx_error* err);
 
 #ifdef __cplusplus

@@ -14,20 +14,24 @@ typedef struct export_ctx {
     const vx_svo_model* m;
     uint8_t* xyzi;
     uint32_t n, cap;
-    uint32_t* colors; /* RGBA -> palette, for RGBA8 models */
-    uint32_t ncolors;
+    uint32_t* pal;  /* the palette made, by index: palette models' entries, then RGBA8 models' colours */
+    uint8_t* taken; /* entries of pal in use (palette models' voxels, colours given) */
     bool too_many_colors;
 } export_ctx;
 
+/* An RGBA8 colour's entry: one of that colour in use, else the first free
+ * (a scene may mix palette and RGBA8 models: svo_view's add of a file
+ * with another palette). */
 static uint8_t color_index(export_ctx* c, uint32_t rgba) {
-    for (uint32_t i = 0; i < c->ncolors; i++)
-        if (c->colors[i] == rgba) return (uint8_t)(i + 1);
-    if (c->ncolors == 255) {
-        c->too_many_colors = true;
-        return 1;
-    }
-    c->colors[c->ncolors++] = rgba;
-    return (uint8_t)c->ncolors;
+    for (uint32_t i = 1; i < 256; i++)
+        if (c->taken[i] && c->pal[i] == rgba) return (uint8_t)i;
+    for (uint32_t i = 1; i < 256; i++)
+        if (!c->taken[i]) {
+            c->taken[i] = 1, c->pal[i] = rgba;
+            return (uint8_t)i;
+        }
+    c->too_many_colors = true;
+    return 1;
 }
 
 static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
@@ -86,9 +90,23 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     v.alloc = a;
     v.version = 150;
     vx_result r = VX_OK;
-    uint32_t colors[255];
-    uint32_t ncolors = 0;
     bool uses_rgba = false, uses_palette = false;
+    /* the palette models' entries first: RGBA8 colours take the others */
+    uint32_t base[256], pal[256] = {0};
+    uint8_t taken[256] = {0};
+    if (in->has_palette) memcpy(base, in->palette, sizeof base);
+    else {
+        memcpy(base, vx_vox_default_palette, sizeof base);
+        base[1] = 0xFFFFFFFFu; /* geometry only: white */
+    }
+    for (uint32_t i = 0; i < in->model_count; i++) {
+        const vx_svo_model* m = &in->models[i];
+        if (!(m->attrs & VX_ATTR_PALETTE) || !m->palette) continue;
+        for (uint32_t k = 0; k < m->attr_count; k++) {
+            uint8_t e = m->palette[k] ? m->palette[k] : 1;
+            taken[e] = 1, pal[e] = base[e];
+        }
+    }
 
     v.models = (vx_vox_model*)vx_calloc(a, in->model_count ? in->model_count : 1, sizeof *v.models);
     v.instances = (vx_vox_instance*)vx_calloc(a, in->instance_count ? in->instance_count : 1, sizeof *v.instances);
@@ -121,34 +139,21 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
             goto fail;
         }
-        export_ctx c = {in, m, v.models[i].xyzi, 0, n, colors, ncolors, false};
+        export_ctx c = {in, m, v.models[i].xyzi, 0, n, pal, taken, false};
         r = vx_svo_decode_model(m, collect, &c, err);
         if (r != VX_OK) goto fail;
         if (c.too_many_colors) {
             r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "more than 255 distinct colours do not fit a .vox palette");
             goto fail;
         }
-        ncolors = c.ncolors;
         v.models[i].voxel_count = c.n;
         if (m->attrs & VX_ATTR_PALETTE) uses_palette = true;
         else if (m->attrs & VX_ATTR_RGBA8) uses_rgba = true;
     }
-    if (uses_palette && uses_rgba) {
-        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "scene mixes palette and RGBA colours");
-        goto fail;
-    }
-    if (uses_rgba) {
-        memset(v.palette, 0, sizeof v.palette);
-        for (uint32_t i = 0; i < ncolors; i++) v.palette[i + 1] = colors[i];
-        v.has_rgba = true;
-    } else if (in->has_palette) {
-        memcpy(v.palette, in->palette, sizeof v.palette);
-        v.has_rgba = true;
-    } else {
-        memcpy(v.palette, vx_vox_default_palette, sizeof v.palette);
-        v.palette[1] = 0xFFFFFFFFu; /* geometry only: white */
-        v.has_rgba = true;
-    }
+    /* RGBA8 only: the colours given, in the order met; with palette models
+     * too, their entries and the colours given in the others */
+    for (uint32_t i = 0; i < 256; i++) v.palette[i] = uses_rgba && !uses_palette ? pal[i] : taken[i] ? pal[i] : base[i];
+    v.has_rgba = true;
 
     for (uint32_t i = 0; i < in->layer_count; i++) {
         v.layers[i].id = (int32_t)i;

@@ -836,7 +836,9 @@ static vx_result visit_trn(vox_ctx* c, uint32_t ni, int depth, const int32_t R[9
             memcpy(in->rot, Rn, sizeof Rn);
             for (int i = 0; i < 3; i++) in->t[i] = (int32_t)tn[i];
             in->layer = n->layer;
-            in->hidden = h;
+            /* its own layer's flag stays with the layer (an editor's layer
+             * show shows it, a writer does not hide its transform too) */
+            in->hidden = hidden || n->hidden;
             memcpy(in->name, n->name, sizeof in->name);
         }
     } else {

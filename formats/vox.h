@@ -20,7 +20,11 @@
  *    root: each shape under it gives one instance per copy (at most
  *    VX_VOX_MAX_INSTANCES, else VX_ERR_LIMIT); a cycle is an error.
  *  - Hidden transform nodes, groups and layers are left out unless
- *    keep_hidden is set (the instance then carries hidden = true).
+ *    keep_hidden is set. The instance then carries hidden = true when its
+ *    transform, a node above it or the layer of a transform above it is
+ *    hidden; a shape hidden by its own transform's layer only keeps hidden =
+ *    false, the flag being that layer's (layers[]): it is shown when
+ *    neither is set.
  *  - Animation: keyframe values (_f) on nTRN and model keys on nSHP are
  *    taken for `frame` (the last key at or before it; the first if none).
  *    The animation has frame_count frames: the largest _f key + 1, or, in a
@@ -64,7 +68,7 @@ typedef struct vx_vox_instance {
     int32_t rot[9];
     int32_t t[3];
     int32_t layer;    /* layer id, -1 for none */
-    bool hidden;      /* only when keep_hidden was set */
+    bool hidden;      /* only when keep_hidden was set; its own layer's flag is the layer's (above) */
     char name[64];    /* _name of the shape's transform node, may be empty */
 } vx_vox_instance;
 

@@ -39,10 +39,22 @@ static int cmp_cell(const void* a, const void* b) {
     return p->rgba < q->rgba ? -1 : p->rgba > q->rgba;
 }
 
+/* Hidden: by its nodes (hidden), or by its own layer's flag (formats/vox.h). */
+static bool vox_hidden(const vx_vox_scene* s, const vx_vox_instance* in) {
+    for (uint32_t l = 0; l < s->layer_count; l++)
+        if (s->layers[l].id == in->layer && s->layers[l].hidden) return true;
+    return in->hidden;
+}
+
+static bool svo_hidden(const vx_svo_scene* s, const vx_svo_instance* in) {
+    if (in->layer < s->layer_count && (s->layers[in->layer].flags & VX_SVO_LAYER_HIDDEN)) return true;
+    return (in->flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+}
+
 static void cells_from_vox(const vx_vox_scene* s, cells* out) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_vox_instance* in = &s->instances[i];
-        if (in->hidden) continue;
+        if (vox_hidden(s, in)) continue;
         const vx_vox_model* m = &s->models[in->model];
         for (uint32_t k = 0; k < m->voxel_count; k++) {
             const uint8_t* v = m->xyzi + 4 * (size_t)k;
@@ -75,7 +87,7 @@ static bool on_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
 static bool cells_from_svo(const vx_svo_scene* s, cells* out) {
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const vx_svo_instance* in = &s->instances[i];
-        if (in->flags & VX_SVO_INSTANCE_HIDDEN) continue;
+        if (svo_hidden(s, in)) continue;
         dec_ctx c = {s, &s->models[in->model], in->xform, out};
         vx_error err = {0};
         if (vx_svo_decode_model(c.m, on_voxel, &c, &err) != VX_OK) {
@@ -361,7 +373,7 @@ static void test_unused_models(void) {
     CHECK(st.models_unused == 3 && s.model_count == 2);
     uint32_t hidden = 0;
     for (uint32_t i = 0; i < s.instance_count; i++) {
-        bool h = (s.instances[i].flags & VX_SVO_INSTANCE_HIDDEN) != 0;
+        bool h = svo_hidden(&s, &s.instances[i]); /* its layer's flag (the instance's own is clear) */
         hidden += h;
         CHECK(s.instances[i].model == (h ? 1u : 0u));
     }
@@ -588,6 +600,52 @@ static void test_keyframed_all_frames(void) {
     vx_vox_scene_free(&g);
 }
 
+/* A scene of a palette model and an RGBA8 model (svo_view's add of a .vox
+ * with another palette makes one) exports to .vox: palette models keep
+ * their entries, RGBA8 colours take one of the same colour or a free one;
+ * it was refused ("scene mixes palette and RGBA colours"). */
+static void test_mixed_colours_export(void) {
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = calloc(2, sizeof *s.models);
+    s.instances = calloc(2, sizeof *s.instances);
+    REQUIRE(s.models && s.instances);
+    s.model_count = 2, s.instance_count = 2;
+    uint64_t keys[8];
+    uint8_t pal[8];
+    uint32_t rgba[8];
+    for (uint32_t k = 0; k < 8; k++) keys[k] = vx_svo_morton(k & 1, (k >> 1) & 1, k >> 2);
+    for (uint32_t k = 0; k < 8; k++) pal[k] = (uint8_t)(1 + k % 3);  /* entries 1, 2, 3 */
+    s.has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s.palette[i] = 0xFF000000u | (i * 0x010203u);
+    for (uint32_t k = 0; k < 8; k++) rgba[k] = k < 2 ? s.palette[2] : 0xFF000000u | (0x405060u + k); /* entry 2's colour, 6 new */
+    vx_svo_voxels pv = {.size = {2, 2, 2}, .count = 8, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    vx_svo_voxels rv = {.size = {2, 2, 2}, .count = 8, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &pv, &s.models[0], NULL, NULL) == VX_OK);
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &rv, &s.models[1], NULL, NULL) == VX_OK);
+    static const double x0[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, x1[12] = {0, -1, 0, 10, 1, 0, 0, 0, 0, 0, 1, 0};
+    memcpy(s.instances[0].xform, x0, sizeof x0);
+    memcpy(s.instances[1].xform, x1, sizeof x1);
+    s.instances[0].layer = s.instances[1].layer = UINT32_MAX;
+    s.instances[1].model = 1;
+    cells want = {0}, got = {0};
+    CHECK(cells_from_svo(&s, &want));
+    vx_vox_scene v;
+    vx_error err = {0};
+    vx_result r = vx_conv_svo_to_vox(&s, NULL, &v, &err);
+    CHECKF(r == VX_OK, "export: %s", err.msg);
+    if (r == VX_OK) {
+        cells_from_vox(&v, &got);
+        CHECK(same_cells(&want, &got, "mixed colours"));
+        uint32_t used = 0;
+        for (uint32_t i = 1; i < 256; i++) used += v.palette[i] != s.palette[i];
+        CHECKF(used == 6, "%u entries given new colours, expected 6", used);
+        vx_vox_scene_free(&v);
+    }
+    free(want.v), free(got.v);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
@@ -595,5 +653,6 @@ int main(void) {
     RUN(test_unused_animation_frames);
     RUN(test_pack_all_frames);
     RUN(test_keyframed_all_frames);
+    RUN(test_mixed_colours_export);
     return vx_test_finish();
 }

@@ -2425,6 +2425,144 @@ static void test_bad_files(void) {
     CHECK(run_cmd("%s --help > /dev/null", g_view) == 0);
 }
 
+/* How many times `needle` occurs in `hay`. */
+static int count_str(const char* hay, const char* needle) {
+    int n = 0;
+    for (const char* p = hay ? strstr(hay, needle) : NULL; p; p = strstr(p + 1, needle)) n++;
+    return n;
+}
+
+/* A script's save or export that cannot write its file ends the run with
+ * status 1 (it went on and ended 0, the file missing), as a layer, model or
+ * instance that does not exist does (`layer N` and `setlayer`/`setmodel` ended
+ * 0 where `select N` ended 1); each message names the file once (the
+ * library's message names it already: it was printed twice). A file that
+ * does not open still leaves the run going (test_bad_files). */
+static void test_script_failures(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], ok[1024], bad[1024];
+    path(in, sizeof in, "fail_in.svo");
+    path(script, sizeof script, "fail.txt");
+    path(log, sizeof log, "fail.log");
+    path(ok, sizeof ok, "fail_ok.svo");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    /* the file that does not open goes on: the layer after it ends the run */
+    static const char* const cmds[] = {"save %s/no-such-dir/x.svo", "export %s/no-such-dir/x.vox",
+                                       "open %s/no-such-dir/x.svo\nlayer 3 hide", "select 0\nsetmodel 5"};
+    for (int k = 0; k < 4; k++) {
+        remove(ok);
+        FILE* f = fopen(script, "w");
+        REQUIRE(f);
+        snprintf(bad, sizeof bad, "%s/no-such-dir/x.%s:", g_dir, k == 1 ? "vox" : "svo");
+        fprintf(f, cmds[k], g_dir);
+        fprintf(f, "\nsave %s\nquit\n", ok);
+        fclose(f);
+        int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+        char* out = slurp(log);
+        CHECKF(rc == 1, "'%s': status %d: %s", cmds[k], rc, out ? out : "(none)");
+        CHECKF(access(ok, R_OK) != 0, "'%s': the script went on", cmds[k]);
+        if (k < 3) CHECKF(count_str(out, bad) == 1, "'%s': the file named %d times: %s", cmds[k], count_str(out, bad),
+                          out ? out : "(none)");
+        free(out);
+    }
+}
+
+/* The colour of grid cell g among c's cells (0: no such cell). */
+static uint32_t cell_colour(const cells* c, int64_t x, int64_t y, int64_t z) {
+    for (size_t i = 0; i < c->n; i++)
+        if (c->v[i].p[0] == x && c->v[i].p[1] == y && c->v[i].p[2] == z) return c->v[i].rgba;
+    return 0;
+}
+
+/* A new brush colour (`color #RRGGBB`) on a .vox opened as it is: its
+ * palette has all 255 entries set (MagicaVoxel writes them so) though the
+ * cells use a few, and the brush refused every colour not in it ("the palette
+ * is full"). It now takes an entry no cell used when the file was opened;
+ * one a brush took stays its own: a colour given after an undo does not take
+ * the undone paint's entry, so its redo keeps the colour. */
+static void test_script_new_colour(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], out[1024];
+    path(in, sizeof in, "colour_in.vox");
+    path(script, sizeof script, "colour.txt");
+    path(log, sizeof log, "colour.log");
+    path(out, sizeof out, "colour_out.svo");
+    vx_svo_scene s;
+    make_scene(&s, 1); /* entries 1..255 set, the cells use 1..4 */
+    vx_vox_scene vs;
+    REQUIRE(vx_conv_svo_to_vox(&s, NULL, &vs, NULL) == VX_OK);
+    REQUIRE(vx_vox_write_file(NULL, &vs, in, NULL) == VX_OK);
+    vx_vox_scene_free(&vs);
+    vx_svo_scene_free(&s);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\ncolor #123457\nvoxel paint 1 0 0\nundo\ncolor #654321\nredo\nvoxel paint 2 0 0\n"
+               "save %s\nquit\n", out);
+    fclose(f);
+    remove(out);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0, "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    vx_svo_scene got;
+    if (rc != 0 || vx_svo_read_file(NULL, out, &got, NULL) != VX_OK) return;
+    cells c = {0};
+    instance_cells(&got, &got.instances[0], &c); /* instance 0: model cell + (5, 6, 7) */
+    uint32_t p = cell_colour(&c, 6, 6, 7), q = cell_colour(&c, 7, 6, 7);
+    CHECKF(p == 0xFF573412u, "the redone paint: colour %08x, expected ff573412 (#123457)", p);
+    CHECKF(q == 0xFF214365u, "the second paint: colour %08x, expected ff214365 (#654321)", q);
+    free(c.v);
+    vx_svo_scene_free(&got);
+}
+
+/* A shape on a layer the .vox hides (opened with --keep-hidden): `layer N
+ * show` shows it, and the .vox export hides the layer, not its transform.
+ * The reader gave such a shape hidden = true besides its layer's flag, so
+ * the shown layer left it hidden and the export wrote _hidden on its
+ * transform too. */
+static void test_script_hidden_layer(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], out[1024], ex[1024];
+    path(in, sizeof in, "layer_in.vox");
+    path(script, sizeof script, "layer.txt");
+    path(log, sizeof log, "layer.log");
+    path(out, sizeof out, "layer_out.svo");
+    path(ex, sizeof ex, "layer_out.vox");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    vx_vox_scene vs;
+    REQUIRE(vx_conv_svo_to_vox(&s, NULL, &vs, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    vx_vox_layer* l = vx_calloc(vs.alloc, 1, sizeof *l);
+    REQUIRE(l && vs.instance_count == 2);
+    *l = (vx_vox_layer){.id = 0, .hidden = true, .name = "off"};
+    vs.layers = l, vs.layer_count = 1;
+    vs.instances[1].layer = 0, vs.instances[1].hidden = false;
+    REQUIRE(vx_vox_write_file(NULL, &vs, in, NULL) == VX_OK);
+    vx_vox_scene_free(&vs);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "export %s\nlayer 0 show\nsave %s\nquit\n", ex, out);
+    fclose(f);
+    int rc = run_cmd("%s %s --keep-hidden --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    REQUIRE(rc == 0);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, out, &got, NULL) == VX_OK);
+    CHECKF(got.instance_count == 2 && visible(&got, 0) && visible(&got, 1), "the shown layer's shape %s",
+           got.instance_count == 2 && !visible(&got, 1) ? "stays hidden" : "is missing");
+    vx_svo_scene_free(&got);
+    /* the export: "_hidden" once, the layer's */
+    struct stat st;
+    char* b = slurp(ex);
+    int n = 0;
+    for (off_t i = 0; b && !stat(ex, &st) && i + 7 <= st.st_size; i++) n += !memcmp(b + i, "_hidden", 7);
+    CHECKF(n == 1, "the export holds _hidden %d times", n);
+    free(b);
+}
+
 /* ---- mode gi ------------------------------------------------------------------------------ */
 
 /* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
@@ -2686,6 +2824,9 @@ int main(int argc, char** argv) {
     RUN(test_screenshot_matches_svo_render);
     RUN(test_pick_matches_hits);
     RUN(test_bad_files);
+    RUN(test_script_failures);
+    RUN(test_script_new_colour);
+    RUN(test_script_hidden_layer);
     RUN(test_gi_mode);
     return vx_test_finish();
 }

@@ -202,10 +202,13 @@ void sv_uploads(const app* a, uint64_t* words, uint64_t* records);
  * render scene (instances only, unless models were added). */
 bool sv_edit_begin(app* a, bool needs_sel);
 void sv_edit_end(app* a, const char* what);
-void sv_open(app* a, const char* path);
-void sv_add(app* a, const char* path);
-void sv_save(app* a, const char* path);
-void sv_export(app* a, const char* path);
+/* Open, add, save, export: false with a message naming the file once (a
+ * script's failed save or export ends it with status 1; a file that does
+ * not open or add leaves the scene as it was and the script goes on). */
+bool sv_open(app* a, const char* path);
+bool sv_add(app* a, const char* path);
+bool sv_save(app* a, const char* path);
+bool sv_export(app* a, const char* path);
 void sv_probes(app* a, const char* path);
 /* Starts baking probes over the scene as shown (res, spp, grid probes per
  * axis, 0 0 0: the default spacing) on the GPU, in steps between frames; the
@@ -224,11 +227,12 @@ void sv_duplicate(app* a);
 void sv_delete(app* a);
 void sv_hide(app* a, bool hide); /* hide the selection, or show every instance */
 void sv_hide_instance(app* a, uint32_t i, bool hide);
-/* The selection's name, layer (UINT32_MAX: none) and model. */
+/* The selection's name, layer (UINT32_MAX: none) and model (false with a
+ * message: no such layer or model, nothing selected). */
 void sv_rename(app* a, const char* name);
-void sv_set_layer(app* a, uint32_t layer);
-void sv_set_model(app* a, uint32_t model);
-void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */);
+bool sv_set_layer(app* a, uint32_t layer);
+bool sv_set_model(app* a, uint32_t model);
+bool sv_layer(app* a, uint32_t l, int hide /* -1 toggles; false with a message: no layer l */);
 void sv_undo(app* a, bool redo);
 /* Light l becomes *t (false with a message when vx_light_validate refuses
  * it; the light is then unchanged). An undo step: its own, or with merge
@@ -250,7 +254,8 @@ void sv_play(app* a, bool play);
 void sv_set_fps(app* a, double fps);
 /* The brush colour: a palette entry (false with a message when the file has
  * it empty), or an RGBA8 colour (palette models: the entry of that colour,
- * else the first empty entry takes it). */
+ * else an empty one, else one no cell used when the scene was opened:
+ * ved_palette_take; false with a message when none is left). */
 bool sv_brush_palette(app* a, uint32_t index);
 bool sv_brush_rgba(app* a, uint32_t rgba);
 /* Voxel edit with the brush at model cell c of the selected instance's model. */

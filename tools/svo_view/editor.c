@@ -93,6 +93,38 @@ static void vox_swap(ved* e, ved_snapshot* sn) {
 void ved_init(ved* e, vx_svo_scene* s) {
     memset(e, 0, sizeof *e);
     e->s = s;
+    memset(e->pal_unused, 0xFF, sizeof e->pal_unused);
+    e->pal_unused[0] &= ~1u; /* entry 0 is no colour */
+    ved_palette_scan(e);
+}
+
+void ved_palette_scan(ved* e) {
+    const vx_svo_scene* s = e->s;
+    for (uint32_t m = 0; m < s->model_count; m++) {
+        const vx_svo_model* md = &s->models[m];
+        if (!(md->attrs & VX_ATTR_PALETTE) || !md->palette) continue;
+        for (uint32_t r = 0; r < md->attr_count; r++) ved_palette_keep(e, md->palette[r]);
+    }
+}
+
+void ved_palette_keep(ved* e, uint32_t i) {
+    if (i < 256) e->pal_unused[i >> 5] &= ~(1u << (i & 31));
+}
+
+uint32_t ved_palette_take(ved* e, uint32_t rgba) {
+    uint32_t* pal = e->s->palette;
+    uint32_t at = 0;
+    for (uint32_t i = 1; i < 256 && !at; i++)
+        if (pal[i] == rgba) at = i;
+    for (uint32_t i = 1; i < 256 && !at; i++)
+        if (!pal[i]) at = i;
+    for (uint32_t i = 1; i < 256 && !at; i++)
+        if (e->pal_unused[i >> 5] & (1u << (i & 31))) at = i;
+    if (at) {
+        pal[at] = rgba; /* stored in the file once a cell uses it */
+        ved_palette_keep(e, at);
+    }
+    return at;
 }
 
 void ved_free(ved* e) {

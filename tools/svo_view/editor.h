@@ -115,10 +115,26 @@ typedef struct ved {
     uint32_t vox_count;
     ved_voxel_step last;
     bool vox_rebuild; /* tests: every brush edit but the face brush's decodes and builds the model again (the reference) */
+    /* palette entries (bit i: entry i, 1..255) no model's cell used when the
+     * scene was opened (or models added: ved_palette_scan) and the brush has
+     * not taken since: ved_palette_take may give them a new colour */
+    uint32_t pal_unused[8];
 } ved;
 
 void ved_init(ved* e, vx_svo_scene* s);
 void ved_free(ved* e);
+/* Entries the scene's models use (every model, every record) leave
+ * e->pal_unused (ved_init calls it; call it again after models are added). */
+void ved_palette_scan(ved* e);
+/* The palette entry a brush of colour rgba paints with (palette scenes): the
+ * entry of that colour, else the first empty one, else the first that no
+ * cell used when the scene was opened (a .vox's palette has all 255 entries
+ * set, most of them unused) and no brush took since, which gets the colour
+ * (never one a cell in the undo history may use). 0: the palette is full.
+ * The entry returned is the brush's from then on (ved_palette_keep). */
+uint32_t ved_palette_take(ved* e, uint32_t rgba);
+/* Entry i (1..255) is a brush's: never given another colour. */
+void ved_palette_keep(ved* e, uint32_t i);
 /* Bytes the snapshot holds (what the history's byte bound counts). */
 uint64_t ved_snapshot_bytes(const ved_snapshot* sn);
 /* Snapshot before an edit (drops the redo list, then the oldest steps past

@@ -34,6 +34,13 @@ void sv_message(app* a, bool error, const char* fmt, ...) {
     fprintf(error ? stderr : stdout, "%s: %s\n", vx_tool_name, a->msg);
 }
 
+/* An error about a file: "path: message", the path once (the library's file
+ * functions name it first themselves: vx_tool_names_file). */
+static void file_error(app* a, const char* path, const char* msg) {
+    if (vx_tool_names_file(path, msg)) sv_message(a, true, "%s", msg);
+    else sv_message(a, true, "%s: %s", path, msg);
+}
+
 const char* sv_mode_name(const app* a) {
     return a->gi ? vx_probe_render_mode_name(a->pmode) : vx_render_mode_name(a->mode);
 }
@@ -179,12 +186,12 @@ static void set_scene(app* a, vx_svo_scene* s) {
     sv_rebuild(a);
 }
 
-void sv_open(app* a, const char* path) {
+bool sv_open(app* a, const char* path) {
     vx_svo_scene s;
     vx_error err = {0};
     if (sv_load_scene(&a->o, path, &s, &err)) {
-        sv_message(a, true, "%s: %s", path, err.msg);
-        return;
+        file_error(a, path, err.msg);
+        return false;
     }
     set_scene(a, &s);
     snprintf(a->scene_file, sizeof a->scene_file, "%s", path);
@@ -196,14 +203,15 @@ void sv_open(app* a, const char* path) {
     }
     sv_message(a, false, "opened %s: %u models, %u instances%s", path, a->scene.model_count, a->scene.instance_count,
             had ? " (probes of the previous scene unloaded)" : "");
+    return true;
 }
 
-void sv_add(app* a, const char* path) {
+bool sv_add(app* a, const char* path) {
     vx_svo_scene s;
     vx_error err = {0};
     if (sv_load_scene(&a->o, path, &s, &err)) {
-        sv_message(a, true, "%s: %s", path, err.msg);
-        return;
+        file_error(a, path, err.msg);
+        return false;
     }
     /* next to the scene along +x, in grid cells */
     int32_t d[3] = {0, 0, 0};
@@ -217,21 +225,24 @@ void sv_add(app* a, const char* path) {
     uint32_t first = 0, n = s.instance_count;
     if (!sv_edit_begin(a, false)) {
         vx_svo_scene_free(&s);
-        return;
+        return false;
     }
-    if (ved_add_scene(&a->scene, &s, d, &first, &err)) {
-        sv_message(a, true, "%s: %s", path, err.msg);
+    bool ok = !ved_add_scene(&a->scene, &s, d, &first, &err);
+    if (!ok) {
+        file_error(a, path, err.msg);
         ved_undo(&a->ed, NULL);
     } else {
+        ved_palette_scan(&a->ed); /* the added models' entries are in use */
         a->sel = n ? first : NO_SEL;
         sv_message(a, false, "added %s: %u instances", path, n);
     }
     vx_svo_scene_free(&s);
     sv_edit_end(a, "add");
+    return ok;
 }
 
 /* The file holds the compacted models (vvx_file_scene). */
-void sv_save(app* a, const char* path) {
+bool sv_save(app* a, const char* path) {
     vx_error err = {0};
     vx_svo_scene_update_bounds(&a->scene);
     vx_svo_scene fs;
@@ -240,11 +251,12 @@ void sv_save(app* a, const char* path) {
         r = vx_svo_write_file(NULL, &fs, path, &err);
         vvx_file_scene_free(&a->ed, &fs);
     }
-    if (r) sv_message(a, true, "%s: %s", path, err.msg);
+    if (r) file_error(a, path, err.msg);
     else sv_message(a, false, "saved %s", path);
+    return !r;
 }
 
-void sv_export(app* a, const char* path) {
+bool sv_export(app* a, const char* path) {
     vx_error err = {0};
     vx_vox_scene vs;
     vx_svo_scene fs;
@@ -257,8 +269,9 @@ void sv_export(app* a, const char* path) {
         r = vx_vox_write_file(NULL, &vs, path, &err);
         vx_vox_scene_free(&vs);
     }
-    if (r) sv_message(a, true, "%s: %s", path, err.msg);
+    if (r) file_error(a, path, err.msg);
     else sv_message(a, false, "exported %s", path);
+    return !r;
 }
 
 void sv_edit_move(app* a, int axis, int32_t n) {
@@ -315,24 +328,26 @@ void sv_rename(app* a, const char* name) {
     sv_edit_end(a, "rename");
 }
 
-void sv_set_layer(app* a, uint32_t layer) {
+bool sv_set_layer(app* a, uint32_t layer) {
     if (layer != UINT32_MAX && layer >= a->scene.layer_count) {
         sv_message(a, true, "no layer %u (the scene has %u)", layer, a->scene.layer_count);
-        return;
+        return false;
     }
-    if (!sv_edit_begin(a, true)) return;
+    if (!sv_edit_begin(a, true)) return false;
     ved_set_layer(&a->scene, a->sel, layer);
     sv_edit_end(a, "layer");
+    return true;
 }
 
-void sv_set_model(app* a, uint32_t model) {
+bool sv_set_model(app* a, uint32_t model) {
     if (model >= a->scene.model_count) {
         sv_message(a, true, "no model %u (the scene has %u)", model, a->scene.model_count);
-        return;
+        return false;
     }
-    if (!sv_edit_begin(a, true)) return;
+    if (!sv_edit_begin(a, true)) return false;
     ved_set_model(&a->scene, a->sel, model);
     sv_edit_end(a, "model");
+    return true;
 }
 
 void sv_select(app* a, uint32_t i) { a->sel = i < a->scene.instance_count ? i : NO_SEL; }
@@ -388,28 +403,20 @@ bool sv_brush_palette(app* a, uint32_t i) {
         return false;
     }
     a->brush.palette = (uint8_t)i;
-    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i];
+    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i], ved_palette_keep(&a->ed, i);
     return true;
 }
 
 bool sv_brush_rgba(app* a, uint32_t rgba) {
     a->brush.rgba = rgba;
     if (!a->scene.has_palette) return true;
-    /* palette models take the entry of that colour, or the first empty one */
-    uint32_t free_i = 0;
-    for (uint32_t i = 1; i < 256; i++) {
-        if (a->scene.palette[i] == rgba) {
-            a->brush.palette = (uint8_t)i;
-            return true;
-        }
-        if (!free_i && !a->scene.palette[i]) free_i = i;
-    }
-    if (!free_i) {
+    /* palette models take the entry of that colour, an empty one, or one no cell used */
+    uint32_t i = ved_palette_take(&a->ed, rgba);
+    if (!i) {
         sv_message(a, true, "the palette is full: pick one of its colours");
         return false;
     }
-    a->scene.palette[free_i] = rgba; /* stored in the file once a cell uses it */
-    a->brush.palette = (uint8_t)free_i;
+    a->brush.palette = (uint8_t)i;
     return true;
 }
 
@@ -483,17 +490,18 @@ bool sv_voxels(app* a, vvx_op op, const int64_t c[3]) {
     return true;
 }
 
-void sv_layer(app* a, uint32_t l, int hide /* -1 toggles */) {
+bool sv_layer(app* a, uint32_t l, int hide /* -1 toggles */) {
     if (l >= a->scene.layer_count) {
         sv_message(a, true, "no layer %u (the scene has %u)", l, a->scene.layer_count);
-        return;
+        return false;
     }
-    if (!sv_edit_begin(a, false)) return;
+    if (!sv_edit_begin(a, false)) return false;
     uint32_t* f = &a->scene.layers[l].flags;
     bool h = hide < 0 ? !(*f & VX_SVO_LAYER_HIDDEN) : hide > 0;
     *f = h ? (*f | VX_SVO_LAYER_HIDDEN) : (*f & ~VX_SVO_LAYER_HIDDEN);
     sv_message(a, false, "layer %u '%s' %s", l, a->scene.layers[l].name, h ? "hidden" : "shown");
     sv_edit_end(a, "layer");
+    return true;
 }
 
 void sv_undo(app* a, bool redo) {

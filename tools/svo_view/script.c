@@ -147,13 +147,16 @@ bool sv_script_command(app* a, char* line, uint32_t lineno) {
     else if (!strcmp(c, "layer")) {
         uint32_t l;
         if (nt != 3 || !vx_tool_parse_u32(tok[1], &l) || (strcmp(tok[2], "hide") && strcmp(tok[2], "show"))) BAD();
-        sv_layer(a, l, !strcmp(tok[2], "hide"));
-    } else if (!strcmp(c, "add") && nt == 2) sv_add(a, tok[1]);
+        if (!sv_layer(a, l, !strcmp(tok[2], "hide"))) return false;
+    } else if (!strcmp(c, "add") && nt == 2) sv_add(a, tok[1]); /* a file that does not read: a message, the run goes on */
     else if (!strcmp(c, "open") && nt == 2) sv_open(a, tok[1]);
     else if (!strcmp(c, "undo")) sv_undo(a, false);
     else if (!strcmp(c, "redo")) sv_undo(a, true);
-    else if (!strcmp(c, "save") && nt == 2) sv_save(a, tok[1]);
-    else if (!strcmp(c, "export") && nt == 2) sv_export(a, tok[1]);
+    else if (!strcmp(c, "save") && nt == 2) {
+        if (!sv_save(a, tok[1])) return false; /* a headless run must not end 0 without its file */
+    } else if (!strcmp(c, "export") && nt == 2) {
+        if (!sv_export(a, tok[1])) return false;
+    }
     else if (!strcmp(c, "screenshot") && nt == 2) {
         snprintf(a->shot_buf, sizeof a->shot_buf, "%s", tok[1]);
         a->shot = a->shot_buf;
@@ -191,10 +194,10 @@ bool sv_script_command(app* a, char* line, uint32_t lineno) {
             return false;
         }
         if (c[0] == 'r') sv_rename(a, tok[1]);
-        else if (!strcmp(c, "setlayer") && !strcmp(tok[1], "none")) sv_set_layer(a, UINT32_MAX);
-        else if (!vx_tool_parse_u32(tok[1], &n)) BAD();
-        else if (c[3] == 'l') sv_set_layer(a, n);
-        else sv_set_model(a, n);
+        else if (!strcmp(c, "setlayer") && !strcmp(tok[1], "none")) {
+            if (!sv_set_layer(a, UINT32_MAX)) return false;
+        } else if (!vx_tool_parse_u32(tok[1], &n)) BAD();
+        else if (!(c[3] == 'l' ? sv_set_layer(a, n) : sv_set_model(a, n))) return false;
     } else if (!strcmp(c, "vsync")) { /* the render panel's checkbox, key V */
         if (nt != 2 || (strcmp(tok[1], "on") && strcmp(tok[1], "off"))) BAD();
         vp_set_vsync(a->p, !strcmp(tok[1], "on"));
