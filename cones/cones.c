@@ -130,9 +130,13 @@ static vx_result resolve(vx_cone_gi* cg, const vx_cone_desc* in, vx_error* err) 
     for (int k = 0; k < 3; k++)
         if (!(d.sun[k] >= 0 && d.sun[k] < INFINITY && d.sky[k] >= 0 && d.sky[k] < INFINITY))
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sun %g and sky %g: finite, 0 or more", d.sun[k], d.sky[k]);
+    /* the frame's lights replace the sun, as in the pass pipeline's other
+     * methods and the path tracer (probes/render_gi.c): else a frame lit by
+     * lamps alone got the default sun too, in the volume and the direct pass */
+    bool sun_off = d.no_sun || d.light_count;
     for (int k = 0; k < 3; k++) {
         cg->light_dir[k] = ld[k] / l;
-        cg->sun[k] = d.no_sun ? 0 : (zero3(d.sun) ? D.sun[k] : d.sun[k]);
+        cg->sun[k] = sun_off ? 0 : (zero3(d.sun) ? D.sun[k] : d.sun[k]);
         cg->sky[k] = d.black_sky ? 0 : (zero3(d.sky) ? D.sky[k] : d.sky[k]);
     }
     /* the sky by direction: a constant one is the uniform sky */

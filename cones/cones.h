@@ -37,7 +37,8 @@
  *     voxel's mean surface radiance, so that a cone reading a slab's sides
  *     along its plane is not darkened).
  *   inject (when a light changes; vx_cone_gi_inject): each listed voxel's
- *     recorded surfaces are lit with the sun (one shadow ray), every vx_light
+ *     recorded surfaces are lit with the sun (one shadow ray; none when there
+ *     are lights), every vx_light
  *     (one shadow ray each, exact irradiance as the direct pass) and their
  *     emission: radiance = emission + albedo / pi * irradiance. Isotropic:
  *     the voxel's radiance is the mean over its visible surfaces, its
@@ -121,7 +122,8 @@ typedef enum vx_cone_output {
  *               sample of the cone), in the gi image and in the bounces
  *               kept in the volume; the method's sky_dir then gives the
  *               pipeline's background. NULL: the uniform sky
- *  lights:      frame lights injected too (borrowed; the frame must pass the same array)
+ *  lights:      frame lights injected too (borrowed; the frame must pass the same array);
+ *               any replace the sun (as no_sun), as in the path tracer
  *  output:      what the gi image holds
  *  half_res:    the diffuse cones at one pixel of each 2 x 2 block, spread to
  *               the others on the same surface (normals within 18 degrees,

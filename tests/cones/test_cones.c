@@ -760,6 +760,54 @@ static void test_cone_shadows(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A frame lit by its lights alone: any light replaces the sun, as in the path
+ * tracer and the other gi methods (probes/render_gi.c). svo_render and
+ * svo_view pass the frame's lights without no_sun, and the volume and the
+ * direct pass (vx_gi_method.sun) got the default sun on top of them: a real
+ * scene lit only by its emission came out 1.8 times the path tracer's. The
+ * volume made with a light equals the one with no_sun too, and stays so
+ * after vx_cone_gi_inject. */
+static void test_lights_replace_sun(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    cells_scene(&s, 16, slab_cell);
+    s.palette[1] = 0xFFC0C0C0u, s.palette[2] = 0xFF80A0C0u;
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_light lamp = {.type = VX_LIGHT_DIRECTIONAL, .direction = {-0.3, 0.2, 1}, .color = {1, 1, 1}, .intensity = 0.5};
+    float* lv[2] = {NULL, NULL};
+    size_t n = 0;
+    for (int k = 0; k < 2; k++) {
+        vx_cone_desc d = {.res = 16, .black_sky = true, .no_sun = k == 1, .lights = &lamp, .light_count = 1};
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_cone_gi_create(rs, &s, &d, &gm, &cg, &err) == VX_OK);
+        CHECK(gm.sun[0] == 0 && gm.sun[1] == 0 && gm.sun[2] == 0);
+        if (k == 0) { /* a light change keeps the rule */
+            vx_cone_desc again = {.black_sky = true, .lights = &lamp, .light_count = 1};
+            REQUIRE(vx_cone_gi_inject(cg, &again, &gm, &err) == VX_OK);
+            CHECK(gm.sun[0] == 0 && gm.sun[1] == 0 && gm.sun[2] == 0);
+        }
+        vx_cone_info I;
+        vx_cone_gi_info(cg, &I);
+        n = (size_t)I.dims[0][0] * I.dims[0][1] * I.dims[0][2] * I.entries * 4;
+        lv[k] = malloc(n * sizeof(float));
+        REQUIRE(lv[k]);
+        REQUIRE(vx_cone_gi_read_level(cg, 0, lv[k], n, &err) == VX_OK);
+        vx_cone_gi_destroy(cg);
+    }
+    size_t differ = 0;
+    double lit = 0;
+    for (size_t i = 0; i < n; i++) differ += lv[0][i] != lv[1][i], lit = fmax(lit, lv[1][i]);
+    printf("  a light and no_sun against a light alone: %zu of %zu floats differ (brightest %.3f)\n", differ, n, lit);
+    CHECK(lit > 0);
+    CHECK(differ == 0);
+    free(lv[0]), free(lv[1]);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 static void test_bad_options(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -806,6 +854,7 @@ int main(void) {
     RUN(test_specular_plate);
     RUN(test_specular_room);
     RUN(test_cone_shadows);
+    RUN(test_lights_replace_sun);
     RUN(test_bad_options);
     vx_gpu_destroy(gpu);
     return vx_test_finish();

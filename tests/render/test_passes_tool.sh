@@ -76,6 +76,11 @@ expect_status 0 "lights with gi=pathtrace" "$R" "$T/demo.svo" "$T/lgi.exr" --siz
     --light point:0,0,40:900,800,700 --light spot:10,10,40:0,0,-1:0,0,3000:10,25 --sky 0.05,0.05,0.08 \
     --passes gbuffer,direct,gi=pathtrace,tonemap
 expect_status 0 "gi=pathtrace" "$R" "$T/demo.svo" "$T/gi.exr" --size 32x24 --passes gbuffer,direct,gi=pathtrace,tonemap
+# --mode pathtrace renders --light lights (here the CPU's, the same option path as the GPU's): it was
+# refused with "--passes, --show and --timings need the GPU colour mode", as if --passes were given
+expect_status 0 "--mode pathtrace with --light" "$R" "$T/demo.svo" "$T/ptl.pfm" --size 16x12 --cpu --mode pathtrace $LP
+expect_status 0 "--mode pathtrace without" "$R" "$T/demo.svo" "$T/pt0.pfm" --size 16x12 --cpu --mode pathtrace
+cmp -s "$T/ptl.pfm" "$T/pt0.pfm" && bad "--light lights the path tracer's image" || ok "--light lights the path tracer's image"
 # the probe methods take no lights: the error says so (it said the method lacked the frame's lights)
 if [ -x "$BIN/svo_bake" ]; then
     expect_status 0 "a small bake" "$BIN/svo_bake" "$T/demo.svo" "$T/p.probes" --grid 2,2,2 --res 16 --spp 1

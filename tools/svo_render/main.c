@@ -706,7 +706,6 @@ int main(int argc, char** argv) {
                 if (vx_light_validate(&o.lights[o.light_count], o.light_count, &lerr))
                     usage_error("--light %s: %s", argv[i], lerr.msg);
                 o.light_count++;
-                o.passes_given = true;
             } else if (!parse_vec(argv[i], o.r.light_dir, 3)) {
                 usage_error("bad light direction '%s'", argv[i]);
             }
@@ -1180,7 +1179,9 @@ int main(int argc, char** argv) {
         char why[256];
         const char* note = NULL;
         if (!r && pipeline && passes_refuse(rs, &li, why, sizeof why, &note)) {
-            if (o.passes_given || o.show_given || o.timings) r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s", why);
+            /* --light lights need the passes in the colour mode (else dropped) */
+            if (o.passes_given || o.show_given || o.timings || o.light_count)
+                r = vx_fail(&err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s", why);
             pipeline = false;
             if (o.verbose) printf("note: %s\n", note);
         }
