@@ -109,10 +109,9 @@ struct Ctx {
     bool any_color = false;
     bool origin_set = false;
     double origin[3] = {0, 0, 0}; // vx_gltf_mesh.origin
-    // the world positions' extent and the largest rounding step any of them
-    // took on the way (gltf.h: the warning gltf.position_precision)
-    double wlo[3] = {INFINITY, INFINITY, INFINITY}, whi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double wstep = 0, wmag = 0;
+    // the largest rounding step a world position took on the way (gltf.h:
+    // the warning gltf.position_precision)
+    double wstep = 0;
     uint64_t max_tris;
     uint32_t instances = 0;
 };
@@ -401,9 +400,6 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
                 double st = (pos.ctype == TINYGLTF_COMPONENT_TYPE_FLOAT ? lin * 0x1p-24 : 0.0) +
                             (lin + std::fabs(M[12 + a])) * 0x1p-52;
                 if (st > c.wstep) c.wstep = st;
-                if (std::fabs(w[a]) > c.wmag) c.wmag = std::fabs(w[a]);
-                if (w[a] < c.wlo[a]) c.wlo[a] = w[a];
-                if (w[a] > c.whi[a]) c.whi[a] = w[a];
             }
             if (!c.origin_set) { // gltf.h: vx_gltf_mesh.origin
                 c.origin_set = true;
@@ -881,18 +877,29 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         // quarter of a cell at the default resolution (2^-10 of its
         // extent) has lost its shape before voxelization; far translations
         // (1e30) collapsed a small model to one cell without a word
-        double ext = 0;
-        for (int a = 0; a < 3; a++) ext = std::max(ext, c.whi[a] - c.wlo[a]);
+        // the extent and the farthest coordinate from the stored positions
+        // (origin + pos: the float store keeps 2^-24 of the scene's size)
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (size_t i = 0; i < c.pos.size(); i++) {
+            int a = (int)(i % 3);
+            lo[a] = std::min(lo[a], (double)c.pos[i]);
+            hi[a] = std::max(hi[a], (double)c.pos[i]);
+        }
+        double ext = 0, mag = 0;
+        for (int a = 0; a < 3; a++) {
+            ext = std::max(ext, hi[a] - lo[a]);
+            mag = std::max(mag, std::max(std::fabs(c.origin[a] + lo[a]), std::fabs(c.origin[a] + hi[a])));
+        }
         if (ext == 0)
             vx_log(desc->logger, VX_LOG_WARN, "gltf.position_precision",
                    "all %zu triangles lie at one point (%.9g %.9g %.9g): the scene has no extent", c.mat.size(),
-                   c.wlo[0], c.wlo[1], c.wlo[2]);
+                   c.origin[0] + lo[0], c.origin[1] + lo[1], c.origin[2] + lo[2]);
         else if (c.wstep > ext * 0x1p-10)
             vx_log(desc->logger, VX_LOG_WARN, "gltf.position_precision",
                    "positions up to %.3g from 0 are rounded by up to %.3g, more than 1/1024 of the scene's extent "
                    "%.3g: its shape is lost to rounding (a node translation or vertex coordinates far from the "
                    "scene's own size)",
-                   c.wmag, c.wstep, ext);
+                   mag, c.wstep, ext);
     }
     if (!r) {
         bool any_tex = false;

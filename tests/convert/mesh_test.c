@@ -682,6 +682,12 @@ static void keep_warning(void* user, vx_log_level level, const char* id, const c
     warn_log* w = user;
     if (level == VX_LOG_WARN) snprintf(w->text + strlen(w->text), sizeof w->text - strlen(w->text), "[%s] %s\n", id, msg);
 }
+/* Reads the glTF text json into m, its warnings into w. */
+static vx_result read_logged(const char* json, vx_gltf_mesh* m, warn_log* w, vx_error* err) {
+    w->text[0] = 0;
+    vx_logger lg = {keep_warning, w};
+    return vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", m, err);
+}
 static void test_unknown_image_media_type(void) {
     char json[4096];
     snprintf(json, sizeof json, kTriGltf, "");
@@ -691,11 +697,10 @@ static void test_unknown_image_media_type(void) {
     REQUIRE(end != NULL);
     char webp[4096];
     snprintf(webp, sizeof webp, "%.*sdata:image/webp;base64,UklGRhwAAABXRUJQVlA4TA8AAAAv%s", (int)(png - json), json, end);
-    warn_log w = {{0}};
-    vx_logger lg = {keep_warning, &w};
+    warn_log w;
     vx_gltf_mesh m;
     vx_error err = {0};
-    vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, webp, strlen(webp), ".", &m, &err);
+    vx_result r = read_logged(webp, &m, &w, &err);
     CHECKF(r == VX_OK, "%s", err.msg);
     if (r) return;
     fprintf(stderr, "  warning: %s", w.text);
@@ -718,11 +723,10 @@ static void test_emissive_texture(void) {
     for (int i = 0; i < 2; i++) {
         char json[4096];
         snprintf(json, sizeof json, kTriGltf, i ? without : with);
-        warn_log w = {{0}};
-        vx_logger lg = {keep_warning, &w};
+        warn_log w;
         vx_gltf_mesh m;
         vx_error err = {0};
-        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m, &err);
+        vx_result r = read_logged(json, &m, &w, &err);
         CHECKF(r == VX_OK, "%s", err.msg);
         if (r) continue;
         REQUIRE(m.material_count == 1);
@@ -911,9 +915,8 @@ static void test_far_origin(void) {
         char json[2048];
         snprintf(json, sizeof json, kFarGltf, at[i]);
         vx_error err = {0};
-        warn_log w = {{0}};
-        vx_logger lg = {keep_warning, &w};
-        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m[i], &err);
+        warn_log w;
+        vx_result r = read_logged(json, &m[i], &w, &err);
         if (r) fprintf(stderr, "  %s\n", err.msg);
         REQUIRE(r == VX_OK && m[i].tri_count == 1);
         CHECKF(w.text[0] == 0, "no precision warning at %s: %s", at[i], w.text); /* rounding 2^-29 of the extent */
@@ -963,11 +966,10 @@ static void test_position_precision(void) {
             REQUIRE(b != NULL);
             memcpy(b + 7, "KGtuTgAAAAAAAAAAKGtuTgAAyEIAAAAAKmtuTgAAAAAAAAAA", 48);
         }
-        warn_log w = {{0}};
-        vx_logger lg = {keep_warning, &w};
+        warn_log w;
         vx_gltf_mesh m;
         vx_error err = {0};
-        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg}, json, strlen(json), ".", &m, &err);
+        vx_result r = read_logged(json, &m, &w, &err);
         CHECKF(r == VX_OK, "case %zu: %s", i, err.msg);
         if (r) continue;
         bool warned = strstr(w.text, "[gltf.position_precision]") != NULL;

@@ -403,7 +403,10 @@ bool sv_brush_palette(app* a, uint32_t i) {
         return false;
     }
     a->brush.palette = (uint8_t)i;
-    if (a->scene.has_palette) a->brush.rgba = a->scene.palette[i], ved_palette_keep(&a->ed, i);
+    if (a->scene.has_palette) {
+        a->brush.rgba = a->scene.palette[i];
+        ved_palette_keep(&a->ed, i);
+    }
     return true;
 }
 
