@@ -186,8 +186,12 @@ typedef enum vx_probe_bake_kernel {
 } vx_probe_bake_kernel;
 
 /* Bake options; zero-initialised means the defaults.
- *  grid:       probes per axis, at the cell centres of that grid over the
- *              bounds; all zero == from spacing
+ *  grid:       probes per axis, all zero == from spacing. Over the scene's
+ *              bounds the grid is centred on them and its end probes lie a
+ *              quarter cell (extent / n) beyond them, so that outer faces
+ *              have probes on their side (n probes: extent * (2n + 1) /
+ *              (2n (n - 1)) apart; one probe: the centre). With bounds_set:
+ *              the cell centres of that grid over the given box
  *  spacing:    world distance between probes, 0 == (bounds diagonal) / 8;
  *              the grid is centred on the bounds and reaches at least a
  *              quarter spacing beyond them, so that outer faces have probes

@@ -166,9 +166,12 @@ static void test_trace_agrees_with_octree(void) {
     vx_error err = {0};
     for (uint32_t res = 32; res <= 64; res *= 2) {
         vx_probe_set ps;
-        /* geometry only: distances and normals do not depend on the light */
-        vx_result r = vx_probe_bake(&s, &(vx_probe_bake_desc){.grid = {3, 3, 3}, .res = res, .spp = 1, .bounces = -1,
-                                                             .threads = 2},
+        /* geometry only: distances and normals do not depend on the light; the grid's cell centres in the
+         * scene's box [0,16]^3 (bounds_set: over the scene's own bounds the grid reaches out of the box, and
+         * the surface points below are cast from the probes) */
+        vx_result r = vx_probe_bake(&s, &(vx_probe_bake_desc){.grid = {3, 3, 3}, .bounds_set = true,
+                                                             .bounds_hi = {16, 16, 16}, .res = res, .spp = 1,
+                                                             .bounces = -1, .threads = 2},
                                     &ps, &err);
         if (r) fprintf(stderr, "%s\n", err.msg);
         REQUIRE(r == VX_OK);

@@ -501,6 +501,97 @@ static void test_closed_box_outside(void) {
     vx_svo_scene_free(&s);
 }
 
+/* A level-3 Menger sponge of 27^3 voxels: cell (x, y, z) is empty where, at some base-3 place, at least two of
+ * its three coordinates have the digit 1 (the tunnels of every level, through the whole sponge). */
+static uint8_t sponge_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    for (; x || y || z; x /= 3, y /= 3, z /= 3)
+        if ((x % 3 == 1) + (y % 3 == 1) + (z % 3 == 1) >= 2) return 0;
+    return 5;
+}
+
+/* The mean of the first three channels over the pixels the path tracer hits. */
+static double hit_mean(const vx_render_image* im, const vx_render_image* hits) {
+    double s = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < (size_t)im->width * im->height; i++)
+        if (hits->pixels[4 * i + 3] != 0) s += im->pixels[4 * i] + im->pixels[4 * i + 1] + im->pixels[4 * i + 2], n++;
+    return n ? s / (3.0 * n) : 0;
+}
+
+/* An explicit grid (vx_probe_bake_desc.grid) must surround the scene as a
+ * spacing's does. Its probes were the cell centres of the bounds, all inside
+ * the scene's box: every outer face took the light of the probes behind it
+ * (docs/TESTING.md, "(C)": eph procedure_menger's indirect light 0.43 of the
+ * path tracer's with a 4,4,3 grid and darker with a denser one, 0.35 at
+ * 8,8,8). (1) A closed box under the sky alone, whose inside is black: the
+ * outer faces' irradiance is pi * sky at both grids (it was the inside's, 0).
+ * (2) A sponge in the sun: the probes' indirect light against the path
+ * tracer's (pathtrace-indirect) over the image, at two grids, the denser no
+ * farther from it than the coarser. */
+static void test_explicit_grid_outside(void) {
+    vx_error err = {0};
+    vx_svo_scene s;
+    box_scene(&s, 16, 5);
+    const uint32_t grids[2] = {3, 6};
+    for (int g = 0; g < 2; g++) {
+        uint32_t n = grids[g];
+        vx_probe_set ps;
+        vx_probe_bake_desc d = {.grid = {n, n, n}, .res = 16, .spp = 2, .no_sun = true, .threads = 2};
+        REQUIRE(vx_probe_bake(&s, &d, &ps, &err) == VX_OK);
+        for (int k = 0; k < 3; k++) { /* the end probes a quarter cell (16 / n) beyond the box [0,16]^3 */
+            CHECK(fabs(ps.origin[k] + 4.0 / n) < 1e-9);
+            CHECK(fabs(ps.origin[k] + (n - 1) * ps.spacing[k] - 16 - 4.0 / n) < 1e-9);
+        }
+        double worst = 0;
+        for (int f = 0; f < 6; f++) {
+            int ax = f / 2;
+            double sg = f % 2 ? 1 : -1;
+            for (int q = 0; q < 4; q++) {
+                double p[3], nn[3] = {0, 0, 0}, e[3];
+                for (int k = 0; k < 3; k++) p[k] = 2.5 + 3.7 * ((q + k) % 4);
+                p[ax] = sg > 0 ? 16 : 0;
+                nn[ax] = sg;
+                vx_probe_irradiance(&ps, p, nn, e);
+                for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(e[c] / (PI * ps.sky[c]) - 1));
+            }
+        }
+        fprintf(stderr, "  closed box, grid %u^3: outer faces' max relative irradiance error %.3g\n", n, worst);
+        CHECK(worst < 0.1);
+        vx_probe_set_free(&ps);
+    }
+    vx_svo_scene_free(&s);
+
+    cells_scene(&s, 27, sponge_cell);
+    s.palette[5] = 0xFFC0C0C0u;
+    vx_render_desc base = {.width = 48, .height = 36};
+    vx_render_image pt = {0};
+    REQUIRE(vx_probe_render(&s, NULL,
+                            &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_PT_INDIRECT, .spp = 64,
+                                                    .threads = 2},
+                            &pt, &err) == VX_OK);
+    double ref = hit_mean(&pt, &pt), ratio[2];
+    for (int g = 0; g < 2; g++) {
+        uint32_t n = grids[g];
+        vx_probe_set ps;
+        vx_probe_bake_desc d = {.grid = {n, n, n}, .res = 16, .spp = 4, .threads = 2};
+        REQUIRE(vx_probe_bake(&s, &d, &ps, &err) == VX_OK);
+        vx_render_image gi = {0};
+        REQUIRE(vx_probe_render(&s, &ps, &(vx_probe_render_desc){.base = &base, .mode = VX_PROBE_RENDER_INDIRECT}, &gi,
+                                &err) == VX_OK);
+        ratio[g] = hit_mean(&gi, &pt) / ref;
+        fprintf(stderr, "  sponge 27^3, grid %u^3: indirect light %.4f of the path tracer's (%.4f)\n", n, ratio[g],
+                ref);
+        vx_render_image_free(&gi);
+        vx_probe_set_free(&ps);
+    }
+    CHECK(ref > 0.01);
+    for (int g = 0; g < 2; g++) CHECK(ratio[g] > 0.85 && ratio[g] < 1.25);
+    CHECK(fabs(ratio[1] - 1) <= fabs(ratio[0] - 1) + 0.03);
+    vx_render_image_free(&pt);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     RUN(test_oct_roundtrip);
@@ -514,5 +605,6 @@ int main(void) {
     RUN(test_reader_oom);
     RUN(test_gi_vs_pathtrace);
     RUN(test_closed_box_outside);
+    RUN(test_explicit_grid_outside);
     return vx_test_finish();
 }
