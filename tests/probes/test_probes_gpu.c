@@ -94,7 +94,10 @@ static void test_gpu_vs_cpu_bake(void) {
     room_scene(&s);
     vx_render_scene* rs = scene_on_gpu(&s);
     REQUIRE(rs);
-    vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = 32, .seed = 42, .threads = 2};
+    /* the grid's cell centres in the room's box [0,12]^3 (bounds_set: over the scene's own bounds the grid
+     * reaches out of the box), on cell boundaries (below) */
+    vx_probe_bake_desc d = {.grid = {2, 2, 2}, .bounds_set = true, .bounds_hi = {12, 12, 12}, .res = 16, .spp = 32,
+                            .seed = 42, .threads = 2};
     vx_probe_set c, g;
     vx_error err = {0};
     REQUIRE(vx_probe_bake(&s, &d, &c, &err) == VX_OK);
@@ -233,8 +236,11 @@ static void test_gpu_bake_beam(void) {
             s.materials = NULL, s.material_count = 0;
             REQUIRE(rs = scene_on_gpu(&s));
         }
-        vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = cfg[k].res, .spp = cfg[k].spp, .bounces = cfg[k].bounces,
-                                .no_sun = cfg[k].no_sun, .seed = 7 + k, .threads = 2};
+        /* the probes inside the room (the grid's cell centres in its box; over the scene's bounds the grid
+         * reaches out of it), which sees the room's walls in most texels */
+        vx_probe_bake_desc d = {.grid = {2, 2, 2}, .bounds_set = true, .bounds_hi = {12, 12, 12}, .res = cfg[k].res,
+                                .spp = cfg[k].spp, .bounces = cfg[k].bounces, .no_sun = cfg[k].no_sun, .seed = 7 + k,
+                                .threads = 2};
         vx_probe_set a, b;
         REQUIRE(vx_probe_bake_gpu(rs, &s, &d, &a, &err) == VX_OK);
         d.no_beam = true;
@@ -480,7 +486,9 @@ static void test_gpu_bake_strata(void) {
     room_scene(&s);
     vx_render_scene* rs = scene_on_gpu(&s);
     REQUIRE(rs);
-    vx_probe_bake_desc d = {.grid = {2, 1, 1}, .res = 32, .spp = 64, .threads = 2};
+    /* inside the room: the grid's cell centres in its box (over the scene's bounds it reaches out of it) */
+    vx_probe_bake_desc d = {.grid = {2, 1, 1}, .bounds_set = true, .bounds_hi = {12, 12, 12}, .res = 32, .spp = 64,
+                            .threads = 2};
     double m_st, m_in, m_cpu, i_st, i_in, i_cpu;
     double n_st = bake_noise(rs, &s, d, false, &m_st, &i_st);
     d.independent_bounce = true;
