@@ -104,8 +104,8 @@ if(VX_WITH_VULKAN)
                  "VX_TEST_SKIP=test_path_start,test_screen_cull,test_many_instances,test_deep_octrees")
   endif()
   vx_sanitize_trim(test_render_gpu_gpu_form DISABLE)
-  vx_test_cost(test_render_gpu_gpu_form 341)
-  vx_test_cost(test_render_gpu 302)
+  vx_test_cost(test_render_gpu_gpu_form 361)
+  vx_test_cost(test_render_gpu 322)
   # under the sanitizers: the deep float path's sweep against the CPU reference (depths 12-16; the same upload and
   # readback as test_deep_octrees, which stays) and the shallow models' forced starts (the starts' host code runs in
   # test_path_start_deep) are the release run's
