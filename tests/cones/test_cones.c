@@ -3,8 +3,9 @@
  * over the scene's cells, every filtered level against CPU averages (and
  * front-to-back composites) of level 0, analytic lighting (an open plane
  * under a constant sky, a floor under an emitting ceiling: the view factor
- * of a square, a closed emitting box: the furnace) and the path tracer.
- * Skipped without a Vulkan device. */
+ * of a square, a closed emitting box: the furnace) and the path tracer;
+ * and every GPU light transport method on a scene far from the origin
+ * against the same scene at 0. Skipped without a Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
