@@ -390,17 +390,27 @@ vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_rende
 }
 
 vx_result vx__gpu_float_range(const double lo[3], const double hi[3], vx_error* err) {
-    const double big = 0x1p56, small = 0x1p-56;
+    /* the kernels' coordinates are relative to the frame's reference point
+     * (vx__frame), so the bounds' distance from 0 reaches them only through
+     * the double differences the host takes: what floats must hold is the
+     * scene's size; what doubles must hold is the scene at its place */
+    const double big = 0x1p56, small = 0x1p-56, reach = 0x1p52;
     double mag = 0, side = 0;
     for (int k = 0; k < 3; k++) {
         if (!(lo[k] <= hi[k])) return VX_OK; /* empty */
         mag = fmax(mag, fmax(fabs(lo[k]), fabs(hi[k])));
         side = fmax(side, hi[k] - lo[k]);
     }
-    if (mag > big || (side > 0 && side < small)) /* side 0: an empty scene */
+    if (side > big || (side > 0 && side < small)) /* side 0 at 0: an empty scene */
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                        "scene bounds [%.3g %.3g %.3g] - [%.3g %.3g %.3g] past the GPU tracer's float range "
-                       "(|x| <= 2^56, a side >= 2^-56); the CPU reference traces it",
+                       "(a side within 2^-56..2^56); the CPU reference traces it",
+                       lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (mag > side * reach)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "scene bounds [%.3g %.3g %.3g] - [%.3g %.3g %.3g] lie more than 2^52 times their size from "
+                       "the origin, past the GPU tracer's float range: a double there cannot tell the scene's corners "
+                       "apart (nor can the CPU reference's rays)",
                        lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
     return VX_OK;
 }

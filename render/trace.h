@@ -12,13 +12,29 @@
 /* ---- camera and frame set-up, shared by the GPU and the CPU paths ----------------- */
 
 /* Rays are generated relative to a reference point R near the scene (so the
- * GPU's floats keep the scene's precision even when the eye is far away):
+ * GPU's floats keep the scene's precision even when the eye is far away, or
+ * the scene far from the world's origin):
  *   perspective:  P(u,v) = t_start * (u*rx + v*uy)   d = normalize(fwd + u*rx + v*uy)
  *                 depth = t_start * |fwd + u*rx + v*uy| + s
  *   orthographic: P(u,v) = u*rx + v*uy               d = fwd
  *                 depth = t_start + s
  * where s is the distance along d from P, u,v in [-1,1] (v up) and
- * R = eye + t_start * fwd lies before all scene geometry. */
+ * R = eye + t_start * fwd lies before all scene geometry.
+ * R is the GPU's frame origin: every kernel works in world coordinates
+ * minus R, differences the host takes in double per frame, and no world
+ * coordinate reaches a kernel as a float: the instances' model-from-world
+ * rows (their translation row . R + t in double, a float hi/lo pair), the
+ * BVH's and the instances' boxes (rounded outward), the sun depth map's
+ * origin, the lights' positions (vx__light_pack), the dense grid, the probe
+ * grid's origin and the probes' positions, the cone volume's origin, the
+ * photons' sources (the photons read back are moved by R again), the beam
+ * pass (the frame's constants). Depth is a distance and the hits are model
+ * cells, so nothing a kernel writes back is a world position but the
+ * photons. A scene 6e6 from 0 with cells of 1/64 (a float there is 0.5
+ * apart) gives the bits of the same scene at 0 seen from a camera moved
+ * alike, on every GPU path (test_render_gpu's and test_cones'
+ * test_far_origin). What position still limits is the double:
+ * vx__gpu_float_range. */
 typedef struct vx__frame {
     uint32_t width, height, spp;
     vx_render_mode mode;
@@ -41,13 +57,18 @@ typedef struct vx__frame {
 vx_result vx__frame_setup(const double lo[3], const double hi[3], const vx_render_desc* desc, vx__frame* f,
                           vx_error* err);
 /* The GPU kernels' float range: VX_ERR_LIMIT, naming the bounds, for a
- * scene whose world bounds [lo, hi] reach past 2^56 from 0 or whose largest
- * side is under 2^-56: a model scaled by 1e25 traced as empty and one scaled
- * by 1e-20 off the CPU reference (1e-18 to 1e20 traced as it did: the limits
- * keep a margin; test_render_gpu's test_float_range). Every GPU frame checks
- * it (trace.comp's, the compact layout's, the pass pipeline's, the probe
- * modes' and path tracer's) and so does the GPU bake. An empty scene
- * (lo > hi, or bounds of side 0) passes. The CPU reference (double) has no such limit. */
+ * scene whose world bounds [lo, hi] have a largest side past 2^56 or under
+ * 2^-56 (a model scaled by 1e25 traced as empty and one scaled by 1e-20 off
+ * the CPU reference; 1e-18 to 1e20 traced as it did: the limits keep a
+ * margin), or lie farther from 0 than 2^52 times that side (a double there
+ * cannot tell the scene's corners apart: unit cells at 1e25). The bounds'
+ * distance from 0 is no float limit itself: the kernels work relative to
+ * the frame's reference point (vx__frame), so cells of 2^30 at 1e20 trace
+ * as the CPU reference does (refused, as past 2^56 from 0, until stop 63;
+ * test_render_gpu's test_float_range). Every GPU frame checks it
+ * (trace.comp's, the compact layout's, the pass pipeline's, the probe
+ * modes' and path tracer's) and so does the GPU bake. An empty scene (lo >
+ * hi, or all 0) passes. The CPU reference (double) has no such limit. */
 vx_result vx__gpu_float_range(const double lo[3], const double hi[3], vx_error* err);
 /* The pixels whose rays can meet the box [lo, hi] (world space), as the
  * rectangle [rect[0], rect[2]) x [rect[1], rect[3]) (empty: all four 0): the

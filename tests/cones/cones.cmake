@@ -4,7 +4,7 @@
 # tracer.
 if(VX_WITH_VULKAN)
   vx_add_test(test_cones SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_cones.c
-              LIBS vx_cones vx_probes vx_render vx_svo ${CMAKE_DL_LIBS} LABELS cones)
+              LIBS vx_cones vx_photons vx_probes vx_render vx_svo ${CMAKE_DL_LIBS} LABELS cones)
   set_tests_properties(test_cones PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
 endif()

@@ -3,8 +3,9 @@
  * over the scene's cells, every filtered level against CPU averages (and
  * front-to-back composites) of level 0, analytic lighting (an open plane
  * under a constant sky, a floor under an emitting ceiling: the view factor
- * of a square, a closed emitting box: the furnace) and the path tracer.
- * Skipped without a Vulkan device. */
+ * of a square, a closed emitting box: the furnace) and the path tracer;
+ * and every GPU light transport method on a scene far from the origin
+ * against the same scene at 0. Skipped without a Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
@@ -12,6 +13,7 @@
 #include <string.h>
 
 #include "cones/cones.h"
+#include "photons/photons.h"
 #include "render/trace.h" /* vx__scene_grid_cells */
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
@@ -808,6 +810,114 @@ static void test_lights_replace_sun(void) {
     vx_svo_scene_free(&s);
 }
 
+/* ---- far from the origin ----------------------------------------------------------- */
+
+/* The room scaled to cells of 1/64 and placed at T by the world map. */
+static void far_room(vx_svo_scene* s, const double T[3]) {
+    room_scene(s);
+    memset(s->world_from_grid, 0, sizeof s->world_from_grid);
+    for (int k = 0; k < 3; k++) s->world_from_grid[5 * k] = 1.0 / 64, s->world_from_grid[4 * k + 3] = T[k];
+    vx_svo_scene_update_bounds(s);
+}
+
+static size_t floats_apart(const vx_render_image* a, const vx_render_image* b) {
+    size_t n = (size_t)a->width * a->height * 4, d = 0;
+    if (!a->pixels || !b->pixels || a->width != b->width || a->height != b->height) return SIZE_MAX;
+    for (size_t i = 0; i < n; i++) d += memcmp(&a->pixels[i], &b->pixels[i], 4) != 0;
+    return d;
+}
+
+/* The light transport of a scene far from the origin (docs/TESTING.md, "far
+ * from the origin"): the room of cells 1/64 wide placed 6e6 from 0 (a float
+ * 0.5 apart there: 32 cells) against the same room at 0 seen from a camera
+ * moved alike. Every GPU method works relative to the frame's reference
+ * point, whose differences the host takes in double (the cone volume's and
+ * the photons' origins, the lights, the probes' grid and positions): the
+ * same floats on every pixel with gi=cones (cone shadows, a point light
+ * placed alike), gi=photons, gi=pathtrace, the GPU path tracer, and the
+ * probes baked on the GPU (the same maps, their positions moved by T
+ * exactly) with gi=probes and gi=lightfield over them. */
+static void test_far_origin(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    const double T[3] = {6e6, -6000001, 2097152}, O[3] = {0, 0, 0};
+    vx_svo_scene s[2];
+    far_room(&s[0], O);
+    far_room(&s[1], T);
+    vx_render_scene* rs[2] = {scene_on_gpu(&s[0]), scene_on_gpu(&s[1])};
+    REQUIRE(rs[0] && rs[1]);
+    vx_render_desc v[2];
+    vx_light pl[2];
+    for (int i = 0; i < 2; i++) {
+        const double* t = i ? T : O;
+        v[i] = view(40, 30, 11.0 / 64 + t[0], 1.0 / 64 + t[1], 7.0 / 64 + t[2], 3.0 / 64 + t[0], 8.0 / 64 + t[1],
+                    1.0 / 64 + t[2]);
+        v[i].camera.up[1] = 0, v[i].camera.up[2] = 1;
+        pl[i] = (vx_light){.type = VX_LIGHT_POINT, .position = {4.0 / 64 + t[0], 4.0 / 64 + t[1], 6.0 / 64 + t[2]},
+                           .color = {1, 0.9, 0.8}, .intensity = 0.02};
+    }
+    vx_error err = {0};
+    vx_render_image img[2][6];
+    memset(img, 0, sizeof img);
+    const char* what[6] = {"gi=cones", "gi=photons", "gi=pathtrace", "path tracer", "gi=probes", "gi=lightfield"};
+    vx_probe_set ps[2];
+    memset(ps, 0, sizeof ps);
+    for (int i = 0; i < 2; i++) {
+        vx_cone_desc cd = {.res = 16, .bounces = 1, .shadows = true, .lights = &pl[i], .light_count = 1};
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        REQUIRE(vx_cone_gi_create(rs[i], &s[i], &cd, &gm, &cg, &err) == VX_OK);
+        CHECK(render_passes(rs[i], &s[i], &gm, &v[i], VX_SHOW_FINAL, "gbuffer,gi=cones", &img[i][0]));
+        vx_cone_gi_destroy(cg);
+        vx_photon_desc pd = {.photons = 4096, .seed = 5};
+        vx_photon_gi* pg = NULL;
+        REQUIRE(vx_photon_gi_create(rs[i], &s[i], NULL, &pd, &gm, &pg, &err) == VX_OK);
+        CHECK(render_passes(rs[i], &s[i], &gm, &v[i], VX_SHOW_FINAL, "gbuffer,direct,gi=photons", &img[i][1]));
+        vx_photon_gi_destroy(pg);
+        vx_probe_render_desc rd = {.spp = 4, .seed = 3};
+        vx_probe_gi* gi = NULL;
+        REQUIRE(vx_probe_gi_create(rs[i], &s[i], NULL, "pathtrace", &rd, &gm, &gi, &err) == VX_OK);
+        CHECK(render_passes(rs[i], &s[i], &gm, &v[i], VX_SHOW_FINAL, "gbuffer,direct,gi=pathtrace", &img[i][2]));
+        vx_probe_gi_destroy(gi);
+        vx_probe_render_desc pt = {.base = &v[i], .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 8, .seed = 3};
+        CHECK(vx_probe_render_gpu(rs[i], &s[i], NULL, &pt, &img[i][3], &err) == VX_OK);
+        vx_probe_bake_desc bd = {.grid = {3, 3, 3}, .res = 16, .spp = 4};
+        REQUIRE(vx_probe_bake_gpu(rs[i], &s[i], &bd, &ps[i], &err) == VX_OK);
+        const char* methods[2] = {"probes", "lightfield"};
+        for (int m = 0; m < 2; m++) {
+            vx_probe_render_desc gd = {.spp = 1};
+            REQUIRE(vx_probe_gi_create(rs[i], &s[i], &ps[i], methods[m], &gd, &gm, &gi, &err) == VX_OK);
+            char list[64];
+            snprintf(list, sizeof list, "gbuffer,direct,gi=%s", methods[m]);
+            CHECK(render_passes(rs[i], &s[i], &gm, &v[i], VX_SHOW_FINAL, list, &img[i][4 + m]));
+            vx_probe_gi_destroy(gi);
+        }
+    }
+    for (int k = 0; k < 6; k++) {
+        size_t d = floats_apart(&img[0][k], &img[1][k]), hits = 0;
+        for (size_t p = 0; img[0][k].pixels && p < (size_t)40 * 30; p++)
+            hits += img[0][k].pixels[4 * p] + img[0][k].pixels[4 * p + 1] + img[0][k].pixels[4 * p + 2] > 0;
+        printf("  %-14s far from the origin: %zu of %u pixels lit, %zu of %u floats differ from the room at 0\n",
+               what[k], hits, 40 * 30, d, 40 * 30 * 4);
+        CHECKF(d == 0 && hits >= 600, "%s: %zu pixels lit, %zu floats differ from the room at 0", what[k], hits, d);
+        for (int i = 0; i < 2; i++) vx_render_image_free(&img[i][k]);
+    }
+    /* the probes: the same maps, the positions moved by T (exact in double here) */
+    size_t texels = (size_t)ps[0].probe_count * (ps[0].res + 2) * (ps[0].res + 2), moved = 0;
+    for (uint32_t p = 0; p < ps[0].probe_count && p < ps[1].probe_count; p++)
+        for (int k = 0; k < 3; k++) moved += ps[1].probes[p].pos[k] != ps[0].probes[p].pos[k] + T[k];
+    bool same = ps[0].probe_count == ps[1].probe_count && ps[0].probe_count > 0 &&
+                !memcmp(ps[0].radiance, ps[1].radiance, texels * 6) && !memcmp(ps[0].normal, ps[1].normal, texels * 4) &&
+                !memcmp(ps[0].distance, ps[1].distance, texels * 2);
+    printf("  probes: %u baked, maps %s, %zu position coordinates not moved by T\n", ps[0].probe_count,
+           same ? "equal" : "differ", moved);
+    CHECKF(same && moved == 0, "far probes: maps %s, %zu coordinates not moved by T", same ? "equal" : "differ", moved);
+    for (int i = 0; i < 2; i++) {
+        vx_probe_set_free(&ps[i]);
+        vx_render_scene_destroy(rs[i]);
+        vx_svo_scene_free(&s[i]);
+    }
+}
+
 static void test_bad_options(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -855,6 +965,7 @@ int main(void) {
     RUN(test_specular_room);
     RUN(test_cone_shadows);
     RUN(test_lights_replace_sun);
+    RUN(test_far_origin);
     RUN(test_bad_options);
     vx_gpu_destroy(gpu);
     return vx_test_finish();

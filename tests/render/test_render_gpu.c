@@ -1,5 +1,6 @@
 /* tests/render/test_render_gpu.c - the Vulkan tracer against the CPU
- * reference: corpus scenes, extreme rays and transforms, instanced vs baked.
+ * reference: corpus scenes, extreme rays and transforms, scenes far from
+ * the origin, instanced vs baked.
  * Runs with the validation layer when it is installed and fails on any
  * validation error. Skips (with a message) when there is no Vulkan device. */
 #define _POSIX_C_SOURCE 200809L /* setenv, unsetenv, strdup: test_stack_levels */
@@ -1007,17 +1008,21 @@ static void test_transforms(void) {
 }
 
 /* The GPU tracer's float range (render/trace.h, vx__gpu_float_range): a
- * scene scaled by 1e15 or 1e-15 traces as the CPU reference does; scaled by
- * 1e25 (or translated to 1e25) or 1e-25 the frame is VX_ERR_LIMIT with a
- * message naming the range, not an empty image (1e25: no pixel hit where the
- * reference hit 30%; 1e-20: depths off), while the CPU reference still
- * traces it. */
+ * scene scaled by 1e15 or 1e-15 traces as the CPU reference does, and so
+ * does one of cells 2^30 wide translated to 1e20 (past 2^56: refused until
+ * the limit took the kernels' coordinates relative to the frame's reference
+ * point into account); scaled by 1e25 or 1e-25, or of unit cells translated
+ * to 1e25 (a double there cannot tell its corners apart), the frame is
+ * VX_ERR_LIMIT with a message naming the range, not an empty image (1e25: no
+ * pixel hit where the reference hit 30%; 1e-20: depths off), while the CPU
+ * reference still traces it. */
 static void test_float_range(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const struct {
         double scale, t;
         bool ok;
-    } cases[] = {{1e15, 0, true}, {1e-15, 0, true}, {1e25, 0, false}, {1, 1e25, false}, {1e-25, 0, false}};
+    } cases[] = {{1e15, 0, true}, {1e-15, 0, true}, {0x1p30, 1e20, true}, {1e25, 0, false}, {1, 1e25, false},
+                 {1e-25, 0, false}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         double k = cases[i].scale, m[9] = {k, 0, 0, 0, k, 0, 0, 0, k};
         vx_svo_scene s;
@@ -1045,6 +1050,115 @@ static void test_float_range(void) {
         }
         vx_svo_scene_free(&s);
     }
+}
+
+/* Far from the origin (docs/TESTING.md, "far from the origin"): small
+ * voxels (1/64 of a unit) placed 6e6 from 0, where a float is 0.5 apart (32
+ * voxels), by the scene's world map and by three instances (one plain, one
+ * turned, one mirrored). The kernels work relative to the frame's reference
+ * point (vx__frame), whose differences the host takes in double, so (a) the
+ * close-ups match the double-precision CPU reference as near the origin do
+ * and (b) the frame is the one of the same scene at 0 seen from a camera
+ * moved alike: the same instance, cell and depth bits on every pixel, in
+ * vx_render_frame's depth and colour modes (the sun's depth map, shadow
+ * rays) and through the pass pipeline (gbuffer, direct with a point light
+ * placed alike, ao). Rows, boxes, lights or the map's frame taken from
+ * world coordinates rounded to float would move the surfaces by up to 16
+ * voxels (the rows made from R rounded to float: 591 to all 1,536 pixels of
+ * a view off). */
+static void far_scene(vx_svo_scene* s, double tx, double ty, double tz) {
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    ts_random_model(&m[0], 24, 20, 16, 30, 17);
+    ts_random_model(&m[1], 9, 9, 9, 60, 18);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mir[9] = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
+    vx_svo_instance in[3] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, rot, 34, 4, 2), ts_inst(1, mir, -3, 22, 5)};
+    ts_scene(s, m, 2, in, 3);
+    memset(s->world_from_grid, 0, sizeof s->world_from_grid);
+    const double k = 1.0 / 64;
+    s->world_from_grid[0] = s->world_from_grid[5] = s->world_from_grid[10] = k;
+    s->world_from_grid[3] = tx, s->world_from_grid[7] = ty, s->world_from_grid[11] = tz;
+    vx_svo_scene_update_bounds(s);
+}
+
+static void test_far_origin(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    const double T[3] = {6e6, -6000001, 2097152}; /* float steps 0.5, 0.5, 0.25 */
+    vx_svo_scene far, near;
+    far_scene(&far, T[0], T[1], T[2]);
+    far_scene(&near, 0, 0, 0);
+    /* world units: the scene spans about 0.7 x 0.5 x 0.4 near 0; the views' points multiples of 1/64 */
+    static const double views[4][6] = {{-0.25, -0.375, 0.5, 0.3125, 0.25, 0.125},  /* oblique */
+                                       {0.125, 0.1875, 0.34375, 0.25, 0.3125, 0},  /* close-up, just above */
+                                       {0.75, 0.125, 0.1875, 0.25, 0.1875, 0.125},  /* close-up, from the side */
+                                       {0.3125, 0.25, 0.125, 0.5, 0.0625, 0.0625}}; /* eye inside the bounds */
+    vx_render_scene *rf = NULL, *rn = NULL;
+    vx_frame_renderer *ff = NULL, *fn = NULL;
+    vx_error err = {0};
+    REQUIRE(vx_render_scene_create(gpu, &far, &rf, &err) == VX_OK);
+    REQUIRE(vx_render_scene_create(gpu, &near, &rn, &err) == VX_OK);
+    REQUIRE(vx_frame_renderer_create(rf, &far, &ff, &err) == VX_OK);
+    REQUIRE(vx_frame_renderer_create(rn, &near, &fn, &err) == VX_OK);
+    vx_pass_list L;
+    REQUIRE(vx_pass_list_parse("gbuffer,direct,ao", &L, &err) == VX_OK);
+    for (int v = 0; v < 4; v++) {
+        char nm[64];
+        const double* c = views[v];
+        vx_render_desc dn = cam(c[0], c[1], c[2], c[3], c[4], c[5]);
+        vx_render_desc df = cam(c[0] + T[0], c[1] + T[1], c[2] + T[2], c[3] + T[0], c[4] + T[1], c[5] + T[2]);
+        dn.width = df.width = 48, dn.height = df.height = 32;
+        snprintf(nm, sizeof nm, "far view %d", v);
+        check_scene(nm, &far, df, 200);
+        for (int mode = 0; mode < 2; mode++) {
+            dn.mode = df.mode = mode ? VX_RENDER_COLOR : VX_RENDER_DEPTH;
+            dn.want_hits = df.want_hits = true;
+            vx_render_image a = {0}, b = {0};
+            REQUIRE(vx_render_frame(rf, &df, &a, &err) == VX_OK);
+            REQUIRE(vx_render_frame(rn, &dn, &b, &err) == VX_OK);
+            size_t n = (size_t)a.width * a.height, hit = 0, differ = 0, px = 0;
+            for (size_t i = 0; i < n; i++) {
+                const vx_render_hit *x = &a.hits[i], *y = &b.hits[i];
+                hit += y->instance != VX_RENDER_NO_HIT;
+                differ += x->instance != y->instance || memcmp(x->cell, y->cell, sizeof x->cell) ||
+                          memcmp(&x->t, &y->t, sizeof x->t);
+                px += memcmp(&a.pixels[4 * i], &b.pixels[4 * i], 16) != 0;
+            }
+            printf("  %-26s %s: %zu of %zu pixels hit; %zu hit records and %zu pixels differ from the scene at 0\n",
+                   nm, mode ? "colour" : "depth", hit, n, differ, px);
+            CHECKF(hit >= 200 && differ == 0 && px == 0,
+                   "%s %s: %zu hits; %zu hit records and %zu pixels differ from the scene at 0", nm,
+                   mode ? "colour" : "depth", hit, differ, px);
+            vx_render_image_free(&a);
+            vx_render_image_free(&b);
+        }
+        /* the pass pipeline, a point light placed alike */
+        vx_light ln = {.type = VX_LIGHT_POINT, .position = {0.25, 0.5, 0.75}, .color = {1, 1, 1}, .intensity = 0.5};
+        vx_light lf = ln;
+        for (int k = 0; k < 3; k++) lf.position[k] += T[k];
+        vx_frame_desc pn = vx_frame_desc_defaults(), pf;
+        pn.base = dn, pn.base.mode = VX_RENDER_COLOR, pn.base.spp = 2, pn.passes = &L, pn.ao_rays = 4, pn.want_ids = true;
+        pn.lights = &ln, pn.light_count = 1;
+        pf = pn, pf.base = df, pf.base.mode = VX_RENDER_COLOR, pf.base.spp = 2, pf.lights = &lf;
+        vx_frame_result a, b;
+        REQUIRE(vx_frame_render(ff, &pf, &a, &err) == VX_OK);
+        REQUIRE(vx_frame_render(fn, &pn, &b, &err) == VX_OK);
+        size_t n = (size_t)a.image.width * a.image.height, px = 0, ids = 0;
+        for (size_t i = 0; i < n; i++) {
+            px += memcmp(&a.image.pixels[4 * i], &b.image.pixels[4 * i], 16) != 0;
+            ids += a.image.hits && b.image.hits && memcmp(&a.image.hits[i], &b.image.hits[i], sizeof a.image.hits[i]);
+        }
+        printf("  %-26s passes gbuffer,direct,ao: %zu pixels, %zu ids differ from the scene at 0\n", nm, px, ids);
+        CHECKF(px == 0 && ids == 0 && a.image.hits, "%s passes: %zu pixels, %zu ids differ from the scene at 0", nm, px,
+               ids);
+        vx_render_image_free(&a.image);
+        vx_render_image_free(&b.image);
+    }
+    vx_frame_renderer_destroy(ff);
+    vx_frame_renderer_destroy(fn);
+    vx_render_scene_destroy(rf);
+    vx_render_scene_destroy(rn);
+    vx_svo_scene_free(&far);
+    vx_svo_scene_free(&near);
 }
 
 /* The walk's stack at every level it holds (issue 21, seventeenth and
@@ -1484,6 +1598,7 @@ int main(void) {
     RUN(test_grazing);
     RUN(test_transforms);
     RUN(test_float_range);
+    RUN(test_far_origin);
     RUN(test_deep_octrees);
     RUN(test_deep_float);
     RUN(test_deep_without_float64);
