@@ -65,11 +65,22 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
 /* svo scene -> .vox scene, for svo_info --to-vox and export. An animation
  * becomes an animated .vox scene (frame_instances, written as keyframes;
  * its hidden flags must not change between frames). Needs integer
- * signed-permutation instance matrices, integer translations, models of at
- * most 256 cells per side and at most 255 colours: palette models keep
- * their entries, RGBA8 colours take entries of the same colour or ones no
- * palette model uses (a scene may mix both); otherwise VX_ERR_UNSUPPORTED
- * names what does not fit. */
+ * signed-permutation instance matrices, integer translations and at most
+ * 255 colours: palette models keep their entries, RGBA8 colours take
+ * entries of the same colour or ones no palette model uses (a scene may mix
+ * both); otherwise VX_ERR_UNSUPPORTED names what does not fit.
+ * A model of at most 256 cells per side is one .vox model (model i of the
+ * scene is .vox model i when all fit). A larger one is split into 256^3
+ * tiles from its corner: each tile holding cells becomes a .vox model (a
+ * piece, trimmed to its cells' extent; empty tiles are left out), shared
+ * by the model's instances; each instance becomes a group (out->groups:
+ * the instance's transform as an unsplit model's, pivot floor(size/2),
+ * its name and hidden flag) of one shape per piece (identity rotation, the
+ * translation that puts every cell where it was, the instance's name and
+ * layer). Read back (vx_vox_read, vx_conv_vox), the pieces are instances
+ * of their own, in the same world cells. A split model's instance must
+ * show that model in every frame (VX_ERR_UNSUPPORTED otherwise); more than
+ * VX_VOX_MAX_INSTANCES pieces or shapes are VX_ERR_LIMIT. */
 vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* alloc, vx_vox_scene* out, vx_error* err);
 
 #ifdef __cplusplus

@@ -1,10 +1,18 @@
 /* convert/vox_export.c - svo scene -> MagicaVoxel scene (svo_info --to-vox).
  *
- * The inverse of vx_conv_vox for scenes that fit MagicaVoxel's limits:
- * models of at most 256 cells per side, 255 colours, instances whose
- * matrices are signed permutations with integer translations. */
+ * The inverse of vx_conv_vox for scenes of at most 255 colours whose
+ * instance matrices are signed permutations with integer translations.
+ * A model of at most 256 cells per side is one .vox model. A larger one is
+ * split as MagicaVoxel exporters do: 256^3 tiles from its corner, each
+ * tile that holds cells one .vox model (a piece, trimmed to its cells'
+ * extent); each instance of it becomes a group whose transform places the
+ * big model (rotation, mirror and translation as an unsplit model's, pivot
+ * at floor(size/2)), with one shape per piece, translated within the group
+ * so that every cell lands where it was. Instances of one big model share
+ * its pieces. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "convert/convert.h"
@@ -34,6 +42,13 @@ static uint8_t color_index(export_ctx* c, uint32_t rgba) {
     return 1;
 }
 
+/* A voxel's colour index in the .vox palette. */
+static uint8_t voxel_index(export_ctx* c, uint32_t attr) {
+    if (c->m->attrs & VX_ATTR_PALETTE) return c->m->palette[attr] ? c->m->palette[attr] : 1;
+    if (c->m->attrs & VX_ATTR_RGBA8) return color_index(c, c->m->rgba[attr]);
+    return 1;
+}
+
 static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     export_ctx* c = (export_ctx*)user;
     if (c->n == c->cap) return false; /* cannot happen: cap is the model's voxel count */
@@ -41,11 +56,132 @@ static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     v[0] = (uint8_t)x;
     v[1] = (uint8_t)y;
     v[2] = (uint8_t)z;
-    if (c->m->attrs & VX_ATTR_PALETTE) v[3] = c->m->palette[attr] ? c->m->palette[attr] : 1;
-    else if (c->m->attrs & VX_ATTR_RGBA8) v[3] = color_index(c, c->m->rgba[attr]);
-    else v[3] = 1;
+    v[3] = voxel_index(c, attr);
     return true;
 }
+
+/* ---- a model over 256 cells a side, in pieces ------------------------------------------- */
+
+#define VOX_SIDE 256u
+
+/* One 256^3 tile of a big model that holds cells. */
+typedef struct piece {
+    uint64_t tile;  /* tz << 42 | ty << 21 | tx: tiles in z, y, x order */
+    uint32_t lo[3]; /* the extent of its cells, in the model's cells */
+    uint32_t hi[3];
+    uint64_t count; /* its cells */
+} piece;
+
+typedef struct split_model {
+    piece* p; /* sorted by tile */
+    size_t n, cap;
+    uint32_t first; /* .vox model of p[0]; p[k] is first + k */
+} split_model;
+
+static uint64_t tile_of(uint32_t x, uint32_t y, uint32_t z) {
+    return (uint64_t)(z / VOX_SIDE) << 42 | (uint64_t)(y / VOX_SIDE) << 21 | (uint64_t)(x / VOX_SIDE);
+}
+
+typedef struct count_ctx {
+    const vx_allocator* a;
+    split_model* sm;
+    bool nomem;
+} count_ctx;
+
+/* The first pass: the tiles and each one's count and extent. Cells come in
+ * Morton order from the model's corner, so a 256-aligned tile's come in one
+ * run; a tile met again (not expected) is merged after the sort. */
+static bool count_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    (void)attr;
+    count_ctx* c = (count_ctx*)user;
+    split_model* sm = c->sm;
+    uint64_t t = tile_of(x, y, z);
+    uint32_t v[3] = {x, y, z};
+    if (!sm->n || sm->p[sm->n - 1].tile != t) {
+        if (sm->n == sm->cap) {
+            size_t cap = sm->cap ? 2 * sm->cap : 16;
+            piece* p = (piece*)vx_calloc(c->a, cap, sizeof *p);
+            if (!p) {
+                c->nomem = true;
+                return false;
+            }
+            if (sm->n) memcpy(p, sm->p, sm->n * sizeof *p);
+            vx_free(c->a, sm->p);
+            sm->p = p, sm->cap = cap;
+        }
+        piece* q = &sm->p[sm->n++];
+        q->tile = t, q->count = 0;
+        memcpy(q->lo, v, sizeof v);
+        memcpy(q->hi, v, sizeof v);
+    }
+    piece* q = &sm->p[sm->n - 1];
+    q->count++;
+    for (int k = 0; k < 3; k++) {
+        if (v[k] < q->lo[k]) q->lo[k] = v[k];
+        if (v[k] > q->hi[k]) q->hi[k] = v[k];
+    }
+    return true;
+}
+
+static int cmp_piece(const void* a, const void* b) {
+    uint64_t x = ((const piece*)a)->tile, y = ((const piece*)b)->tile;
+    return x < y ? -1 : x > y;
+}
+
+/* Sorted by tile, a tile's runs merged into one piece. */
+static void sort_pieces(split_model* sm) {
+    if (sm->n > 1) qsort(sm->p, sm->n, sizeof *sm->p, cmp_piece);
+    size_t o = 0;
+    for (size_t i = 0; i < sm->n; i++) {
+        piece* q = &sm->p[i];
+        if (o && sm->p[o - 1].tile == q->tile) {
+            piece* r = &sm->p[o - 1];
+            r->count += q->count;
+            for (int k = 0; k < 3; k++) {
+                if (q->lo[k] < r->lo[k]) r->lo[k] = q->lo[k];
+                if (q->hi[k] > r->hi[k]) r->hi[k] = q->hi[k];
+            }
+        } else {
+            sm->p[o++] = *q;
+        }
+    }
+    sm->n = o;
+}
+
+typedef struct fill_ctx {
+    export_ctx e;
+    const split_model* sm;
+    vx_vox_model* models; /* the pieces' .vox models, models[k] for sm->p[k] */
+    size_t last;          /* the piece of the last cell */
+} fill_ctx;
+
+/* The second pass: each cell into its piece, at its place in the piece. */
+static bool fill_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    fill_ctx* c = (fill_ctx*)user;
+    uint64_t t = tile_of(x, y, z);
+    const piece* p = c->sm->p;
+    if (p[c->last].tile != t) {
+        size_t lo = 0, hi = c->sm->n;
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (p[mid].tile < t) lo = mid + 1;
+            else hi = mid;
+        }
+        if (lo == c->sm->n || p[lo].tile != t) return false; /* cannot happen: the first pass met every tile */
+        c->last = lo;
+    }
+    const piece* q = &p[c->last];
+    vx_vox_model* vm = &c->models[c->last];
+    if (vm->voxel_count == q->count) return false; /* cannot happen: the first pass counted it */
+    uint8_t* v = vm->xyzi + 4 * (size_t)vm->voxel_count++;
+    v[0] = (uint8_t)(x - q->lo[0]);
+    v[1] = (uint8_t)(y - q->lo[1]);
+    v[2] = (uint8_t)(z - q->lo[2]);
+    v[3] = voxel_index(&c->e, attr);
+    return true;
+}
+
+static bool fits(const vx_svo_model* m) { return m->size[0] <= VOX_SIDE && m->size[1] <= VOX_SIDE && m->size[2] <= VOX_SIDE; }
 
 static bool is_int(double v) { return isfinite(v) && v == floor(v) && fabs(v) < 2147483647.0; }
 
@@ -83,6 +219,18 @@ static vx_result export_instance(const vx_svo_scene* in, const vx_svo_instance* 
     return VX_OK;
 }
 
+/* The group a split model's instance becomes: the instance's transform,
+ * name and hidden flag (the layer stays with the pieces, so that a hidden
+ * layer hides them as their own layer and not as a node above them). */
+static void group_of(const vx_vox_instance* vi, vx_vox_group* g) {
+    memset(g, 0, sizeof *g);
+    memcpy(g->rot, vi->rot, sizeof g->rot);
+    memcpy(g->t, vi->t, sizeof g->t);
+    g->layer = -1;
+    g->hidden = vi->hidden;
+    memcpy(g->name, vi->name, sizeof g->name);
+}
+
 vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_vox_scene* out, vx_error* err) {
     if (!in || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null argument");
     vx_vox_scene v;
@@ -108,45 +256,120 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
         }
     }
 
-    v.models = (vx_vox_model*)vx_calloc(a, in->model_count ? in->model_count : 1, sizeof *v.models);
-    v.instances = (vx_vox_instance*)vx_calloc(a, in->instance_count ? in->instance_count : 1, sizeof *v.instances);
+    /* the pieces of the models over 256 cells a side (first pass), and the
+     * .vox models: sm[i].first .. + n for model i (n = 1 unless split) */
+    uint32_t M = in->model_count;
+    split_model* sm = (split_model*)vx_calloc(a, M ? M : 1, sizeof *sm);
+    if (!sm) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    uint64_t vox_models = 0;
+    for (uint32_t i = 0; i < M; i++) {
+        const vx_svo_model* m = &in->models[i];
+        sm[i].first = (uint32_t)vox_models;
+        if (fits(m)) {
+            if (m->voxel_count > 256u * 256u * 256u) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u claims %llu voxels", i,
+                            (unsigned long long)m->voxel_count);
+                goto fail;
+            }
+            vox_models++;
+            continue;
+        }
+        count_ctx cc = {a, &sm[i], false};
+        r = vx_svo_decode_model(m, count_cell, &cc, err);
+        if (r == VX_OK && cc.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its pieces", i);
+        if (r != VX_OK) goto fail;
+        sort_pieces(&sm[i]);
+        vox_models += sm[i].n;
+        if (vox_models > VX_VOX_MAX_INSTANCES) {
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                        "model %u is %ux%ux%u: its pieces make more than %u .vox models", i, m->size[0], m->size[1],
+                        m->size[2], VX_VOX_MAX_INSTANCES);
+            goto fail;
+        }
+    }
+    /* the shapes and groups the instances become (frame 0's models; the
+     * others must not change a split model: one group per instance) */
+    uint32_t frames = vx_svo_scene_frames(in), I = in->instance_count;
+    uint64_t vox_instances = 0;
+    uint32_t groups = 0;
+    for (uint32_t f = 0; f < frames; f++) {
+        const vx_svo_instance* fi = vx_svo_scene_frame_instances(in, f);
+        const vx_svo_instance* f0 = vx_svo_scene_frame_instances(in, 0);
+        for (uint32_t i = 0; i < I; i++) {
+            uint32_t m = fi[i].model, m0 = f0[i].model;
+            if (m >= M) {
+                r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "frame %u instance %u: model %u out of range", f, i, m);
+                goto fail;
+            }
+            if (f == 0) {
+                bool split = !fits(&in->models[m]);
+                vox_instances += split ? sm[m].n : 1;
+                groups += split;
+            } else if (m != m0 && (!fits(&in->models[m]) || !fits(&in->models[m0]))) {
+                const vx_svo_model* big = fits(&in->models[m]) ? &in->models[m0] : &in->models[m];
+                r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                            "frame %u instance %u: model %u, frame 0 model %u; a model over 256 cells a side (%ux%ux%u) "
+                            "is written as a group of pieces, which .vox cannot swap for another model between frames",
+                            f, i, m, m0, big->size[0], big->size[1], big->size[2]);
+                goto fail;
+            }
+        }
+    }
+    if (vox_instances > VX_VOX_MAX_INSTANCES) {
+        r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                    "%u instances of models split into 256^3 pieces place %llu shapes, more than the %u a .vox read takes", I,
+                    (unsigned long long)vox_instances, VX_VOX_MAX_INSTANCES);
+        goto fail;
+    }
+
+    v.models = (vx_vox_model*)vx_calloc(a, vox_models ? (size_t)vox_models : 1, sizeof *v.models);
+    v.instances = (vx_vox_instance*)vx_calloc(a, vox_instances ? (size_t)vox_instances : 1, sizeof *v.instances);
+    v.groups = (vx_vox_group*)vx_calloc(a, groups ? groups : 1, sizeof *v.groups);
     v.layers = (vx_vox_layer*)vx_calloc(a, in->layer_count ? in->layer_count : 1, sizeof *v.layers);
     v.materials = (vx_vox_material*)vx_calloc(a, in->material_count ? in->material_count : 1, sizeof *v.materials);
-    if (!v.models || !v.instances || !v.layers || !v.materials) {
+    if (!v.models || !v.instances || !v.groups || !v.layers || !v.materials) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
         goto fail;
     }
-    for (uint32_t i = 0; i < in->model_count; i++) {
+    v.model_count = (uint32_t)vox_models; /* each xyzi NULL until made: freed as made */
+    for (uint32_t i = 0; i < M; i++) {
         const vx_svo_model* m = &in->models[i];
-        if (m->size[0] > 256 || m->size[1] > 256 || m->size[2] > 256) {
-            r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                        "model %u is %ux%ux%u: .vox models are at most 256 cells per side", i, m->size[0], m->size[1],
-                        m->size[2]);
-            goto fail;
+        export_ctx c = {in, m, NULL, 0, 0, pal, taken, false};
+        if (fits(m)) {
+            uint32_t n = (uint32_t)m->voxel_count;
+            vx_vox_model* vm = &v.models[sm[i].first];
+            memcpy(vm->size, m->size, sizeof vm->size);
+            vm->xyzi = (uint8_t*)vx_calloc(a, n ? n : 1, 4);
+            if (!vm->xyzi) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+                goto fail;
+            }
+            c.xyzi = vm->xyzi, c.cap = n;
+            r = vx_svo_decode_model(m, collect, &c, err);
+            vm->voxel_count = c.n;
+        } else {
+            for (size_t k = 0; k < sm[i].n; k++) {
+                const piece* q = &sm[i].p[k];
+                vx_vox_model* vm = &v.models[sm[i].first + k];
+                for (int d = 0; d < 3; d++) vm->size[d] = q->hi[d] - q->lo[d] + 1;
+                vm->xyzi = (uint8_t*)vx_calloc(a, (size_t)q->count, 4); /* 1 .. 256^3 */
+                if (!vm->xyzi) {
+                    r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for piece %zu", i, k);
+                    goto fail;
+                }
+            }
+            fill_ctx fc = {c, &sm[i], &v.models[sm[i].first], 0};
+            if (sm[i].n) r = vx_svo_decode_model(m, fill_cell, &fc, err);
+            c.too_many_colors = fc.e.too_many_colors;
+            for (size_t k = 0; r == VX_OK && k < sm[i].n; k++)
+                if (v.models[sm[i].first + k].voxel_count != sm[i].p[k].count)
+                    r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: decoded twice, gave other cells", i);
         }
-        if (m->voxel_count > 256u * 256u * 256u) {
-            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u claims %llu voxels", i,
-                        (unsigned long long)m->voxel_count);
-            goto fail;
-        }
-        uint32_t n = (uint32_t)m->voxel_count;
-        v.models[i].size[0] = m->size[0];
-        v.models[i].size[1] = m->size[1];
-        v.models[i].size[2] = m->size[2];
-        v.models[i].xyzi = (uint8_t*)vx_calloc(a, n ? n : 1, 4);
-        v.model_count = i + 1;
-        if (!v.models[i].xyzi) {
-            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-            goto fail;
-        }
-        export_ctx c = {in, m, v.models[i].xyzi, 0, n, pal, taken, false};
-        r = vx_svo_decode_model(m, collect, &c, err);
         if (r != VX_OK) goto fail;
         if (c.too_many_colors) {
             r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "more than 255 distinct colours do not fit a .vox palette");
             goto fail;
         }
-        v.models[i].voxel_count = c.n;
         if (m->attrs & VX_ATTR_PALETTE) uses_palette = true;
         else if (m->attrs & VX_ATTR_RGBA8) uses_rgba = true;
     }
@@ -164,10 +387,11 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     v.layer_count = in->layer_count;
 
     /* an animation: every frame (the writer stores them as keyframes) */
-    uint32_t frames = vx_svo_scene_frames(in), I = in->instance_count;
+    uint32_t VI = (uint32_t)vox_instances;
     if (frames > 1) {
-        v.frame_instances = (vx_vox_instance*)vx_calloc(a, (size_t)frames * I + 1, sizeof *v.frame_instances);
-        if (!v.frame_instances) {
+        v.frame_instances = (vx_vox_instance*)vx_calloc(a, (size_t)frames * VI + 1, sizeof *v.frame_instances);
+        v.frame_groups = (vx_vox_group*)vx_calloc(a, (size_t)frames * groups + 1, sizeof *v.frame_groups);
+        if (!v.frame_instances || !v.frame_groups) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u frames", frames);
             goto fail;
         }
@@ -175,13 +399,43 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     }
     for (uint32_t f = 0; f < frames; f++) {
         const vx_svo_instance* fi = vx_svo_scene_frame_instances(in, f);
+        vx_vox_instance* vf = frames > 1 ? &v.frame_instances[(size_t)f * VI] : v.instances;
+        vx_vox_group* gf = frames > 1 ? &v.frame_groups[(size_t)f * groups] : v.groups;
+        uint32_t o = 0, g = 0;
         for (uint32_t i = 0; i < I; i++) {
-            vx_vox_instance* vi = frames > 1 ? &v.frame_instances[(size_t)f * I + i] : &v.instances[i];
-            if ((r = export_instance(in, &fi[i], i, f, vi, err)) != VX_OK) goto fail;
+            vx_vox_instance vi;
+            memset(&vi, 0, sizeof vi);
+            if ((r = export_instance(in, &fi[i], i, f, &vi, err)) != VX_OK) goto fail;
+            const split_model* q = &sm[fi[i].model];
+            vi.model = q->first;
+            if (fits(&in->models[fi[i].model])) {
+                vf[o++] = vi;
+                continue;
+            }
+            group_of(&vi, &gf[g++]);
+            /* piece k: cell w at floor(R (w + 1/2 - floor(s_k/2) + t_k) + t), which is the
+             * model's cell lo_k + w when t_k = lo_k + floor(s_k/2) - floor(size/2) */
+            const uint32_t* S = in->models[fi[i].model].size;
+            for (size_t k = 0; k < q->n; k++) {
+                const piece* p = &q->p[k];
+                vx_vox_instance* pi = &vf[o++];
+                memset(pi, 0, sizeof *pi);
+                pi->model = q->first + (uint32_t)k;
+                pi->rot[0] = pi->rot[4] = pi->rot[8] = 1;
+                for (int d = 0; d < 3; d++)
+                    pi->t[d] = (int32_t)p->lo[d] + (int32_t)((p->hi[d] - p->lo[d] + 1) / 2) - (int32_t)(S[d] / 2);
+                pi->layer = vi.layer;
+                memcpy(pi->name, vi.name, sizeof pi->name);
+                pi->group = g;
+            }
         }
     }
-    if (frames > 1 && I) memcpy(v.instances, v.frame_instances, (size_t)I * sizeof *v.instances);
-    v.instance_count = in->instance_count;
+    if (frames > 1) {
+        if (VI) memcpy(v.instances, v.frame_instances, (size_t)VI * sizeof *v.instances);
+        if (groups) memcpy(v.groups, v.frame_groups, (size_t)groups * sizeof *v.groups);
+    }
+    v.instance_count = VI;
+    v.group_count = groups;
 
     for (uint32_t i = 0; i < in->material_count; i++) {
         const vx_svo_material* m = &in->materials[i];
@@ -196,9 +450,13 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
         if (m->dict_size) memcpy(v.materials[i].dict, m->dict, m->dict_size);
     }
     v.has_scene_graph = true;
+    for (uint32_t i = 0; i < M; i++) vx_free(a, sm[i].p);
+    vx_free(a, sm);
     *out = v;
     return VX_OK;
 fail:
+    for (uint32_t i = 0; i < M; i++) vx_free(a, sm[i].p);
+    vx_free(a, sm);
     vx_vox_scene_free(&v);
     return r;
 }

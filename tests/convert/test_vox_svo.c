@@ -646,6 +646,284 @@ static void test_mixed_colours_export(void) {
     vx_svo_scene_free(&s);
 }
 
+/* ---- models over 256 cells a side: split into pieces ------------------------------------- */
+
+/* A model of size sx x sy x sz: its cells where a plane of each axis's
+ * "marks" (both ends, the 256 tile boundaries either side, a few between)
+ * meets a line of another, and a scatter; cells only at or past `from` on
+ * every axis. Palette entries (rgba false) or RGBA8 colours by place. */
+static void split_model(vx_svo_model* out, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t from, bool rgba) {
+    const uint32_t S[3] = {sx, sy, sz};
+    uint32_t marks[3][24], nm[3] = {0, 0, 0};
+    for (int d = 0; d < 3; d++) {
+        const uint32_t cand[] = {0, 1, 2, 7, 127, 128, 255, 256, 257, 300, 511, 512, 513, 600, 699,
+                                 S[d] / 2, S[d] - 2, S[d] - 1};
+        for (size_t k = 0; k < sizeof cand / sizeof cand[0]; k++) {
+            uint32_t c = cand[k];
+            bool dup = c >= S[d] || c < from;
+            for (uint32_t j = 0; j < nm[d] && !dup; j++) dup = marks[d][j] == c;
+            if (!dup) marks[d][nm[d]++] = c;
+        }
+    }
+    size_t cap = 1 << 16, n = 0;
+    uint64_t* keys = malloc(cap * sizeof *keys);
+    uint8_t* pal = malloc(cap);
+    uint32_t* col = malloc(cap * sizeof *col);
+    REQUIRE(keys && pal && col);
+#define ADD(X, Y, Z)                                                                                   \
+    do {                                                                                               \
+        uint32_t x_ = (X), y_ = (Y), z_ = (Z);                                                         \
+        if (n < cap && x_ >= from && y_ >= from && z_ >= from && x_ < sx && y_ < sy && z_ < sz) {      \
+            keys[n] = vx_svo_morton(x_, y_, z_);                                                       \
+            pal[n] = (uint8_t)(1 + (x_ * 7 + y_ * 13 + z_ * 3) % 200);                                 \
+            col[n++] = 0xFF000000u | (uint32_t)(((x_ * 5 + z_) % 9) * 0x1C) | (uint32_t)((y_ % 7) * 0x20) << 8; \
+        }                                                                                              \
+    } while (0)
+    /* lines along x at marked (y, z), along y at marked (x, z), along z at marked (x, y) */
+    for (uint32_t a = 0; a < nm[1]; a++)
+        for (uint32_t b = 0; b < nm[2]; b++)
+            for (uint32_t x = from; x < sx; x += 3) ADD(x, marks[1][a], marks[2][b]);
+    for (uint32_t a = 0; a < nm[0]; a++)
+        for (uint32_t b = 0; b < nm[2]; b++)
+            for (uint32_t y = from; y < sy; y += 5) ADD(marks[0][a], y, marks[2][b]);
+    for (uint32_t a = 0; a < nm[0]; a++)
+        for (uint32_t b = 0; b < nm[1]; b++)
+            for (uint32_t z = from; z < sz; z += 2) ADD(marks[0][a], marks[1][b], z);
+    uint32_t h = sx * 2654435761u ^ sy * 40503u ^ sz;
+    for (int k = 0; k < 2000; k++) {
+        h = h * 1664525u + 1013904223u;
+        uint32_t x = from + (h >> 8) % (sx - from);
+        h = h * 1664525u + 1013904223u;
+        uint32_t y = from + (h >> 8) % (sy - from);
+        h = h * 1664525u + 1013904223u;
+        ADD(x, y, from + (h >> 8) % (sz - from));
+    }
+#undef ADD
+    REQUIRE(n < cap);
+    vx_svo_voxels in = {.size = {sx, sy, sz}, .count = n, .keys = keys, .attrs = rgba ? VX_ATTR_RGBA8 : VX_ATTR_PALETTE};
+    if (rgba) in.rgba = col;
+    else in.palette = pal;
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &in, out, NULL, NULL) == VX_OK);
+    free(keys), free(pal), free(col);
+}
+
+/* A scene of the given models (a palette on every entry) and no instances. */
+static void split_scene(vx_svo_scene* s, uint32_t models, uint32_t instances) {
+    vx_svo_scene_init(s, NULL);
+    s->models = calloc(models, sizeof *s->models);
+    s->instances = calloc(instances, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = models, s->instance_count = instances;
+    s->has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (i * 0x0103F1u);
+    for (uint32_t i = 0; i < instances; i++) s->instances[i].layer = UINT32_MAX;
+}
+
+/* Instance i: model m, the signed permutation rows (+-1-based column) and translation. */
+static void place(vx_svo_scene* s, uint32_t i, uint32_t m, const int rows[3], const double t[3]) {
+    vx_svo_instance* in = &s->instances[i];
+    memset(in->xform, 0, sizeof in->xform);
+    for (int r = 0; r < 3; r++) {
+        int c = abs(rows[r]) - 1;
+        in->xform[r * 4 + c] = rows[r] < 0 ? -1.0 : 1.0;
+        in->xform[r * 4 + 3] = t[r];
+    }
+    in->model = m;
+}
+
+/* Every instance's cells (hidden ones too) in frame f, each colour mixed
+ * with its instance's name, layer and hidden flag. */
+static bool tagged_cells(const vx_svo_scene* s, uint32_t f, cells* out) {
+    vx_svo_scene view;
+    if (!vx_svo_scene_frame(s, f, &view)) return false;
+    for (uint32_t i = 0; i < view.instance_count; i++) {
+        const vx_svo_instance* in = &view.instances[i];
+        size_t from = out->n;
+        dec_ctx c = {&view, &view.models[in->model], in->xform, out};
+        if (vx_svo_decode_model(c.m, on_voxel, &c, NULL) != VX_OK) return false;
+        uint32_t tag = in->layer * 0x9E3779B1u ^ (in->flags & VX_SVO_INSTANCE_HIDDEN) * 0x85EBCA6Bu;
+        for (const char* p = in->name; *p; p++) tag = tag * 31u + (uint8_t)*p;
+        for (size_t k = from; k < out->n; k++) out->v[k].rgba ^= tag;
+    }
+    qsort(out->v, out->n, sizeof *out->v, cmp_cell);
+    return true;
+}
+
+/* svo -> vox -> bytes -> vox (every frame, hidden kept) -> svo: every frame's
+ * cells, colours, names, layers and hidden flags as before; the visible
+ * cells through the .vox reader's own placement too. want_models: the .vox
+ * models the export makes (pieces shared by the instances of one model),
+ * want_groups its groups. */
+static void check_split(const char* name, const vx_svo_scene* s, uint32_t want_models, uint32_t want_groups) {
+    vx_vox_scene v, back;
+    vx_error err = {0};
+    vx_result r = vx_conv_svo_to_vox(s, NULL, &v, &err);
+    CHECKF(r == VX_OK, "%s: export: %s", name, err.msg);
+    if (r != VX_OK) return;
+    CHECKF(v.model_count == want_models && v.group_count == want_groups, "%s: %u models, %u groups (expected %u, %u)", name,
+           v.model_count, v.group_count, want_models, want_groups);
+    for (uint32_t m = 0; m < v.model_count; m++)
+        CHECKF(v.models[m].size[0] <= 256 && v.models[m].size[1] <= 256 && v.models[m].size[2] <= 256 && v.models[m].voxel_count,
+               "%s: model %u is %ux%ux%u, %u voxels", name, m, v.models[m].size[0], v.models[m].size[1], v.models[m].size[2],
+               v.models[m].voxel_count);
+    uint8_t* bytes = NULL;
+    size_t n = 0;
+    r = vx_vox_write(&v, NULL, &bytes, &n, &err);
+    vx_vox_scene_free(&v);
+    CHECKF(r == VX_OK, "%s: write: %s", name, err.msg);
+    if (r != VX_OK) return;
+    r = vx_vox_read(&(vx_vox_read_desc){.all_frames = true, .keep_hidden = true}, bytes, n, &back, &err);
+    free(bytes);
+    CHECKF(r == VX_OK, "%s: read back: %s", name, err.msg);
+    if (r != VX_OK) return;
+    vx_svo_scene s2;
+    r = vx_conv_vox(NULL, &back, &s2, NULL, &err);
+    CHECKF(r == VX_OK, "%s: convert back: %s", name, err.msg);
+    uint32_t frames = vx_svo_scene_frames(s);
+    if (r == VX_OK) {
+        CHECKF(vx_svo_scene_frames(&s2) == frames, "%s: %u frames, expected %u", name, vx_svo_scene_frames(&s2), frames);
+        CHECKF(s2.model_count == want_models, "%s: %u models back, expected %u", name, s2.model_count, want_models);
+        for (uint32_t f = 0; f < frames; f++) {
+            cells a = {0}, b = {0};
+            CHECK(tagged_cells(s, f, &a) && tagged_cells(&s2, f, &b));
+            char what[128];
+            snprintf(what, sizeof what, "%s frame %u", name, f);
+            CHECKF(a.n > 0 && same_cells(&a, &b, what), "%s: cells, colours, names, layers or hidden flags changed", what);
+            free(a.v), free(b.v);
+        }
+        /* the reader's placement of the visible cells (frame 0) */
+        cells a = {0}, b = {0};
+        CHECK(cells_from_svo(s, &a));
+        cells_from_vox(&back, &b);
+        CHECKF(same_cells(&a, &b, name), "%s: visible cells by the .vox reader's placement differ", name);
+        fprintf(stderr, "  %s: %zu visible cells agree, %u models, %u frames\n", name, a.n, want_models, frames);
+        free(a.v), free(b.v);
+        vx_svo_scene_free(&s2);
+    }
+    vx_vox_scene_free(&back);
+}
+
+/* svo_info --to-vox and the editor's export refused a model over 256 cells a
+ * side ("model 0 is 300x40x700: .vox models are at most 256 cells per side").
+ * It is now split into 256^3 pieces, one .vox model each under a group per
+ * instance; read back, every cell is where it was. */
+static void test_split_export(void) {
+    static const int ID[3] = {1, 2, 3}, TURN[3] = {-2, 3, 1} /* a rotation */, MIRROR[3] = {3, -1, -2} /* turned and mirrored */;
+    {
+        /* 300x40x700: 2 x 1 x 3 tiles, all holding cells */
+        vx_svo_scene s;
+        split_scene(&s, 1, 1);
+        split_model(&s.models[0], 300, 40, 700, 0, false);
+        place(&s, 0, 0, ID, (double[3]){-150, 7, -350});
+        snprintf(s.instances[0].name, sizeof s.instances[0].name, "castle");
+        check_split("300x40x700", &s, 6, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* 256 a side is one model as before (no group); 257 is two pieces */
+        vx_svo_scene s;
+        split_scene(&s, 2, 2);
+        split_model(&s.models[0], 256, 256, 256, 0, false);
+        split_model(&s.models[1], 257, 5, 3, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){10, 300, -4});
+        check_split("256 and 257", &s, 3, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* odd sizes (the pivot rounds down), turned and mirrored instances of
+         * one big model, a second instance sharing its pieces, RGBA8 colours,
+         * a layer, a hidden instance, a small model beside them */
+        vx_svo_scene s;
+        split_scene(&s, 2, 4);
+        split_model(&s.models[0], 513, 301, 259, 0, true);
+        split_model(&s.models[1], 9, 7, 5, 0, false);
+        s.layers = calloc(2, sizeof *s.layers);
+        REQUIRE(s.layers);
+        s.layer_count = 2;
+        snprintf(s.layers[1].name, sizeof s.layers[1].name, "walls");
+        place(&s, 0, 0, TURN, (double[3]){3, -1000, 17});
+        place(&s, 1, 0, MIRROR, (double[3]){-9, 4, 2001});
+        place(&s, 2, 1, MIRROR, (double[3]){1, 2, 3});
+        place(&s, 3, 0, ID, (double[3]){700, 0, 0});
+        s.instances[0].layer = 1;
+        s.instances[1].flags = VX_SVO_INSTANCE_HIDDEN;
+        snprintf(s.instances[1].name, sizeof s.instances[1].name, "mirrored");
+        snprintf(s.instances[3].name, sizeof s.instances[3].name, "plain");
+        /* 3 x 2 x 2 tiles: 12 pieces, shared by three instances, and the small model */
+        check_split("513x301x259 turned, mirrored, shared", &s, 13, 3);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* cells only in the far corner: the empty pieces are left out */
+        vx_svo_scene s;
+        split_scene(&s, 1, 1);
+        split_model(&s.models[0], 600, 601, 599, 520, false);
+        place(&s, 0, 0, MIRROR, (double[3]){-5, 5, 0.0});
+        check_split("far corner", &s, 1, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* an animated instance of a big model (moving, turning), one of a
+         * small model, one hidden all along */
+        vx_svo_scene s;
+        split_scene(&s, 2, 3);
+        split_model(&s.models[0], 270, 531, 33, 0, false);
+        split_model(&s.models[1], 4, 4, 4, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){-20, 0, 0});
+        place(&s, 2, 0, TURN, (double[3]){0, 0, 900});
+        s.instances[2].flags = VX_SVO_INSTANCE_HIDDEN;
+        snprintf(s.instances[0].name, sizeof s.instances[0].name, "mover");
+        REQUIRE(vx_svo_scene_alloc_frames(&s, 4, NULL) == VX_OK);
+        for (uint32_t f = 1; f < 4; f++) {
+            vx_svo_instance* fi = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, f);
+            vx_svo_instance keep = fi[0];
+            place(&s, 0, 0, f == 2 ? MIRROR : TURN, (double[3]){f * 11.0, -3.0 * f, f == 3 ? 0 : 5});
+            fi[0] = s.instances[0];
+            memcpy(fi[0].name, keep.name, sizeof fi[0].name);
+            s.instances[0] = keep;
+            fi[1].xform[3] += f;
+        }
+        /* 2 x 3 x 1 tiles */
+        check_split("animated 270x531x33", &s, 7, 2);
+        /* a frame that shows another model in place of a split one: refused, named */
+        vx_svo_instance* f2 = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, 2);
+        f2[0].model = 1;
+        vx_vox_scene v;
+        vx_error err = {0};
+        CHECK(vx_conv_svo_to_vox(&s, NULL, &v, &err) == VX_ERR_UNSUPPORTED);
+        CHECKF(strstr(err.msg, "frame 2 instance 0") && strstr(err.msg, "270x531x33"), "message: %s", err.msg);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* an empty model over 256: no pieces, its instance an empty group */
+        vx_svo_scene s;
+        split_scene(&s, 2, 2);
+        vx_svo_voxels none = {.size = {400, 2, 2}};
+        REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &none, &s.models[0], NULL, NULL) == VX_OK);
+        split_model(&s.models[1], 3, 3, 3, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){0, 0, 0});
+        check_split("empty 400x2x2", &s, 1, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* the writer checks a scene's groups: index in range, a rotation */
+        uint8_t xyzi[4] = {0, 0, 0, 1};
+        vx_vox_model m = {.size = {1, 1, 1}, .voxel_count = 1, .xyzi = xyzi};
+        vx_vox_instance in = {.rot = {1, 0, 0, 0, 1, 0, 0, 0, 1}, .layer = -1, .group = 2};
+        vx_vox_group g = {.rot = {1, 0, 0, 0, 1, 0, 0, 0, 1}, .layer = -1};
+        vx_vox_scene v = {.model_count = 1, .models = &m, .instance_count = 1, .instances = &in, .group_count = 1, .groups = &g};
+        vx_error err = {0};
+        CHECK(vx_vox_validate(&v, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "group 2 out of range"));
+        in.group = 1;
+        CHECK(vx_vox_validate(&v, &err) == VX_OK);
+        g.rot[4] = 0;
+        CHECK(vx_vox_validate(&v, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "group 0: rotation"));
+    }
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
@@ -654,5 +932,6 @@ int main(void) {
     RUN(test_pack_all_frames);
     RUN(test_keyframed_all_frames);
     RUN(test_mixed_colours_export);
+    RUN(test_split_export);
     return vx_test_finish();
 }

@@ -306,6 +306,20 @@ expect_status 1 "vox2svo negative light" "$BIN/vox2svo" "$T/bad.gltf" "$T/bad.sv
 grep -q "light 0 ('bulb') on node 1: negative" "$T/err" && [ ! -e "$T/bad.svo" ] && ok "a bad light is an error naming it" ||
     bad "a bad light is an error naming it"
 
+# a model over 256 cells a side (the triangle at --res 300: one 300x1x300 model) was refused by
+# --to-vox ("model 0 is 300x1x300: .vox models are at most 256 cells per side"); it is now split
+# into 256^3 tiles, the three holding cells one .vox model each (the fourth, empty, left out),
+# under one group; converted back, the same cells
+expect_status 0 "vox2svo glTF at --res 300" "$BIN/vox2svo" "$T/lamp.gltf" "$T/big.svo" --res 300 -q
+"$BIN/svo_info" "$T/big.svo" | grep -q "^model 0      300x1x300" && ok "one model of 300x1x300" || bad "one model of 300x1x300"
+expect_status 0 "--to-vox of a model over 256" "$BIN/svo_info" "$T/big.svo" --to-vox "$T/big.vox"
+expect_status 0 "convert the split export" "$BIN/vox2svo" "$T/big.vox" "$T/big2.svo"
+grep -q "models       3, instances 3" "$T/out" && ok "three pieces" || bad "three pieces: $(grep models "$T/out")"
+"$BIN/svo_info" "$T/big.svo" --dump | sort >"$T/b1"
+"$BIN/svo_info" "$T/big2.svo" --dump | sort >"$T/b2"
+[ "$(wc -l <"$T/b1")" -gt 40000 ] && cmp -s "$T/b1" "$T/b2" && ok "dump(svo) == dump(split vox -> svo)" ||
+    bad "dump(svo) == dump(split vox -> svo)"
+
 # a corpus scene with instancing, when the corpus is there
 if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then
     expect_status 0 "convert corpus scene" "$BIN/vox2svo" "$CORPUS/vox/ogt_test_multiple_model_scene.vox" "$T/m.svo"
