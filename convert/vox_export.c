@@ -1,7 +1,8 @@
 /* convert/vox_export.c - svo scene -> MagicaVoxel scene (svo_info --to-vox).
  *
- * The inverse of vx_conv_vox for scenes of at most 255 colours whose
- * instance matrices are signed permutations with integer translations.
+ * The inverse of vx_conv_vox for scenes of at most 255 colours (more: the
+ * quantizer below, on request) whose instance matrices are signed
+ * permutations with integer translations.
  * A model of at most 256 cells per side is one .vox model. A larger one is
  * split as MagicaVoxel exporters do: 256^3 tiles from its corner, each
  * tile that holds cells one .vox model (a piece, trimmed to its cells'
@@ -17,6 +18,202 @@
 
 #include "convert/convert.h"
 
+/* ---- colours: a set of RGBA8 colours and the quantizer (more than 255) ----------------- */
+
+/* Distinct RGBA8 colours with their cell counts and, once quantized, their
+ * palette entries (open addressing, grown at half full). */
+typedef struct colour_set {
+    const vx_allocator* a;
+    uint32_t* key;
+    uint64_t* count;
+    uint8_t* entry;
+    uint8_t* used;
+    size_t cap, n;
+    bool nomem;
+} colour_set;
+
+static size_t colour_slot(const colour_set* s, uint32_t c) {
+    uint32_t h = c;
+    h ^= h >> 16, h *= 0x7feb352du, h ^= h >> 15, h *= 0x846ca68bu, h ^= h >> 16;
+    size_t i = h & (s->cap - 1);
+    while (s->used[i] && s->key[i] != c) i = (i + 1) & (s->cap - 1);
+    return i;
+}
+
+static void colour_set_free(colour_set* s) {
+    vx_free(s->a, s->key);
+    vx_free(s->a, s->count);
+    vx_free(s->a, s->entry);
+    vx_free(s->a, s->used);
+    s->key = NULL, s->count = NULL, s->entry = NULL, s->used = NULL;
+    s->cap = s->n = 0;
+}
+
+static bool colour_set_grow(colour_set* s) {
+    colour_set g = {.a = s->a, .cap = s->cap ? 2 * s->cap : 1024};
+    g.key = (uint32_t*)vx_calloc(g.a, g.cap, sizeof *g.key);
+    g.count = (uint64_t*)vx_calloc(g.a, g.cap, sizeof *g.count);
+    g.entry = (uint8_t*)vx_calloc(g.a, g.cap, 1);
+    g.used = (uint8_t*)vx_calloc(g.a, g.cap, 1);
+    if (!g.key || !g.count || !g.entry || !g.used) {
+        colour_set_free(&g);
+        return false;
+    }
+    for (size_t i = 0; i < s->cap; i++) {
+        if (!s->used[i]) continue;
+        size_t j = colour_slot(&g, s->key[i]);
+        g.used[j] = 1, g.key[j] = s->key[i], g.count[j] = s->count[i], g.entry[j] = s->entry[i];
+    }
+    g.n = s->n;
+    colour_set_free(s);
+    *s = g;
+    return true;
+}
+
+static bool colour_add(colour_set* s, uint32_t c) {
+    if (2 * (s->n + 1) > s->cap && !colour_set_grow(s)) return false;
+    size_t i = colour_slot(s, c);
+    if (!s->used[i]) s->used[i] = 1, s->key[i] = c, s->n++;
+    s->count[i]++;
+    return true;
+}
+
+typedef struct gather_ctx {
+    const vx_svo_model* m;
+    colour_set* set;
+} gather_ctx;
+
+static bool gather_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    (void)x, (void)y, (void)z;
+    gather_ctx* g = (gather_ctx*)user;
+    if (colour_add(g->set, g->m->rgba[attr])) return true;
+    g->set->nomem = true;
+    return false;
+}
+
+static uint32_t channel(uint32_t rgba, int k) { return (rgba >> (8 * k)) & 0xFFu; }
+
+static uint32_t colour_dist2(uint32_t a, uint32_t b) {
+    uint32_t d2 = 0;
+    for (int k = 0; k < 4; k++) {
+        int32_t d = (int32_t)channel(a, k) - (int32_t)channel(b, k);
+        d2 += (uint32_t)(d * d);
+    }
+    return d2;
+}
+
+/* Median cut: a colour, its cell count and its sort key (the channel cut, then the colour). */
+typedef struct qcolour {
+    uint64_t key;
+    uint64_t w;
+    uint32_t rgba;
+} qcolour;
+
+static int cmp_qcolour(const void* a, const void* b) {
+    uint64_t x = ((const qcolour*)a)->key, y = ((const qcolour*)b)->key;
+    return x < y ? -1 : x > y; /* distinct colours: a total order, the same result every run */
+}
+
+typedef struct qbox {
+    size_t lo, hi;  /* q[lo, hi) */
+    int axis;       /* its widest channel */
+    uint32_t range; /* that channel's max - min */
+    uint64_t w;     /* its cells */
+} qbox;
+
+static void box_measure(const qcolour* q, qbox* b) {
+    uint32_t mn[4] = {255, 255, 255, 255}, mx[4] = {0, 0, 0, 0};
+    b->w = 0;
+    for (size_t i = b->lo; i < b->hi; i++) {
+        b->w += q[i].w;
+        for (int k = 0; k < 4; k++) {
+            uint32_t c = channel(q[i].rgba, k);
+            if (c < mn[k]) mn[k] = c;
+            if (c > mx[k]) mx[k] = c;
+        }
+    }
+    b->axis = 0, b->range = 0;
+    for (int k = 0; k < 4; k++)
+        if (mx[k] - mn[k] > b->range) b->axis = k, b->range = mx[k] - mn[k];
+}
+
+/* Up to `want` colours for q[0, n): boxes split at the weighted median of
+ * their widest channel, the widest box first (of equally wide ones, the one
+ * of most cells), until there are `want` boxes or none holds two colours;
+ * each box gives its cell-weighted mean. */
+static uint32_t median_cut(qcolour* q, size_t n, uint32_t want, qbox* box, uint32_t* out) {
+    if (!n || !want) return 0;
+    uint32_t nb = 1;
+    box[0] = (qbox){0, n, 0, 0, 0};
+    box_measure(q, &box[0]);
+    while (nb < want) {
+        uint32_t pick = UINT32_MAX;
+        for (uint32_t i = 0; i < nb; i++)
+            if (box[i].range > 0 &&
+                (pick == UINT32_MAX || box[i].range > box[pick].range || (box[i].range == box[pick].range && box[i].w > box[pick].w)))
+                pick = i;
+        if (pick == UINT32_MAX) break;
+        qbox* b = &box[pick];
+        for (size_t i = b->lo; i < b->hi; i++) q[i].key = (uint64_t)channel(q[i].rgba, b->axis) << 32 | q[i].rgba;
+        qsort(q + b->lo, b->hi - b->lo, sizeof *q, cmp_qcolour);
+        uint64_t total = 0, acc = 0;
+        for (size_t i = b->lo; i < b->hi; i++) total += q[i].w;
+        size_t cut = b->lo + 1;
+        for (size_t i = b->lo; i + 1 < b->hi; i++) {
+            acc += q[i].w;
+            cut = i + 1;
+            if (2 * acc >= total) break;
+        }
+        box[nb] = (qbox){cut, b->hi, 0, 0, 0};
+        b->hi = cut;
+        box_measure(q, b);
+        box_measure(q, &box[nb]);
+        nb++;
+    }
+    for (uint32_t i = 0; i < nb; i++) {
+        uint64_t sum[4] = {0, 0, 0, 0}, w = 0;
+        for (size_t j = box[i].lo; j < box[i].hi; j++) {
+            uint64_t cw = q[j].w ? q[j].w : 1;
+            for (int k = 0; k < 4; k++) sum[k] += cw * channel(q[j].rgba, k);
+            w += cw;
+        }
+        uint32_t c = 0;
+        for (int k = 0; k < 4; k++) c |= (uint32_t)((sum[k] + w / 2) / w) << (8 * k);
+        out[i] = c;
+    }
+    return nb;
+}
+
+/* What quantizing gave: the entries made (taken, pal as the export fills
+ * them) and every colour's entry in set. */
+typedef struct quantized {
+    colour_set set;
+    uint32_t pal[256];
+    uint8_t taken[256];
+} quantized;
+
+/* The palette models' entries: base (the scene's palette, else the
+ * default with white at 1), and which of them some palette model uses. */
+static void fixed_entries(const vx_svo_scene* in, uint32_t base[256], uint32_t pal[256], uint8_t taken[256]) {
+    if (in->has_palette) memcpy(base, in->palette, 256 * sizeof *base);
+    else {
+        memcpy(base, vx_vox_default_palette, 256 * sizeof *base);
+        base[1] = 0xFFFFFFFFu; /* geometry only: white */
+    }
+    memset(pal, 0, 256 * sizeof *pal);
+    memset(taken, 0, 256);
+    for (uint32_t i = 0; i < in->model_count; i++) {
+        const vx_svo_model* m = &in->models[i];
+        /* geometry only: its cells are entry 1, which no RGBA8 colour may then take */
+        if (!(m->attrs & (VX_ATTR_PALETTE | VX_ATTR_RGBA8)) && m->voxel_count) taken[1] = 1, pal[1] = base[1];
+        if (!(m->attrs & VX_ATTR_PALETTE) || !m->palette) continue;
+        for (uint32_t k = 0; k < m->attr_count; k++) {
+            uint8_t e = m->palette[k] ? m->palette[k] : 1;
+            taken[e] = 1, pal[e] = base[e];
+        }
+    }
+}
+
 typedef struct export_ctx {
     const vx_svo_scene* s;
     const vx_svo_model* m;
@@ -25,12 +222,19 @@ typedef struct export_ctx {
     uint32_t* pal;  /* the palette made, by index: palette models' entries, then RGBA8 models' colours */
     uint8_t* taken; /* entries of pal in use (palette models' voxels, colours given) */
     bool too_many_colors;
+    const colour_set* map; /* quantized: every RGBA8 colour's entry */
 } export_ctx;
 
-/* An RGBA8 colour's entry: one of that colour in use, else the first free
- * (a scene may mix palette and RGBA8 models: svo_view's add of a file
- * with another palette). */
+/* An RGBA8 colour's entry: quantized, the one the quantizer chose; else
+ * one of that colour in use, else the first free (a scene may mix palette
+ * and RGBA8 models: svo_view's add of a file with another palette). */
 static uint8_t color_index(export_ctx* c, uint32_t rgba) {
+    if (c->map) {
+        size_t i = colour_slot(c->map, rgba);
+        if (c->map->used[i]) return c->map->entry[i];
+        c->too_many_colors = true; /* cannot happen: the same cells were gathered */
+        return 1;
+    }
     for (uint32_t i = 1; i < 256; i++)
         if (c->taken[i] && c->pal[i] == rgba) return (uint8_t)i;
     for (uint32_t i = 1; i < 256; i++)
@@ -231,8 +435,10 @@ static void group_of(const vx_vox_instance* vi, vx_vox_group* g) {
     memcpy(g->name, vi->name, sizeof g->name);
 }
 
-vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_vox_scene* out, vx_error* err) {
-    if (!in || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null argument");
+/* The export; qz: the quantized colours (NULL: exact, *too_many set when
+ * they do not fit). */
+static vx_result export_scene(const vx_svo_scene* in, const vx_allocator* a, const quantized* qz, vx_vox_scene* out,
+                              bool* too_many, vx_error* err) {
     vx_vox_scene v;
     memset(&v, 0, sizeof v);
     v.alloc = a;
@@ -240,21 +446,10 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     vx_result r = VX_OK;
     bool uses_rgba = false, uses_palette = false;
     /* the palette models' entries first: RGBA8 colours take the others */
-    uint32_t base[256], pal[256] = {0};
-    uint8_t taken[256] = {0};
-    if (in->has_palette) memcpy(base, in->palette, sizeof base);
-    else {
-        memcpy(base, vx_vox_default_palette, sizeof base);
-        base[1] = 0xFFFFFFFFu; /* geometry only: white */
-    }
-    for (uint32_t i = 0; i < in->model_count; i++) {
-        const vx_svo_model* m = &in->models[i];
-        if (!(m->attrs & VX_ATTR_PALETTE) || !m->palette) continue;
-        for (uint32_t k = 0; k < m->attr_count; k++) {
-            uint8_t e = m->palette[k] ? m->palette[k] : 1;
-            taken[e] = 1, pal[e] = base[e];
-        }
-    }
+    uint32_t base[256], pal[256];
+    uint8_t taken[256];
+    fixed_entries(in, base, pal, taken);
+    if (qz) memcpy(pal, qz->pal, sizeof pal), memcpy(taken, qz->taken, sizeof taken);
 
     /* the pieces of the models over 256 cells a side (first pass), and the
      * .vox models: sm[i].first .. + n for model i (n = 1 unless split) */
@@ -334,7 +529,7 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
     v.model_count = (uint32_t)vox_models; /* each xyzi NULL until made: freed as made */
     for (uint32_t i = 0; i < M; i++) {
         const vx_svo_model* m = &in->models[i];
-        export_ctx c = {in, m, NULL, 0, 0, pal, taken, false};
+        export_ctx c = {in, m, NULL, 0, 0, pal, taken, false, qz ? &qz->set : NULL};
         if (fits(m)) {
             uint32_t n = (uint32_t)m->voxel_count;
             vx_vox_model* vm = &v.models[sm[i].first];
@@ -367,6 +562,7 @@ vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_v
         }
         if (r != VX_OK) goto fail;
         if (c.too_many_colors) {
+            *too_many = true;
             r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "more than 255 distinct colours do not fit a .vox palette");
             goto fail;
         }
@@ -459,4 +655,102 @@ fail:
     vx_free(a, sm);
     vx_vox_scene_free(&v);
     return r;
+}
+
+/* More than 255 colours: the distinct colours counted (palette models'
+ * entries in use, then the RGBA8 models' colours that are none of them);
+ * with quantize, the RGBA8 colours cut into the entries the palette models
+ * leave free and every one mapped to its nearest entry in use. */
+static vx_result quantize(const vx_svo_scene* in, const vx_allocator* a, bool apply, quantized* qz,
+                          vx_conv_vox_export_stats* st, vx_error* err) {
+    uint32_t base[256];
+    fixed_entries(in, base, qz->pal, qz->taken);
+    qz->set.a = a;
+    vx_result r = VX_OK;
+    for (uint32_t i = 0; i < in->model_count && r == VX_OK; i++) {
+        const vx_svo_model* m = &in->models[i];
+        if ((m->attrs & VX_ATTR_PALETTE) || !(m->attrs & VX_ATTR_RGBA8)) continue; /* as voxel_index */
+        gather_ctx g = {m, &qz->set};
+        r = vx_svo_decode_model(m, gather_cell, &g, err);
+        if (r == VX_OK && qz->set.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the colours");
+    }
+    if (r != VX_OK) return r;
+    uint32_t fixed = 0;
+    for (int e = 1; e < 256; e++) fixed += qz->taken[e];
+    /* the RGBA8 colours no fixed entry holds */
+    qcolour* q = (qcolour*)vx_calloc(a, qz->set.n + 1, sizeof *q);
+    qbox* box = (qbox*)vx_calloc(a, 256, sizeof *box);
+    if (!q || !box) {
+        vx_free(a, q), vx_free(a, box);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the colours");
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < qz->set.cap; i++) {
+        if (!qz->set.used[i]) continue;
+        bool held = false;
+        for (int e = 1; e < 256 && !held; e++) held = qz->taken[e] && qz->pal[e] == qz->set.key[i];
+        if (!held) q[n++] = (qcolour){0, qz->set.count[i], qz->set.key[i]};
+    }
+    st->colors = fixed + (uint32_t)(n < UINT32_MAX - fixed ? n : UINT32_MAX - fixed);
+    if (!apply) {
+        vx_free(a, q), vx_free(a, box);
+        return VX_OK;
+    }
+    /* set order depends on nothing but the colours: sorted, the cut is the same every run */
+    for (size_t i = 0; i < n; i++) q[i].key = q[i].rgba;
+    qsort(q, n, sizeof *q, cmp_qcolour);
+    uint32_t made[256];
+    uint32_t nm = median_cut(q, n, 255 - fixed, box, made);
+    for (uint32_t e = 1, k = 0; e < 256 && k < nm; e++)
+        if (!qz->taken[e]) qz->taken[e] = 1, qz->pal[e] = made[k++];
+    vx_free(a, q), vx_free(a, box);
+    /* every colour to its nearest entry in use (ties: the lowest index) */
+    double sum = 0, max = 0;
+    uint64_t cells = 0;
+    for (size_t i = 0; i < qz->set.cap; i++) {
+        if (!qz->set.used[i]) continue;
+        uint32_t best = UINT32_MAX, be = 1;
+        for (uint32_t e = 1; e < 256; e++) {
+            if (!qz->taken[e]) continue;
+            uint32_t d = colour_dist2(qz->set.key[i], qz->pal[e]);
+            if (d < best) best = d, be = e;
+        }
+        qz->set.entry[i] = (uint8_t)be;
+        double d = sqrt((double)best);
+        if (d > max) max = d;
+        sum += d * (double)qz->set.count[i];
+        cells += qz->set.count[i];
+    }
+    st->quantized = true;
+    st->max_error = max;
+    st->mean_error = cells ? sum / (double)cells : 0.0;
+    return VX_OK;
+}
+
+vx_result vx_conv_svo_to_vox_ex(const vx_conv_vox_export_desc* desc, const vx_svo_scene* in, vx_vox_scene* out,
+                                vx_conv_vox_export_stats* stats, vx_error* err) {
+    if (!in || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "null argument");
+    vx_conv_vox_export_desc d = desc ? *desc : (vx_conv_vox_export_desc){0};
+    vx_conv_vox_export_stats st = {0};
+    bool too_many = false;
+    vx_result r = export_scene(in, d.alloc, NULL, out, &too_many, err);
+    if (r == VX_OK || !too_many) {
+        if (r == VX_OK && stats) *stats = st;
+        return r;
+    }
+    quantized qz;
+    memset(&qz, 0, sizeof qz);
+    r = quantize(in, d.alloc, d.quantize, &qz, &st, err);
+    if (r == VX_OK && !d.quantize)
+        r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                    "the scene has %u distinct colours, a .vox palette holds 255; export with quantize (svo_info --to-vox "
+                    "--quantize) to map them to 255", st.colors);
+    if (r == VX_OK) r = export_scene(in, d.alloc, &qz, out, &too_many, err);
+    colour_set_free(&qz.set);
+    if (r == VX_OK && stats) *stats = st;
+    return r;
+}
+
+vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* a, vx_vox_scene* out, vx_error* err) {
+    return vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.alloc = a}, in, out, NULL, err);
 }

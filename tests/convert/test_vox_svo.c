@@ -924,6 +924,138 @@ static void test_split_export(void) {
     }
 }
 
+/* ---- more than 255 colours: refused, or quantized on request ---------------------------------- */
+
+/* A scene of an RGBA8 model of side n, cell (x, y, z) coloured (x, y, z) *
+ * step (n^3 colours), a palette model on entries 1..3, and a geometry-only model. */
+static void colour_scene(vx_svo_scene* s, uint32_t n, uint32_t step, bool palette_model) {
+    split_scene(s, 3, 3);
+    uint64_t* keys = malloc((size_t)n * n * n * sizeof *keys);
+    uint32_t* rgba = malloc((size_t)n * n * n * sizeof *rgba);
+    REQUIRE(keys && rgba);
+    size_t k = 0;
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++, k++)
+                keys[k] = vx_svo_morton(x, y, z), rgba[k] = 0xFF000000u | (z * step) << 16 | (y * step) << 8 | x * step;
+    vx_svo_voxels v = {.size = {n, n, n}, .count = k, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    uint8_t pal[3] = {1, 2, 3};
+    vx_svo_voxels pv = {.size = {3, 1, 1}, .count = palette_model ? 3 : 0, .keys = keys, .attrs = palette_model ? VX_ATTR_PALETTE : 0,
+                        .palette = palette_model ? pal : NULL};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &pv, &s->models[1], NULL, NULL) == VX_OK);
+    vx_svo_voxels gv = {.size = {2, 1, 1}, .count = 2, .keys = keys};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &gv, &s->models[2], NULL, NULL) == VX_OK);
+    free(keys), free(rgba);
+    for (uint32_t i = 0; i < 256; i++) s->palette[i] = vx_vox_default_palette[i];
+    s->has_palette = true;
+    s->palette[1] = 0xFFFFFFFFu;
+    place(s, 0, 0, (int[3]){1, 2, 3}, (double[3]){0, 0, 0});
+    place(s, 1, 1, (int[3]){1, 2, 3}, (double[3]){0, 0, -5});
+    place(s, 2, 2, (int[3]){1, 2, 3}, (double[3]){0, 0, -9});
+}
+
+static double rgba_dist(uint32_t a, uint32_t b) {
+    double d2 = 0;
+    for (int k = 0; k < 4; k++) {
+        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* Export (quantize as asked), write, read back: the cells' colours, and the bytes written. */
+static vx_result export_colours(const vx_svo_scene* s, bool quantize, vx_conv_vox_export_stats* st, cells* out, uint8_t** bytes,
+                                size_t* n, uint32_t pal[256], vx_error* err) {
+    vx_vox_scene v, back;
+    vx_result r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = quantize}, s, &v, st, err);
+    if (r != VX_OK) return r;
+    r = vx_vox_write(&v, NULL, bytes, n, err);
+    vx_vox_scene_free(&v);
+    if (r != VX_OK) return r;
+    r = vx_vox_read(NULL, *bytes, *n, &back, err);
+    if (r != VX_OK) return r;
+    cells_from_vox(&back, out);
+    memcpy(pal, back.palette, 256 * sizeof *pal);
+    vx_vox_scene_free(&back);
+    return VX_OK;
+}
+
+static void test_quantize_export(void) {
+    /* 16^3 colours a step of 17 apart, 3 palette entries, white: refused by default, naming the count */
+    vx_svo_scene s;
+    colour_scene(&s, 16, 17, true);
+    cells want = {0}, got = {0}, again = {0};
+    CHECK(cells_from_svo(&s, &want));
+    vx_vox_scene v;
+    vx_error err = {0};
+    CHECK(vx_conv_svo_to_vox(&s, NULL, &v, &err) == VX_ERR_UNSUPPORTED);
+    /* white and entries 2, 3 (ffffcc, ffff99) lie on the lattice: 4096 in all */
+    CHECKF(strstr(err.msg, "4096 distinct colours") && strstr(err.msg, "quantize"), "message: %s", err.msg);
+    /* quantized: each cell's colour the nearest of the palette made, the
+     * palette model's entries and white kept, the error as reported */
+    vx_conv_vox_export_stats st, st2;
+    uint8_t *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    uint32_t pal[256], pal2[256];
+    REQUIRE(export_colours(&s, true, &st, &got, &b1, &n1, pal, &err) == VX_OK);
+    CHECKF(st.quantized && st.colors == 4096, "stats: quantized %d, %u colours", st.quantized, st.colors);
+    REQUIRE(got.n == want.n);
+    double max = 0, sum = 0;
+    size_t rgba_cells = 0, not_nearest = 0, moved = 0;
+    for (size_t i = 0; i < want.n; i++) {
+        const cell *a = &want.v[i], *b = &got.v[i];
+        if (a->x != b->x || a->y != b->y || a->z != b->z) moved++;
+        if (a->z < 0) { /* the palette and geometry models: exact */
+            CHECKF(a->rgba == b->rgba, "(%d %d %d): %08x became %08x", a->x, a->y, a->z, a->rgba, b->rgba);
+            continue;
+        }
+        double d = rgba_dist(a->rgba, b->rgba), best = INFINITY;
+        for (int e = 1; e < 256; e++) best = fmin(best, rgba_dist(a->rgba, pal[e]));
+        not_nearest += d != best;
+        max = fmax(max, d), sum += d, rgba_cells++;
+    }
+    CHECKF(moved == 0 && not_nearest == 0, "%zu cells moved, %zu not at their nearest entry", moved, not_nearest);
+    CHECKF(fabs(max - st.max_error) < 1e-9 && fabs(sum / (double)rgba_cells - st.mean_error) < 1e-9,
+           "error max %.3f mean %.3f, reported %.3f %.3f", max, sum / (double)rgba_cells, st.max_error, st.mean_error);
+    /* 252 boxes over a 16^3 lattice: none of more than 4 x 4 x 2 points (halves of the 8 x 4 x 4
+     * boxes after 7 cuts a colour), so a point lies at most 1.5 x 1.5 x 0.5 steps of 17 from its
+     * box's mean, plus the mean's rounding (half a unit a channel): 38.2; the mean below 1.5 steps */
+    CHECKF(st.max_error <= 17 * sqrt(1.5 * 1.5 + 1.5 * 1.5 + 0.5 * 0.5) + 0.5 * sqrt(3) && st.mean_error < 1.5 * 17,
+           "error max %.2f mean %.2f", st.max_error, st.mean_error);
+    fprintf(stderr, "  4096 colours: error max %.2f, mean %.2f\n", st.max_error, st.mean_error);
+    /* deterministic: the same bytes again */
+    REQUIRE(export_colours(&s, true, &st2, &again, &b2, &n2, pal2, &err) == VX_OK);
+    CHECK(n1 == n2 && !memcmp(b1, b2, n1));
+    free(b1), free(b2), free(want.v), free(got.v), free(again.v);
+    vx_svo_scene_free(&s);
+
+    /* 6^3 = 216 colours + entries 1 (white, the geometry's too), 2, 3: 219, exact, quantize or not;
+     * 7^3: 346, quantized */
+    for (uint32_t side = 6; side <= 7; side++) {
+        colour_scene(&s, side, 40, true);
+        cells w = {0}, g = {0};
+        CHECK(cells_from_svo(&s, &w));
+        b1 = NULL;
+        vx_result r = export_colours(&s, true, &st, &g, &b1, &n1, pal, &err);
+        CHECKF(r == VX_OK, "side %u: %s", side, err.msg);
+        if (side == 6) CHECKF(!st.quantized && same_cells(&w, &g, "216 colours"), "216 colours not exact");
+        else CHECKF(st.quantized && st.colors == 346 && st.max_error > 0, "346 colours: quantized %d, %u", st.quantized, st.colors);
+        free(b1), free(w.v), free(g.v);
+        vx_svo_scene_free(&s);
+    }
+    /* without the palette model (an empty one): the geometry-only cells stay white (entry 1);
+     * RGBA8 colours took entry 1 first, so those cells took colour (0, 0, 0) */
+    colour_scene(&s, 6, 40, false);
+    cells w = {0}, g = {0};
+    CHECK(cells_from_svo(&s, &w));
+    b1 = NULL;
+    CHECK(export_colours(&s, false, &st, &g, &b1, &n1, pal, &err) == VX_OK);
+    CHECK(same_cells(&w, &g, "geometry beside RGBA8"));
+    free(b1), free(w.v), free(g.v);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
@@ -933,5 +1065,6 @@ int main(void) {
     RUN(test_keyframed_all_frames);
     RUN(test_mixed_colours_export);
     RUN(test_split_export);
+    RUN(test_quantize_export);
     return vx_test_finish();
 }
