@@ -65,12 +65,50 @@ vx_result vx_conv_vox(const vx_conv_vox_desc* desc, const vx_vox_scene* in, vx_s
 /* svo scene -> .vox scene, for svo_info --to-vox and export. An animation
  * becomes an animated .vox scene (frame_instances, written as keyframes;
  * its hidden flags must not change between frames). Needs integer
- * signed-permutation instance matrices, integer translations, models of at
- * most 256 cells per side and at most 255 colours: palette models keep
- * their entries, RGBA8 colours take entries of the same colour or ones no
- * palette model uses (a scene may mix both); otherwise VX_ERR_UNSUPPORTED
- * names what does not fit. */
+ * signed-permutation instance matrices, integer translations and at most
+ * 255 colours: palette models keep their entries, RGBA8 colours take
+ * entries of the same colour or ones no palette model uses (a scene may mix
+ * both; a geometry-only model's cells are entry 1); otherwise
+ * VX_ERR_UNSUPPORTED names what does not fit (more colours:
+ * vx_conv_svo_to_vox_ex's quantize).
+ * A model of at most 256 cells per side is one .vox model (model i of the
+ * scene is .vox model i when all fit). A larger one is split into 256^3
+ * tiles from its corner: each tile holding cells becomes a .vox model (a
+ * piece, trimmed to its cells' extent; empty tiles are left out), shared
+ * by the model's instances; each instance becomes a group (out->groups:
+ * the instance's transform as an unsplit model's, pivot floor(size/2),
+ * its name and hidden flag) of one shape per piece (identity rotation, the
+ * translation that puts every cell where it was, the instance's name and
+ * layer). Read back (vx_vox_read, vx_conv_vox), the pieces are instances
+ * of their own, in the same world cells. A split model's instance must
+ * show that model in every frame (VX_ERR_UNSUPPORTED otherwise); more than
+ * VX_VOX_MAX_INSTANCES pieces or shapes are VX_ERR_LIMIT. */
 vx_result vx_conv_svo_to_vox(const vx_svo_scene* in, const vx_allocator* alloc, vx_vox_scene* out, vx_error* err);
+
+/* Export options; zero-initialised means vx_conv_svo_to_vox's behaviour. */
+typedef struct vx_conv_vox_export_desc {
+    const vx_allocator* alloc;
+    /* More than 255 distinct colours (else VX_ERR_UNSUPPORTED naming the
+     * count): the RGBA8 models' colours are cut (median cut over RGBA, each
+     * colour weighted by its cells, deterministic) into the entries the
+     * palette models leave free, and every colour takes its nearest entry in
+     * use (RGBA distance, ties to the lowest index). Palette models keep
+     * their entries; a scene of at most 255 colours is exported exactly,
+     * quantize or not. */
+    bool quantize;
+} vx_conv_vox_export_desc;
+
+typedef struct vx_conv_vox_export_stats {
+    uint32_t colors;   /* the scene's distinct colours, counted when more than 255 (else 0) */
+    bool quantized;    /* colours were mapped (quantize and more than 255) */
+    double max_error;  /* quantized: the largest RGBA distance (0..510) of a cell's colour to its entry */
+    double mean_error; /* quantized: the mean over the RGBA8 models' cells */
+} vx_conv_vox_export_stats;
+
+/* vx_conv_svo_to_vox with options (desc may be NULL) and what quantizing
+ * did (stats may be NULL). */
+vx_result vx_conv_svo_to_vox_ex(const vx_conv_vox_export_desc* desc, const vx_svo_scene* in, vx_vox_scene* out,
+                                vx_conv_vox_export_stats* stats, vx_error* err);
 
 #ifdef __cplusplus
 }

@@ -1005,6 +1005,8 @@ void vx_vox_scene_free(vx_vox_scene* s) {
     vx_free(a, s->models);
     vx_free(a, s->instances);
     vx_free(a, s->frame_instances);
+    vx_free(a, s->groups);
+    vx_free(a, s->frame_groups);
     vx_free(a, s->layers);
     vx_free(a, s->materials);
     memset(s, 0, sizeof *s);
@@ -1094,7 +1096,7 @@ static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
 vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vx_vox_validate: null scene");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
-        (s->material_count && !s->materials))
+        (s->material_count && !s->materials) || (s->group_count && !s->groups))
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "scene: a non-zero count with a null array");
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_vox_model* m = &s->models[i];
@@ -1133,10 +1135,44 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
                                VOX_MAX_T);
         if (!has_nul(in->name, sizeof in->name))
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "instance %u: name is not NUL-terminated", i);
-        /* the graph holds one name, layer and hidden flag per shape */
-        if (f && (strcmp(in->name, all[i].name) || in->layer != all[i].layer || in->hidden != all[i].hidden))
+        if (in->group > s->group_count)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: group %u out of range (%u groups)", f, i,
+                           in->group, s->group_count);
+        /* the graph holds one name, layer, hidden flag and parent per shape */
+        if (f && (strcmp(in->name, all[i].name) || in->layer != all[i].layer || in->hidden != all[i].hidden ||
+                  in->group != all[i].group))
             return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                           "frame %u instance %u: name, layer or hidden flag differs from frame 0 (.vox keeps one per shape)", f, i);
+                           "frame %u instance %u: name, layer, hidden flag or group differs from frame 0 (.vox keeps one per shape)",
+                           f, i);
+        if (in->group) {
+            /* the reader's composed translation: R_group t + t_group */
+            const vx_vox_group* g = (anim && s->frame_groups ? s->frame_groups + (size_t)f * s->group_count : s->groups) +
+                                    (in->group - 1);
+            for (int r = 0; r < 3; r++) {
+                int64_t w = g->t[r];
+                for (int k = 0; k < 3; k++) w += (int64_t)g->rot[r * 3 + k] * in->t[k];
+                if (w > VOX_MAX_T || w < -VOX_MAX_T)
+                    return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u instance %u: translation %lld in its group beyond +-%d",
+                                   f, i, (long long)w, VOX_MAX_T);
+            }
+        }
+    }
+    uint64_t grecords = (uint64_t)(anim && s->frame_groups ? s->frame_count : 1) * s->group_count;
+    const vx_vox_group* gall = anim && s->frame_groups ? s->frame_groups : s->groups;
+    for (uint64_t j = 0; j < grecords; j++) {
+        const vx_vox_group* g = &gall[j];
+        uint32_t i = (uint32_t)(j % s->group_count), f = (uint32_t)(j / s->group_count);
+        if (!vx_vox_rot_to_byte(g->rot, NULL))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u group %u: rotation is not a signed permutation", f, i);
+        for (int k = 0; k < 3; k++)
+            if (g->t[k] > VOX_MAX_T || g->t[k] < -VOX_MAX_T)
+                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u group %u: translation %d beyond +-%d", f, i, g->t[k],
+                               VOX_MAX_T);
+        if (!has_nul(g->name, sizeof g->name))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "group %u: name is not NUL-terminated", i);
+        if (f && (strcmp(g->name, gall[i].name) || g->layer != gall[i].layer || g->hidden != gall[i].hidden))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "frame %u group %u: name, layer or hidden flag differs from frame 0 (.vox keeps one per group)", f, i);
     }
     for (uint32_t i = 0; i < s->layer_count; i++)
         if (!has_nul(s->layers[i].name, sizeof s->layers[i].name))

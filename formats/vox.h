@@ -70,7 +70,24 @@ typedef struct vx_vox_instance {
     int32_t layer;    /* layer id, -1 for none */
     bool hidden;      /* only when keep_hidden was set; its own layer's flag is the layer's (above) */
     char name[64];    /* _name of the shape's transform node, may be empty */
+    /* Writer only (the reader flattens groups and leaves 0): 0 for a shape
+     * under the root group, g >= 1 for one under groups[g - 1], its rot
+     * and t then relative to that group's transform. */
+    uint32_t group;
 } vx_vox_instance;
+
+/* A group the writer puts under the root group (vx_conv_svo_to_vox's model
+ * split into pieces): its transform node carries rot, t, name, layer and
+ * the hidden flag; the instances whose group names it are its children.
+ * Read back, its shapes come out as instances with the composed transform
+ * (R_group R, R_group t + t_group), hidden when the group is. */
+typedef struct vx_vox_group {
+    int32_t rot[9];
+    int32_t t[3];
+    int32_t layer; /* -1 for none */
+    bool hidden;
+    char name[64];
+} vx_vox_group;
 
 typedef struct vx_vox_layer {
     int32_t id;
@@ -113,6 +130,13 @@ typedef struct vx_vox_scene {
     /* all_frames and frame_count > 1: frame_count * instance_count records,
      * frame f's at frame_instances + f * instance_count (else NULL) */
     vx_vox_instance* frame_instances;
+    /* Writer only, the reader leaves them 0/NULL: groups under the root
+     * (group_count records); an animation's frame f at frame_groups + f *
+     * group_count (NULL: groups[] in every frame). A separate block from
+     * alloc each, freed with the scene. */
+    uint32_t group_count;
+    vx_vox_group* groups;
+    vx_vox_group* frame_groups;
     const vx_allocator* alloc;
 } vx_vox_scene;
 
@@ -153,16 +177,21 @@ void vx_vox_place(const int32_t rot[9], const int32_t t[3], const uint32_t size[
                   int32_t out[3]);
 
 /* Checks a scene before writing: sizes 1..256, voxel coordinates inside
- * their model, indices 1..255, instance model ids and rotations valid. */
+ * their model, indices 1..255, instance model ids and rotations valid,
+ * group indices in range, group rotations valid. */
 vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err);
 
 /* Writes version 150 with a scene graph (root nTRN -> nGRP -> one nTRN +
- * nSHP per instance), RGBA when has_rgba, LAYR and MATL records. A single
+ * nSHP per instance, or per group an nTRN -> nGRP -> one nTRN + nSHP per
+ * instance of the group, placed where the group's first instance comes;
+ * groups without instances last), RGBA when has_rgba, LAYR and MATL
+ * records. Node ids run 0, 1, 2, ... in the order the chunks are written. A single
  * model with one identity instance is written the same way. An animation
  * (frame_count > 1 and frame_instances; `instances` is then not used) is
  * written as keyframes (_f) on each instance's nTRN and nSHP, which the
  * reader reads back as the same frames; names, layers and hidden flags must
- * be the same in every frame (VX_ERR_UNSUPPORTED otherwise). */
+ * be the same in every frame (VX_ERR_UNSUPPORTED otherwise), and so must an
+ * instance's group; a group's transform is keyed as an instance's. */
 vx_result vx_vox_write(const vx_vox_scene* s, const vx_allocator* alloc, uint8_t** out_data, size_t* out_size,
                        vx_error* err);
 /* The same through a temporary file renamed over path (svo/core.h

@@ -646,6 +646,416 @@ static void test_mixed_colours_export(void) {
     vx_svo_scene_free(&s);
 }
 
+/* ---- models over 256 cells a side: split into pieces ------------------------------------- */
+
+/* A model of size sx x sy x sz: its cells where a plane of each axis's
+ * "marks" (both ends, the 256 tile boundaries either side, a few between)
+ * meets a line of another, and a scatter; cells only at or past `from` on
+ * every axis. Palette entries (rgba false) or RGBA8 colours by place. */
+static void split_model(vx_svo_model* out, uint32_t sx, uint32_t sy, uint32_t sz, uint32_t from, bool rgba) {
+    const uint32_t S[3] = {sx, sy, sz};
+    uint32_t marks[3][24], nm[3] = {0, 0, 0};
+    for (int d = 0; d < 3; d++) {
+        const uint32_t cand[] = {0, 1, 2, 7, 127, 128, 255, 256, 257, 300, 511, 512, 513, 600, 699,
+                                 S[d] / 2, S[d] - 2, S[d] - 1};
+        for (size_t k = 0; k < sizeof cand / sizeof cand[0]; k++) {
+            uint32_t c = cand[k];
+            bool dup = c >= S[d] || c < from;
+            for (uint32_t j = 0; j < nm[d] && !dup; j++) dup = marks[d][j] == c;
+            if (!dup) marks[d][nm[d]++] = c;
+        }
+    }
+    size_t cap = 1 << 16, n = 0;
+    uint64_t* keys = malloc(cap * sizeof *keys);
+    uint8_t* pal = malloc(cap);
+    uint32_t* col = malloc(cap * sizeof *col);
+    REQUIRE(keys && pal && col);
+#define ADD(X, Y, Z)                                                                                   \
+    do {                                                                                               \
+        uint32_t x_ = (X), y_ = (Y), z_ = (Z);                                                         \
+        if (n < cap && x_ >= from && y_ >= from && z_ >= from && x_ < sx && y_ < sy && z_ < sz) {      \
+            keys[n] = vx_svo_morton(x_, y_, z_);                                                       \
+            pal[n] = (uint8_t)(1 + (x_ * 7 + y_ * 13 + z_ * 3) % 200);                                 \
+            col[n++] = 0xFF000000u | (uint32_t)(((x_ * 5 + z_) % 9) * 0x1C) | (uint32_t)((y_ % 7) * 0x20) << 8; \
+        }                                                                                              \
+    } while (0)
+    /* lines along x at marked (y, z), along y at marked (x, z), along z at marked (x, y) */
+    for (uint32_t a = 0; a < nm[1]; a++)
+        for (uint32_t b = 0; b < nm[2]; b++)
+            for (uint32_t x = from; x < sx; x += 3) ADD(x, marks[1][a], marks[2][b]);
+    for (uint32_t a = 0; a < nm[0]; a++)
+        for (uint32_t b = 0; b < nm[2]; b++)
+            for (uint32_t y = from; y < sy; y += 5) ADD(marks[0][a], y, marks[2][b]);
+    for (uint32_t a = 0; a < nm[0]; a++)
+        for (uint32_t b = 0; b < nm[1]; b++)
+            for (uint32_t z = from; z < sz; z += 2) ADD(marks[0][a], marks[1][b], z);
+    uint32_t h = sx * 2654435761u ^ sy * 40503u ^ sz;
+    for (int k = 0; k < 2000; k++) {
+        h = h * 1664525u + 1013904223u;
+        uint32_t x = from + (h >> 8) % (sx - from);
+        h = h * 1664525u + 1013904223u;
+        uint32_t y = from + (h >> 8) % (sy - from);
+        h = h * 1664525u + 1013904223u;
+        ADD(x, y, from + (h >> 8) % (sz - from));
+    }
+#undef ADD
+    REQUIRE(n < cap);
+    vx_svo_voxels in = {.size = {sx, sy, sz}, .count = n, .keys = keys, .attrs = rgba ? VX_ATTR_RGBA8 : VX_ATTR_PALETTE};
+    if (rgba) in.rgba = col;
+    else in.palette = pal;
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &in, out, NULL, NULL) == VX_OK);
+    free(keys), free(pal), free(col);
+}
+
+/* A scene of the given models (a palette on every entry) and no instances. */
+static void split_scene(vx_svo_scene* s, uint32_t models, uint32_t instances) {
+    vx_svo_scene_init(s, NULL);
+    s->models = calloc(models, sizeof *s->models);
+    s->instances = calloc(instances, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = models, s->instance_count = instances;
+    s->has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s->palette[i] = 0xFF000000u | (i * 0x0103F1u);
+    for (uint32_t i = 0; i < instances; i++) s->instances[i].layer = UINT32_MAX;
+}
+
+/* Instance i: model m, the signed permutation rows (+-1-based column) and translation. */
+static void place(vx_svo_scene* s, uint32_t i, uint32_t m, const int rows[3], const double t[3]) {
+    vx_svo_instance* in = &s->instances[i];
+    memset(in->xform, 0, sizeof in->xform);
+    for (int r = 0; r < 3; r++) {
+        int c = abs(rows[r]) - 1;
+        in->xform[r * 4 + c] = rows[r] < 0 ? -1.0 : 1.0;
+        in->xform[r * 4 + 3] = t[r];
+    }
+    in->model = m;
+}
+
+/* Every instance's cells (hidden ones too) in frame f, each colour mixed
+ * with its instance's name, layer and hidden flag. */
+static bool tagged_cells(const vx_svo_scene* s, uint32_t f, cells* out) {
+    vx_svo_scene view;
+    if (!vx_svo_scene_frame(s, f, &view)) return false;
+    for (uint32_t i = 0; i < view.instance_count; i++) {
+        const vx_svo_instance* in = &view.instances[i];
+        size_t from = out->n;
+        dec_ctx c = {&view, &view.models[in->model], in->xform, out};
+        if (vx_svo_decode_model(c.m, on_voxel, &c, NULL) != VX_OK) return false;
+        uint32_t tag = in->layer * 0x9E3779B1u ^ (in->flags & VX_SVO_INSTANCE_HIDDEN) * 0x85EBCA6Bu;
+        for (const char* p = in->name; *p; p++) tag = tag * 31u + (uint8_t)*p;
+        for (size_t k = from; k < out->n; k++) out->v[k].rgba ^= tag;
+    }
+    qsort(out->v, out->n, sizeof *out->v, cmp_cell);
+    return true;
+}
+
+/* svo -> vox -> bytes -> vox (every frame, hidden kept) -> svo: every frame's
+ * cells, colours, names, layers and hidden flags as before; the visible
+ * cells through the .vox reader's own placement too. want_models: the .vox
+ * models the export makes (pieces shared by the instances of one model),
+ * want_groups its groups. */
+static void check_split(const char* name, const vx_svo_scene* s, uint32_t want_models, uint32_t want_groups) {
+    vx_vox_scene v, back;
+    vx_error err = {0};
+    vx_result r = vx_conv_svo_to_vox(s, NULL, &v, &err);
+    CHECKF(r == VX_OK, "%s: export: %s", name, err.msg);
+    if (r != VX_OK) return;
+    CHECKF(v.model_count == want_models && v.group_count == want_groups, "%s: %u models, %u groups (expected %u, %u)", name,
+           v.model_count, v.group_count, want_models, want_groups);
+    for (uint32_t m = 0; m < v.model_count; m++)
+        CHECKF(v.models[m].size[0] <= 256 && v.models[m].size[1] <= 256 && v.models[m].size[2] <= 256 && v.models[m].voxel_count,
+               "%s: model %u is %ux%ux%u, %u voxels", name, m, v.models[m].size[0], v.models[m].size[1], v.models[m].size[2],
+               v.models[m].voxel_count);
+    uint8_t* bytes = NULL;
+    size_t n = 0;
+    r = vx_vox_write(&v, NULL, &bytes, &n, &err);
+    vx_vox_scene_free(&v);
+    CHECKF(r == VX_OK, "%s: write: %s", name, err.msg);
+    if (r != VX_OK) return;
+    r = vx_vox_read(&(vx_vox_read_desc){.all_frames = true, .keep_hidden = true}, bytes, n, &back, &err);
+    free(bytes);
+    CHECKF(r == VX_OK, "%s: read back: %s", name, err.msg);
+    if (r != VX_OK) return;
+    vx_svo_scene s2;
+    r = vx_conv_vox(NULL, &back, &s2, NULL, &err);
+    CHECKF(r == VX_OK, "%s: convert back: %s", name, err.msg);
+    uint32_t frames = vx_svo_scene_frames(s);
+    if (r == VX_OK) {
+        CHECKF(vx_svo_scene_frames(&s2) == frames, "%s: %u frames, expected %u", name, vx_svo_scene_frames(&s2), frames);
+        CHECKF(s2.model_count == want_models, "%s: %u models back, expected %u", name, s2.model_count, want_models);
+        for (uint32_t f = 0; f < frames; f++) {
+            cells a = {0}, b = {0};
+            CHECK(tagged_cells(s, f, &a) && tagged_cells(&s2, f, &b));
+            char what[128];
+            snprintf(what, sizeof what, "%s frame %u", name, f);
+            CHECKF(a.n > 0 && same_cells(&a, &b, what), "%s: cells, colours, names, layers or hidden flags changed", what);
+            free(a.v), free(b.v);
+        }
+        /* the reader's placement of the visible cells (frame 0) */
+        cells a = {0}, b = {0};
+        CHECK(cells_from_svo(s, &a));
+        cells_from_vox(&back, &b);
+        CHECKF(same_cells(&a, &b, name), "%s: visible cells by the .vox reader's placement differ", name);
+        fprintf(stderr, "  %s: %zu visible cells agree, %u models, %u frames\n", name, a.n, want_models, frames);
+        free(a.v), free(b.v);
+        vx_svo_scene_free(&s2);
+    }
+    vx_vox_scene_free(&back);
+}
+
+/* svo_info --to-vox and the editor's export refused a model over 256 cells a
+ * side ("model 0 is 300x40x700: .vox models are at most 256 cells per side").
+ * It is now split into 256^3 pieces, one .vox model each under a group per
+ * instance; read back, every cell is where it was. */
+static void test_split_export(void) {
+    static const int ID[3] = {1, 2, 3}, TURN[3] = {-2, 3, 1} /* a rotation */, MIRROR[3] = {3, -1, -2} /* turned and mirrored */;
+    {
+        /* 300x40x700: 2 x 1 x 3 tiles, all holding cells */
+        vx_svo_scene s;
+        split_scene(&s, 1, 1);
+        split_model(&s.models[0], 300, 40, 700, 0, false);
+        place(&s, 0, 0, ID, (double[3]){-150, 7, -350});
+        snprintf(s.instances[0].name, sizeof s.instances[0].name, "castle");
+        check_split("300x40x700", &s, 6, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* 256 a side is one model as before (no group); 257 is two pieces */
+        vx_svo_scene s;
+        split_scene(&s, 2, 2);
+        split_model(&s.models[0], 256, 256, 256, 0, false);
+        split_model(&s.models[1], 257, 5, 3, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){10, 300, -4});
+        check_split("256 and 257", &s, 3, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* odd sizes (the pivot rounds down), turned and mirrored instances of
+         * one big model, a second instance sharing its pieces, RGBA8 colours,
+         * a layer, a hidden instance, a small model beside them */
+        vx_svo_scene s;
+        split_scene(&s, 2, 4);
+        split_model(&s.models[0], 513, 301, 259, 0, true);
+        split_model(&s.models[1], 9, 7, 5, 0, false);
+        s.layers = calloc(2, sizeof *s.layers);
+        REQUIRE(s.layers);
+        s.layer_count = 2;
+        snprintf(s.layers[1].name, sizeof s.layers[1].name, "walls");
+        place(&s, 0, 0, TURN, (double[3]){3, -1000, 17});
+        place(&s, 1, 0, MIRROR, (double[3]){-9, 4, 2001});
+        place(&s, 2, 1, MIRROR, (double[3]){1, 2, 3});
+        place(&s, 3, 0, ID, (double[3]){700, 0, 0});
+        s.instances[0].layer = 1;
+        s.instances[1].flags = VX_SVO_INSTANCE_HIDDEN;
+        snprintf(s.instances[1].name, sizeof s.instances[1].name, "mirrored");
+        snprintf(s.instances[3].name, sizeof s.instances[3].name, "plain");
+        /* 3 x 2 x 2 tiles: 12 pieces, shared by three instances, and the small model */
+        check_split("513x301x259 turned, mirrored, shared", &s, 13, 3);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* cells only in the far corner: the empty pieces are left out */
+        vx_svo_scene s;
+        split_scene(&s, 1, 1);
+        split_model(&s.models[0], 600, 601, 599, 520, false);
+        place(&s, 0, 0, MIRROR, (double[3]){-5, 5, 0.0});
+        check_split("far corner", &s, 1, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* an animated instance of a big model (moving, turning), one of a
+         * small model, one hidden all along */
+        vx_svo_scene s;
+        split_scene(&s, 2, 3);
+        split_model(&s.models[0], 270, 531, 33, 0, false);
+        split_model(&s.models[1], 4, 4, 4, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){-20, 0, 0});
+        place(&s, 2, 0, TURN, (double[3]){0, 0, 900});
+        s.instances[2].flags = VX_SVO_INSTANCE_HIDDEN;
+        snprintf(s.instances[0].name, sizeof s.instances[0].name, "mover");
+        REQUIRE(vx_svo_scene_alloc_frames(&s, 4, NULL) == VX_OK);
+        for (uint32_t f = 1; f < 4; f++) {
+            vx_svo_instance* fi = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, f);
+            vx_svo_instance keep = fi[0];
+            place(&s, 0, 0, f == 2 ? MIRROR : TURN, (double[3]){f * 11.0, -3.0 * f, f == 3 ? 0 : 5});
+            fi[0] = s.instances[0];
+            memcpy(fi[0].name, keep.name, sizeof fi[0].name);
+            s.instances[0] = keep;
+            fi[1].xform[3] += f;
+        }
+        /* 2 x 3 x 1 tiles */
+        check_split("animated 270x531x33", &s, 7, 2);
+        /* a frame that shows another model in place of a split one: refused, named */
+        vx_svo_instance* f2 = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, 2);
+        f2[0].model = 1;
+        vx_vox_scene v;
+        vx_error err = {0};
+        CHECK(vx_conv_svo_to_vox(&s, NULL, &v, &err) == VX_ERR_UNSUPPORTED);
+        CHECKF(strstr(err.msg, "frame 2 instance 0") && strstr(err.msg, "270x531x33"), "message: %s", err.msg);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* an empty model over 256: no pieces, its instance an empty group */
+        vx_svo_scene s;
+        split_scene(&s, 2, 2);
+        vx_svo_voxels none = {.size = {400, 2, 2}};
+        REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &none, &s.models[0], NULL, NULL) == VX_OK);
+        split_model(&s.models[1], 3, 3, 3, 0, false);
+        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
+        place(&s, 1, 1, ID, (double[3]){0, 0, 0});
+        check_split("empty 400x2x2", &s, 1, 1);
+        vx_svo_scene_free(&s);
+    }
+    {
+        /* the writer checks a scene's groups: index in range, a rotation */
+        uint8_t xyzi[4] = {0, 0, 0, 1};
+        vx_vox_model m = {.size = {1, 1, 1}, .voxel_count = 1, .xyzi = xyzi};
+        vx_vox_instance in = {.rot = {1, 0, 0, 0, 1, 0, 0, 0, 1}, .layer = -1, .group = 2};
+        vx_vox_group g = {.rot = {1, 0, 0, 0, 1, 0, 0, 0, 1}, .layer = -1};
+        vx_vox_scene v = {.model_count = 1, .models = &m, .instance_count = 1, .instances = &in, .group_count = 1, .groups = &g};
+        vx_error err = {0};
+        CHECK(vx_vox_validate(&v, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "group 2 out of range"));
+        in.group = 1;
+        CHECK(vx_vox_validate(&v, &err) == VX_OK);
+        g.rot[4] = 0;
+        CHECK(vx_vox_validate(&v, &err) == VX_ERR_INVALID_ARG && strstr(err.msg, "group 0: rotation"));
+    }
+}
+
+/* ---- more than 255 colours: refused, or quantized on request ---------------------------------- */
+
+/* A scene of an RGBA8 model of side n, cell (x, y, z) coloured (x, y, z) *
+ * step (n^3 colours), a palette model on entries 1..3, and a geometry-only model. */
+static void colour_scene(vx_svo_scene* s, uint32_t n, uint32_t step, bool palette_model) {
+    split_scene(s, 3, 3);
+    uint64_t* keys = malloc((size_t)n * n * n * sizeof *keys);
+    uint32_t* rgba = malloc((size_t)n * n * n * sizeof *rgba);
+    REQUIRE(keys && rgba);
+    size_t k = 0;
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++, k++)
+                keys[k] = vx_svo_morton(x, y, z), rgba[k] = 0xFF000000u | (z * step) << 16 | (y * step) << 8 | x * step;
+    vx_svo_voxels v = {.size = {n, n, n}, .count = k, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    uint8_t pal[3] = {1, 2, 3};
+    vx_svo_voxels pv = {.size = {3, 1, 1}, .count = palette_model ? 3 : 0, .keys = keys, .attrs = palette_model ? VX_ATTR_PALETTE : 0,
+                        .palette = palette_model ? pal : NULL};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &pv, &s->models[1], NULL, NULL) == VX_OK);
+    vx_svo_voxels gv = {.size = {2, 1, 1}, .count = 2, .keys = keys};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &gv, &s->models[2], NULL, NULL) == VX_OK);
+    free(keys), free(rgba);
+    for (uint32_t i = 0; i < 256; i++) s->palette[i] = vx_vox_default_palette[i];
+    s->has_palette = true;
+    s->palette[1] = 0xFFFFFFFFu;
+    place(s, 0, 0, (int[3]){1, 2, 3}, (double[3]){0, 0, 0});
+    place(s, 1, 1, (int[3]){1, 2, 3}, (double[3]){0, 0, -5});
+    place(s, 2, 2, (int[3]){1, 2, 3}, (double[3]){0, 0, -9});
+}
+
+static double rgba_dist(uint32_t a, uint32_t b) {
+    double d2 = 0;
+    for (int k = 0; k < 4; k++) {
+        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* Export (quantize as asked), write, read back: the cells' colours, and the bytes written. */
+static vx_result export_colours(const vx_svo_scene* s, bool quantize, vx_conv_vox_export_stats* st, cells* out, uint8_t** bytes,
+                                size_t* n, uint32_t pal[256], vx_error* err) {
+    vx_vox_scene v, back;
+    vx_result r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = quantize}, s, &v, st, err);
+    if (r != VX_OK) return r;
+    r = vx_vox_write(&v, NULL, bytes, n, err);
+    vx_vox_scene_free(&v);
+    if (r != VX_OK) return r;
+    r = vx_vox_read(NULL, *bytes, *n, &back, err);
+    if (r != VX_OK) return r;
+    cells_from_vox(&back, out);
+    memcpy(pal, back.palette, 256 * sizeof *pal);
+    vx_vox_scene_free(&back);
+    return VX_OK;
+}
+
+static void test_quantize_export(void) {
+    /* 16^3 colours a step of 17 apart, 3 palette entries, white: refused by default, naming the count */
+    vx_svo_scene s;
+    colour_scene(&s, 16, 17, true);
+    cells want = {0}, got = {0}, again = {0};
+    CHECK(cells_from_svo(&s, &want));
+    vx_vox_scene v;
+    vx_error err = {0};
+    CHECK(vx_conv_svo_to_vox(&s, NULL, &v, &err) == VX_ERR_UNSUPPORTED);
+    /* white and entries 2, 3 (ffffcc, ffff99) lie on the lattice: 4096 in all */
+    CHECKF(strstr(err.msg, "4096 distinct colours") && strstr(err.msg, "quantize"), "message: %s", err.msg);
+    /* quantized: each cell's colour the nearest of the palette made, the
+     * palette model's entries and white kept, the error as reported */
+    vx_conv_vox_export_stats st, st2;
+    uint8_t *b1 = NULL, *b2 = NULL;
+    size_t n1 = 0, n2 = 0;
+    uint32_t pal[256], pal2[256];
+    REQUIRE(export_colours(&s, true, &st, &got, &b1, &n1, pal, &err) == VX_OK);
+    CHECKF(st.quantized && st.colors == 4096, "stats: quantized %d, %u colours", st.quantized, st.colors);
+    REQUIRE(got.n == want.n);
+    double max = 0, sum = 0;
+    size_t rgba_cells = 0, not_nearest = 0, moved = 0;
+    for (size_t i = 0; i < want.n; i++) {
+        const cell *a = &want.v[i], *b = &got.v[i];
+        if (a->x != b->x || a->y != b->y || a->z != b->z) moved++;
+        if (a->z < 0) { /* the palette and geometry models: exact */
+            CHECKF(a->rgba == b->rgba, "(%d %d %d): %08x became %08x", a->x, a->y, a->z, a->rgba, b->rgba);
+            continue;
+        }
+        double d = rgba_dist(a->rgba, b->rgba), best = INFINITY;
+        for (int e = 1; e < 256; e++) best = fmin(best, rgba_dist(a->rgba, pal[e]));
+        not_nearest += d != best;
+        max = fmax(max, d), sum += d, rgba_cells++;
+    }
+    CHECKF(moved == 0 && not_nearest == 0, "%zu cells moved, %zu not at their nearest entry", moved, not_nearest);
+    CHECKF(fabs(max - st.max_error) < 1e-9 && fabs(sum / (double)rgba_cells - st.mean_error) < 1e-9,
+           "error max %.3f mean %.3f, reported %.3f %.3f", max, sum / (double)rgba_cells, st.max_error, st.mean_error);
+    /* 252 boxes over a 16^3 lattice: none of more than 4 x 4 x 2 points (halves of the 8 x 4 x 4
+     * boxes after 7 cuts a colour), so a point lies at most 1.5 x 1.5 x 0.5 steps of 17 from its
+     * box's mean, plus the mean's rounding (half a unit a channel): 38.2; the mean below 1.5 steps */
+    CHECKF(st.max_error <= 17 * sqrt(1.5 * 1.5 + 1.5 * 1.5 + 0.5 * 0.5) + 0.5 * sqrt(3) && st.mean_error < 1.5 * 17,
+           "error max %.2f mean %.2f", st.max_error, st.mean_error);
+    fprintf(stderr, "  4096 colours: error max %.2f, mean %.2f\n", st.max_error, st.mean_error);
+    /* deterministic: the same bytes again */
+    REQUIRE(export_colours(&s, true, &st2, &again, &b2, &n2, pal2, &err) == VX_OK);
+    CHECK(n1 == n2 && !memcmp(b1, b2, n1));
+    free(b1), free(b2), free(want.v), free(got.v), free(again.v);
+    vx_svo_scene_free(&s);
+
+    /* 6^3 = 216 colours + entries 1 (white, the geometry's too), 2, 3: 219, exact, quantize or not;
+     * 7^3: 346, quantized */
+    for (uint32_t side = 6; side <= 7; side++) {
+        colour_scene(&s, side, 40, true);
+        cells w = {0}, g = {0};
+        CHECK(cells_from_svo(&s, &w));
+        b1 = NULL;
+        vx_result r = export_colours(&s, true, &st, &g, &b1, &n1, pal, &err);
+        CHECKF(r == VX_OK, "side %u: %s", side, err.msg);
+        if (side == 6) CHECKF(!st.quantized && same_cells(&w, &g, "216 colours"), "216 colours not exact");
+        else CHECKF(st.quantized && st.colors == 346 && st.max_error > 0, "346 colours: quantized %d, %u", st.quantized, st.colors);
+        free(b1), free(w.v), free(g.v);
+        vx_svo_scene_free(&s);
+    }
+    /* without the palette model (an empty one): the geometry-only cells stay white (entry 1);
+     * RGBA8 colours took entry 1 first, so those cells took colour (0, 0, 0) */
+    colour_scene(&s, 6, 40, false);
+    cells w = {0}, g = {0};
+    CHECK(cells_from_svo(&s, &w));
+    b1 = NULL;
+    CHECK(export_colours(&s, false, &st, &g, &b1, &n1, pal, &err) == VX_OK);
+    CHECK(same_cells(&w, &g, "geometry beside RGBA8"));
+    free(b1), free(w.v), free(g.v);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     RUN(test_corpus);
     RUN(test_keep_hidden);
@@ -654,5 +1064,7 @@ int main(void) {
     RUN(test_pack_all_frames);
     RUN(test_keyframed_all_frames);
     RUN(test_mixed_colours_export);
+    RUN(test_split_export);
+    RUN(test_quantize_export);
     return vx_test_finish();
 }

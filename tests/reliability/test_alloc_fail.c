@@ -312,6 +312,23 @@ static vx_result op_vox_export(const vx_allocator* a, const op_ctx* c, uint8_t**
     return r;
 }
 
+/* the same with more than 255 colours, quantized */
+static vx_result op_vox_export_quantize(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    vx_vox_scene vs;
+    memset(&vs, 0xAB, sizeof vs);
+    vx_conv_vox_export_stats st;
+    vx_result r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.alloc = a, .quantize = true}, (const vx_svo_scene*)c->obj, &vs,
+                                        &st, err);
+    if (r) {
+        CHECK(vs.model_count == 0xABABABABu);
+        return r;
+    }
+    CHECK(st.quantized);
+    r = vx_vox_write(&vs, NULL, d, n, err);
+    vx_vox_scene_free(&vs);
+    return r;
+}
+
 static vx_result op_vox_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
     uint8_t* out = NULL;
     size_t on = 0;
@@ -480,6 +497,50 @@ static void test_vox_and_svo(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The export of a model over 256 cells a side: 300x3x3 in two pieces, two
+ * instances (groups sharing the pieces) over two frames, RGBA8 colours. */
+static void test_vox_export_split(void) {
+    uint64_t keys[6];
+    uint32_t rgba[6];
+    for (uint32_t k = 0; k < 6; k++) keys[k] = vx_svo_morton(k < 3 ? k : 293 + k, k % 3, 2 - k % 3), rgba[k] = 0xFF000000u | (k * 0x102030u);
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = (vx_svo_model*)vx_calloc(NULL, 1, sizeof *s.models);
+    s.instances = (vx_svo_instance*)vx_calloc(NULL, 2, sizeof *s.instances);
+    REQUIRE(s.models && s.instances);
+    s.model_count = 1, s.instance_count = 2;
+    vx_svo_voxels v = {.size = {300, 3, 3}, .count = 6, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
+    static const double x0[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, x1[12] = {0, -1, 0, 10, 1, 0, 0, 0, 0, 0, 1, 0};
+    memcpy(s.instances[0].xform, x0, sizeof x0);
+    memcpy(s.instances[1].xform, x1, sizeof x1);
+    s.instances[0].layer = s.instances[1].layer = UINT32_MAX;
+    REQUIRE(vx_svo_scene_alloc_frames(&s, 2, NULL) == VX_OK);
+    s.frame_instances[1].xform[3] += 4;
+    oom_loop("vox export, split (svo -> vox)", op_vox_export, &(op_ctx){.obj = &s});
+    vx_svo_scene_free(&s);
+}
+
+/* The export of 7^3 = 343 colours, quantized (--quantize). */
+static void test_vox_export_quantize(void) {
+    uint64_t keys[343];
+    uint32_t rgba[343];
+    for (uint32_t k = 0; k < 343; k++)
+        keys[k] = vx_svo_morton(k % 7, k / 7 % 7, k / 49), rgba[k] = 0xFF000000u | (k % 7 * 40) | (k / 7 % 7 * 40) << 8 | (k / 49 * 40) << 16;
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = (vx_svo_model*)vx_calloc(NULL, 1, sizeof *s.models);
+    s.instances = (vx_svo_instance*)vx_calloc(NULL, 1, sizeof *s.instances);
+    REQUIRE(s.models && s.instances);
+    s.model_count = 1, s.instance_count = 1;
+    vx_svo_voxels v = {.size = {7, 7, 7}, .count = 343, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    oom_loop("vox export, quantized (svo -> vox)", op_vox_export_quantize, &(op_ctx){.obj = &s});
+    vx_svo_scene_free(&s);
+}
+
 static void test_svo_seeds(void) {
     /* the .svo fuzz seeds: palette and colour attributes, materials */
     int found = 0;
@@ -524,6 +585,8 @@ int main(void) {
     snprintf(tmpdir, sizeof tmpdir, "/tmp/vx_alloc_fail_XXXXXX");
     if (!mkdtemp(tmpdir)) return 1;
     RUN(test_vox_and_svo);
+    RUN(test_vox_export_split);
+    RUN(test_vox_export_quantize);
     RUN(test_svo_seeds);
     RUN(test_probes);
     rmdir(tmpdir);

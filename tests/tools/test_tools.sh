@@ -306,6 +306,50 @@ expect_status 1 "vox2svo negative light" "$BIN/vox2svo" "$T/bad.gltf" "$T/bad.sv
 grep -q "light 0 ('bulb') on node 1: negative" "$T/err" && [ ! -e "$T/bad.svo" ] && ok "a bad light is an error naming it" ||
     bad "a bad light is an error naming it"
 
+# a model over 256 cells a side (the triangle at --res 300: one 300x1x300 model) was refused by
+# --to-vox ("model 0 is 300x1x300: .vox models are at most 256 cells per side"); it is now split
+# into 256^3 tiles, the three holding cells one .vox model each (the fourth, empty, left out),
+# under one group; converted back, the same cells
+expect_status 0 "vox2svo glTF at --res 300" "$BIN/vox2svo" "$T/lamp.gltf" "$T/big.svo" --res 300 -q
+"$BIN/svo_info" "$T/big.svo" | grep -q "^model 0      300x1x300" && ok "one model of 300x1x300" || bad "one model of 300x1x300"
+expect_status 0 "--to-vox of a model over 256" "$BIN/svo_info" "$T/big.svo" --to-vox "$T/big.vox"
+expect_status 0 "convert the split export" "$BIN/vox2svo" "$T/big.vox" "$T/big2.svo"
+grep -q "models       3, instances 3" "$T/out" && ok "three pieces" || bad "three pieces: $(grep models "$T/out")"
+"$BIN/svo_info" "$T/big.svo" --dump | sort >"$T/b1"
+"$BIN/svo_info" "$T/big2.svo" --dump | sort >"$T/b2"
+[ "$(wc -l <"$T/b1")" -gt 40000 ] && cmp -s "$T/b1" "$T/b2" && ok "dump(svo) == dump(split vox -> svo)" ||
+    bad "dump(svo) == dump(split vox -> svo)"
+
+# more than 255 colours (a triangle whose corners are red, green and blue: its cells interpolate
+# them): --to-vox refuses, naming the count and --quantize; --quantize maps them to a 255-entry
+# palette with a warning (count, largest and mean error), the same cells, the same bytes each run
+cat >"$T/rgb.gltf" <<'EOF'
+{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0,"COLOR_0":1}}]}],
+ "buffers":[{"byteLength":72,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/"}],
+ "bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":36}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+              {"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}]}
+EOF
+expect_status 0 "vox2svo a vertex-coloured triangle" "$BIN/vox2svo" "$T/rgb.gltf" "$T/rgb.svo" --res 64 -q
+nc=$("$BIN/svo_info" "$T/rgb.svo" --dump | awk '{print $4, $5, $6, $7}' | sort -u | wc -l)
+[ "$nc" -gt 255 ] && ok "$nc colours" || bad "$nc colours, expected more than 255"
+expect_status 1 "--to-vox of $nc colours" "$BIN/svo_info" "$T/rgb.svo" --to-vox "$T/rgb.vox" -q
+grep -q "the scene has $nc distinct colours, a .vox palette holds 255; .*--quantize" "$T/err" && [ ! -e "$T/rgb.vox" ] &&
+    ok "refused, naming the count and --quantize" || bad "refused, naming the count and --quantize: $(cat "$T/err")"
+expect_status 2 "--quantize without --to-vox" "$BIN/svo_info" "$T/rgb.svo" --quantize
+expect_status 0 "--to-vox --quantize" "$BIN/svo_info" "$T/rgb.svo" --to-vox "$T/rgb.vox" --quantize -q
+grep -q "warning: .*rgb.vox: $nc distinct colours quantized to a 255-entry palette: .* max [0-9.]*, mean [0-9.]*" "$T/err" &&
+    ok "a warning with the count and the errors" || bad "a warning with the count and the errors: $(cat "$T/err")"
+expect_status 0 "--to-vox --quantize again" "$BIN/svo_info" "$T/rgb.svo" --to-vox "$T/rgb2.vox" --quantize -q
+cmp -s "$T/rgb.vox" "$T/rgb2.vox" && ok "quantized: the same bytes each run" || bad "quantized: the same bytes each run"
+"$BIN/vox2svo" "$T/rgb.vox" "$T/rgb2.svo" -q
+"$BIN/svo_info" "$T/rgb.svo" --dump | cut -d' ' -f1-3 | sort >"$T/q1"
+"$BIN/svo_info" "$T/rgb2.svo" --dump | cut -d' ' -f1-3 | sort >"$T/q2"
+nq=$("$BIN/svo_info" "$T/rgb2.svo" --dump | awk '{print $4, $5, $6, $7}' | sort -u | wc -l)
+[ -s "$T/q1" ] && cmp -s "$T/q1" "$T/q2" && [ "$nq" -le 255 ] && ok "the same cells in $nq colours" ||
+    bad "the same cells in $nq colours"
+
 # a corpus scene with instancing, when the corpus is there
 if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then
     expect_status 0 "convert corpus scene" "$BIN/vox2svo" "$CORPUS/vox/ogt_test_multiple_model_scene.vox" "$T/m.svo"

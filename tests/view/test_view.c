@@ -2563,6 +2563,54 @@ static void test_script_hidden_layer(void) {
     free(b);
 }
 
+/* A model grown past 256 cells a side by the brush exports to .vox: it was
+ * refused ("model 0 is 363x5x4: .vox models are at most 256 cells per
+ * side"); it is now split into pieces of at most 256^3, each instance a
+ * group of them (instance 1 turned), and the export reads back to the cells
+ * of the save. */
+static void test_script_export_split(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    char in[1024], script[1024], log[1024], out[1024], ex[1024];
+    path(in, sizeof in, "split_in.svo");
+    path(script, sizeof script, "split.txt");
+    path(log, sizeof log, "split.log");
+    path(out, sizeof out, "split_out.svo");
+    path(ex, sizeof ex, "split_out.vox");
+    vx_svo_scene s;
+    make_scene(&s, 1); /* two instances of one 6x5x4 model, the second turned */
+    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    remove(out), remove(ex);
+    FILE* f = fopen(script, "w");
+    REQUIRE(f);
+    fprintf(f, "select 0\nbrush box 1\ncolor 2\nvoxel add 300 2 1\nvoxel add -60 2 2\nexport %s\nsave %s\nquit\n", ex, out);
+    fclose(f);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    char* text = slurp(log);
+    CHECKF(rc == 0, "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    vx_svo_scene got, back;
+    if (rc != 0 || vx_svo_read_file(NULL, out, &got, NULL) != VX_OK) return;
+    CHECKF(got.model_count == 1 && got.models[0].size[0] > 256, "the saved model is %ux%ux%u", got.models[0].size[0],
+           got.models[0].size[1], got.models[0].size[2]);
+    vx_vox_scene vs;
+    REQUIRE(vx_vox_read_file(NULL, ex, &vs, NULL) == VX_OK);
+    /* two pieces along x, shared by the two instances' groups */
+    CHECKF(vs.model_count == 2 && vs.instance_count == 4, "%u models, %u shapes", vs.model_count, vs.instance_count);
+    vx_vox_scene_free(&vs);
+    REQUIRE(load_vox(ex, &back));
+    cells a = {0}, b = {0};
+    scene_cells(&got, &a);
+    scene_cells(&back, &b);
+    size_t d = cells_diff(&a, &b);
+    CHECKF(d == 0 && a.n > 0, "%zu of %zu cells differ", d, a.n);
+    for (uint32_t i = 0; i < back.instance_count; i++)
+        CHECKF(!strcmp(back.instances[i].name, i < 2 ? "inst0" : "inst1"), "piece %u named '%s'", i, back.instances[i].name);
+    free(a.v), free(b.v);
+    vx_svo_scene_free(&got);
+    vx_svo_scene_free(&back);
+}
+
 /* ---- mode gi ------------------------------------------------------------------------------ */
 
 /* A pixel whose 5x5 neighbourhood differs from the background (pixel 0,0)
@@ -2827,6 +2875,7 @@ int main(int argc, char** argv) {
     RUN(test_script_failures);
     RUN(test_script_new_colour);
     RUN(test_script_hidden_layer);
+    RUN(test_script_export_split);
     RUN(test_gi_mode);
     return vx_test_finish();
 }

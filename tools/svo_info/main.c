@@ -23,6 +23,7 @@ typedef struct options {
     bool frame_set;
     uint32_t frame;
     const char* to_vox;
+    bool quantize;
     const char* to_glb;
     const char* to_vdb;
     bool vdb_models;
@@ -45,7 +46,14 @@ _Noreturn static void usage(int status) {
             "    --models         list every model, instance, light and frame (default: the first 16)\n"
             "    --frame N        an animation's frame N for --dump, --to-glb, --to-vdb, --to-vox and the\n"
             "                     instance list (default: frame 0; --to-vox: every frame)\n"
-            "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file\n"
+            "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file; a model over 256 cells\n"
+            "                     a side is split into 256^3 pieces (those holding cells), each\n"
+            "                     instance of it a group of the pieces placing every cell where it was;\n"
+            "                     more than 255 colours are refused (--quantize)\n"
+            "    --quantize       with --to-vox: more than 255 colours are mapped to a 255-entry\n"
+            "                     palette (median cut, each colour to its nearest entry), with a\n"
+            "                     warning giving the colour count and the largest and mean error\n"
+            "                     (default: refused; 255 colours or fewer are always kept exact)\n"
             "    --to-glb OUT     write the scene as binary glTF: one mesh per model (greedy-meshed\n"
             "                     voxel surface, vertex colours), one node per instance; turned from\n"
             "                     voxkit's +Z up to glTF's +Y up\n"
@@ -67,9 +75,11 @@ _Noreturn static void usage(int status) {
             "    %s castle.svo --dump | sort > cells.txt\n"
             "    %s walk.svo --dump --frame 3 | sort > frame3.txt\n"
             "    %s castle.svo --to-vox castle2.vox\n"
+            "    %s scan.svo --to-vox scan.vox --quantize\n"
             "    %s castle.svo --to-glb castle.glb\n"
             "    %s castle.svo --to-vdb castle.vdb\n",
-            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name);
+            vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
+            vx_tool_name);
     exit(status);
 }
 
@@ -98,6 +108,7 @@ static options parse(int argc, char** argv) {
             i++;
         }
         else if (!strcmp(a, "--to-vox")) o.to_vox = vx_tool_arg(argc, argv, &i, usage);
+        else if (!strcmp(a, "--quantize")) o.quantize = true;
         else if (!strcmp(a, "--to-glb")) o.to_glb = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--to-vdb")) o.to_vdb = vx_tool_arg(argc, argv, &i, usage);
         else if (!strcmp(a, "--vdb-models")) o.vdb_models = true;
@@ -107,6 +118,7 @@ static options parse(int argc, char** argv) {
         else usage_error("unexpected argument '%s'", a);
     }
     if (!o.in) usage_error("%s", "expected a .svo file");
+    if (o.quantize && !o.to_vox) usage_error("%s", "--quantize needs --to-vox");
     return o;
 }
 
@@ -349,11 +361,17 @@ int main(int argc, char** argv) {
     if (o.dump) status = dump(&o, &view);
     if (status == 0 && o.to_vox) {
         vx_vox_scene v;
-        r = vx_conv_svo_to_vox(o.frame_set ? &view : &s, NULL, &v, &err);
+        vx_conv_vox_export_stats xs;
+        r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = o.quantize}, o.frame_set ? &view : &s, &v, &xs, &err);
         if (r == VX_OK) {
             r = vx_vox_write_file(NULL, &v, o.to_vox, &err);
             vx_vox_scene_free(&v);
         }
+        if (r == VX_OK && xs.quantized)
+            fprintf(stderr,
+                    "%s: warning: %s: %u distinct colours quantized to a 255-entry palette: colour error (RGBA distance, "
+                    "0-255 a channel) max %.2f, mean %.2f\n",
+                    vx_tool_name, o.to_vox, xs.colors, xs.max_error, xs.mean_error);
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
         else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
     }
