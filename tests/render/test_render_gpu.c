@@ -1087,11 +1087,13 @@ static void test_far_origin(void) {
     vx_svo_scene far, near;
     far_scene(&far, T[0], T[1], T[2]);
     far_scene(&near, 0, 0, 0);
-    /* world units: the scene spans about 0.7 x 0.5 x 0.4 near 0; the views' points multiples of 1/64 */
+    /* world units: the scene spans about 0.7 x 0.5 x 0.4 near 0; the views' points multiples of 1/64, but the
+     * inside eye's, half a cell off a corner (on the corner of cell 20,16,8 the H200 started in that cell at t 0
+     * where the CPU reference did not: an ambiguous start, not a far-origin property) */
     static const double views[4][6] = {{-0.25, -0.375, 0.5, 0.3125, 0.25, 0.125},  /* oblique */
                                        {0.125, 0.1875, 0.34375, 0.25, 0.3125, 0},  /* close-up, just above */
                                        {0.75, 0.125, 0.1875, 0.25, 0.1875, 0.125},  /* close-up, from the side */
-                                       {0.3125, 0.25, 0.125, 0.5, 0.0625, 0.0625}}; /* eye inside the bounds */
+                                       {0.3203125, 0.2578125, 0.1328125, 0.5, 0.0625, 0.0625}}; /* eye inside the bounds */
     vx_render_scene *rf = NULL, *rn = NULL;
     vx_frame_renderer *ff = NULL, *fn = NULL;
     vx_error err = {0};
@@ -1145,7 +1147,18 @@ static void test_far_origin(void) {
         size_t n = (size_t)a.image.width * a.image.height, px = 0, ids = 0;
         for (size_t i = 0; i < n; i++) {
             px += memcmp(&a.image.pixels[4 * i], &b.image.pixels[4 * i], 16) != 0;
-            ids += a.image.hits && b.image.hits && memcmp(&a.image.hits[i], &b.image.hits[i], sizeof a.image.hits[i]);
+            /* the ids: instance, depth, flags and a hit's cell; the loop's iteration count is a statistic (the
+             * BVH's boxes are world floats rounded outward, looser far out) and a miss's cell is not defined
+             * (on the H200 the misses' cells differed from the scene at 0 in 790 pixels, everything else equal) */
+            const vx_render_hit *x = a.image.hits ? &a.image.hits[i] : NULL, *y = b.image.hits ? &b.image.hits[i] : NULL;
+            bool d = x && y &&
+                     (x->instance != y->instance ||
+                      (y->instance != VX_RENDER_NO_HIT && memcmp(x->cell, y->cell, sizeof x->cell)) ||
+                      memcmp(&x->t, &y->t, sizeof x->t) || x->flags != y->flags);
+            if (d && ++ids <= 3)
+                printf("    pixel %zu: far inst %u cell %u,%u,%u t %.9g flags %x | at 0 inst %u cell %u,%u,%u t %.9g flags %x\n",
+                       i, x->instance, x->cell[0], x->cell[1], x->cell[2], x->t, x->flags, y->instance, y->cell[0],
+                       y->cell[1], y->cell[2], y->t, y->flags);
         }
         printf("  %-26s passes gbuffer,direct,ao: %zu pixels, %zu ids differ from the scene at 0\n", nm, px, ids);
         CHECKF(px == 0 && ids == 0 && a.image.hits, "%s passes: %zu pixels, %zu ids differ from the scene at 0", nm, px,
