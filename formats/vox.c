@@ -1093,6 +1093,22 @@ vx_result vx_vox_read_file(const vx_vox_read_desc* desc, const char* path, vx_vo
 
 static bool has_nul(const char* s, size_t n) { return memchr(s, 0, n) != NULL; }
 
+/* A transform node's own checks, shared by shapes and groups ("instance" or
+ * "group" in the message): a signed permutation, a translation within the
+ * reader's limit, a NUL-terminated name. */
+static vx_result check_node(const int32_t rot[9], const int32_t t[3], const char* name, size_t name_size, const char* what,
+                            uint32_t f, uint32_t i, vx_error* err) {
+    if (!vx_vox_rot_to_byte(rot, NULL))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u %s %u: rotation is not a signed permutation", f, what, i);
+    for (int k = 0; k < 3; k++)
+        if (t[k] > VOX_MAX_T || t[k] < -VOX_MAX_T)
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u %s %u: translation %d beyond +-%d", f, what, i, t[k],
+                           VOX_MAX_T);
+    if (!has_nul(name, name_size))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s %u: name is not NUL-terminated", what, i);
+    return VX_OK;
+}
+
 vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
     if (!s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vx_vox_validate: null scene");
     if ((s->model_count && !s->models) || (s->instance_count && !s->instances) || (s->layer_count && !s->layers) ||
@@ -1127,14 +1143,8 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
         if (in->model >= s->model_count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: model %u out of range (%u models)", f, i,
                            in->model, s->model_count);
-        if (!vx_vox_rot_to_byte(in->rot, NULL))
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: rotation is not a signed permutation", f, i);
-        for (int k = 0; k < 3; k++)
-            if (in->t[k] > VOX_MAX_T || in->t[k] < -VOX_MAX_T)
-                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u instance %u: translation %d beyond +-%d", f, i, in->t[k],
-                               VOX_MAX_T);
-        if (!has_nul(in->name, sizeof in->name))
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "instance %u: name is not NUL-terminated", i);
+        vx_result r = check_node(in->rot, in->t, in->name, sizeof in->name, "instance", f, i, err);
+        if (r != VX_OK) return r;
         if (in->group > s->group_count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u instance %u: group %u out of range (%u groups)", f, i,
                            in->group, s->group_count);
@@ -1162,14 +1172,8 @@ vx_result vx_vox_validate(const vx_vox_scene* s, vx_error* err) {
     for (uint64_t j = 0; j < grecords; j++) {
         const vx_vox_group* g = &gall[j];
         uint32_t i = (uint32_t)(j % s->group_count), f = (uint32_t)(j / s->group_count);
-        if (!vx_vox_rot_to_byte(g->rot, NULL))
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "frame %u group %u: rotation is not a signed permutation", f, i);
-        for (int k = 0; k < 3; k++)
-            if (g->t[k] > VOX_MAX_T || g->t[k] < -VOX_MAX_T)
-                return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "frame %u group %u: translation %d beyond +-%d", f, i, g->t[k],
-                               VOX_MAX_T);
-        if (!has_nul(g->name, sizeof g->name))
-            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "group %u: name is not NUL-terminated", i);
+        vx_result r = check_node(g->rot, g->t, g->name, sizeof g->name, "group", f, i, err);
+        if (r != VX_OK) return r;
         if (f && (strcmp(g->name, gall[i].name) || g->layer != gall[i].layer || g->hidden != gall[i].hidden))
             return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                            "frame %u group %u: name, layer or hidden flag differs from frame 0 (.vox keeps one per group)", f, i);
