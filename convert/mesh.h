@@ -177,6 +177,12 @@ typedef struct vx_conv_mesh_part {
      * model. false (zero): unknown. */
     bool has_box;
     uint32_t box_min[3], box_max[3];
+    /* The distinct VX_ATTR_MATERIAL ids the model's records hold, ascending
+     * (allocated; freed with the part): vx_conv_mesh_assemble writes a MATL
+     * record for each id of a material sampled per cell that some part
+     * uses. A distributed run carries them with the part's fields. */
+    uint16_t* material_ids;
+    uint32_t material_id_count;
 } vx_conv_mesh_part;
 
 /* The non-empty regions of share `share` (< shares) as parts, in region
