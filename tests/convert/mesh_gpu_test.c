@@ -583,11 +583,9 @@ static void test_textured_materials(void) {
     for (int uniform = 0; uniform < 2; uniform++) {
         if (uniform)
             for (int i = 0; i < TEXG_N * TEXG_N; i++) mr[4 * i + 1] = 40, mr[4 * i + 2] = 200, em[4 * i] = 90, em[4 * i + 1] = 30;
-        char* j = texg_gltf(kTexgSplitMat, mr, em);
         vx_gltf_mesh m;
         vx_error err = {0};
-        vx_result r = vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err);
-        free(j);
+        vx_result r = texg_read(kTexgSplitMat, mr, em, &m, &err);
         CHECKF(r == VX_OK, "%s", err.msg);
         if (r) continue;
         vx_conv_mesh_desc d = {.res = 16}, dg = d;

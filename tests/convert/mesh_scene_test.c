@@ -117,17 +117,7 @@ static void test_files(void) {
 
 /* ---- lights and materials from a glTF file written here ------------------------------- */
 
-static void b64(const uint8_t* d, size_t n, char* out) {
-    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)d[i] << 16 | (i + 1 < n ? (uint32_t)d[i + 1] << 8 : 0) | (i + 2 < n ? d[i + 2] : 0);
-        out[o++] = t[v >> 18 & 63], out[o++] = t[v >> 12 & 63];
-        out[o++] = i + 1 < n ? t[v >> 6 & 63] : '=';
-        out[o++] = i + 2 < n ? t[v & 63] : '=';
-    }
-    out[o] = 0;
-}
+static void b64(const uint8_t* d, size_t n, char* out) { texg_b64(d, n, out); }
 
 /* Four triangles side by side (triangle i covers x in [2i, 2i+1], y in
  * [0, 1], z = 0) with materials 0 metal, 1 glass, 2 emissive, 3 diffuse
@@ -354,11 +344,9 @@ static bool ids_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a
 static void test_textured_materials(void) {
     uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
     texg_split(mr, em);
-    char* j = texg_gltf(kTexgSplitMat, mr, em);
     vx_gltf_mesh m;
     vx_error err = {0};
-    vx_result r = vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err);
-    free(j);
+    vx_result r = texg_read(kTexgSplitMat, mr, em, &m, &err);
     CHECKF(r == VX_OK, "%s", err.msg);
     if (r) return;
     vx_svo_scene s;

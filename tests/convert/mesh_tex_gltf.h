@@ -14,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "formats/gltf.h"
+
 #define TEXG_N 8 /* texels a side */
 
 static uint32_t texg_crc(uint32_t c, const uint8_t* p, size_t n) {
@@ -117,6 +119,14 @@ static char* texg_gltf(const char* mat, const uint8_t* mr, const uint8_t* em) {
              mat, b64[1], b64[2], sizeof buf, b64[0]);
     for (int k = 0; k < 3; k++) free(b64[k]);
     return j;
+}
+
+/* The glTF of texg_gltf read into m (vx_gltf_read, defaults). */
+static vx_result texg_read(const char* mat, const uint8_t* mr, const uint8_t* em, vx_gltf_mesh* m, vx_error* err) {
+    char* j = texg_gltf(mat, mr, em);
+    vx_result r = vx_gltf_read(NULL, j, strlen(j), NULL, m, err);
+    free(j);
+    return r;
 }
 
 /* The split textures: metallic-roughness left half (x < 4) metal (B 255)
