@@ -23,6 +23,34 @@ typedef struct part_sink {
     size_t count, cap;
 } part_sink;
 
+/* The distinct material ids of a model's records, ascending (NULL and 0
+ * when it stores none but 0). */
+static vx_result used_materials(const vx_svo_model* m, const vx_allocator* a, uint16_t** out, uint32_t* count,
+                                vx_error* err) {
+    *out = NULL;
+    *count = 0;
+    if (!(m->attrs & VX_ATTR_MATERIAL) || !m->material) return VX_OK;
+    uint64_t* seen = (uint64_t*)vx_calloc(a, 65536 / 64, sizeof *seen);
+    if (!seen) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "material ids");
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < m->attr_count; i++) {
+        uint16_t id = m->material[i];
+        if (id && !(seen[id >> 6] & (1ull << (id & 63)))) seen[id >> 6] |= 1ull << (id & 63), n++;
+    }
+    uint16_t* ids = n ? (uint16_t*)vx_alloc(a, (size_t)n * sizeof *ids) : NULL;
+    if (n && !ids) {
+        vx_free(a, seen);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u material ids", n);
+    }
+    uint32_t k = 0;
+    for (uint32_t w = 0; w < 65536 / 64; w++)
+        for (uint64_t b = seen[w]; b; b &= b - 1) ids[k++] = (uint16_t)(w * 64 + (uint32_t)__builtin_ctzll(b));
+    vx_free(a, seen);
+    *out = ids;
+    *count = n;
+    return VX_OK;
+}
+
 static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
     part_sink* k = (part_sink*)user;
     const vx_allocator* a = k->desc->alloc;
@@ -61,12 +89,17 @@ static vx_result part_add(void* user, const vx__mesh_region* r, vx_error* err) {
         vx_error_prefix(err, where);
         return res;
     }
+    if ((res = used_materials(&p.model, a, &p.material_ids, &p.material_id_count, err))) {
+        vx_svo_model_free(a, &p.model);
+        return res;
+    }
     pthread_mutex_lock(&k->lock);
     bool ok = vx_grow(a, (void**)&k->parts, &k->cap, k->count + 1, sizeof *k->parts);
     if (ok) k->parts[k->count++] = p;
     pthread_mutex_unlock(&k->lock);
     if (!ok) {
         vx_svo_model_free(a, &p.model);
+        vx_free(a, p.material_ids);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%zu models", k->count + 1);
     }
     return VX_OK;
@@ -78,7 +111,10 @@ static int part_cmp(const void* pa, const void* pb) {
 }
 
 void vx_conv_mesh_parts_free(const vx_allocator* a, vx_conv_mesh_part* parts, size_t count) {
-    for (size_t i = 0; parts && i < count; i++) vx_svo_model_free(a, &parts[i].model);
+    for (size_t i = 0; parts && i < count; i++) {
+        vx_svo_model_free(a, &parts[i].model);
+        vx_free(a, parts[i].material_ids);
+    }
     vx_free(a, parts);
 }
 
@@ -178,45 +214,73 @@ static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double
 }
 
 /* glTF materials as MATL records with MagicaVoxel keys (svo.h,
- * vx_svo_material_resolve), one per special material, id = index + 1 as
- * the voxels' VX_ATTR_MATERIAL values say (vx__mesh_material_id):
+ * vx_svo_material_resolve), ids as the voxels' VX_ATTR_MATERIAL values say
+ * (mesh_internal.h, vx__mesh_mats): one per special material that samples
+ * nothing (whether or not a cell names it, as before per-cell materials),
+ * and one per id of a material sampled per cell that some part's cells name:
  *   transmission > 0: _type _glass, _trans, _rough, _ior = ior - 1
  *   else metallic > 0: _type _metal, _metal, _rough, _ior = ior - 1
  *   else: _type _emit (when emissive) or _diffuse, _rough
- *   emissive: _emit = the largest channel of emissiveFactor x strength; the
- *   voxel's colour gives the hue (MagicaVoxel's model: emission = colour x
- *   _emit), so a glTF emissive colour unlike the base colour changes hue. */
-static vx_result add_materials(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_allocator* a, vx_error* err) {
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < mesh->material_count; i++) n += vx__mesh_material_id(mesh, i) != 0;
-    if (!n) return VX_OK;
-    s->materials = (vx_svo_material*)vx_calloc(a, n, sizeof *s->materials);
-    if (!s->materials) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u materials", n);
-    for (uint32_t i = 0; i < mesh->material_count; i++) {
-        uint16_t id = vx__mesh_material_id(mesh, i);
-        if (!id) continue;
-        const vx_gltf_material* g = &mesh->materials[i];
-        char d[256];
-        uint32_t len = 0;
-        double e = fmax(g->emissive[0], fmax(g->emissive[1], g->emissive[2]));
-        bool glass = g->transmission > 0, metal = !glass && g->metallic > 0;
-        const char* type = glass ? "_glass" : metal ? "_metal" : e > 0 ? "_emit" : "_diffuse";
-        size_t tl = strlen("_type") + 1, vl = strlen(type) + 1;
-        memcpy(d, "_type", tl), memcpy(d + tl, type, vl), len = (uint32_t)(tl + vl);
-        if (glass) dict_put(d, sizeof d, &len, "_trans", g->transmission);
-        if (metal) dict_put(d, sizeof d, &len, "_metal", g->metallic);
-        dict_put(d, sizeof d, &len, "_rough", g->roughness);
-        if (glass || metal) dict_put(d, sizeof d, &len, "_ior", g->ior - 1.0);
-        if (e > 0) dict_put(d, sizeof d, &len, "_emit", e);
-        vx_svo_material* m = &s->materials[s->material_count];
-        m->id = id;
-        m->dict = (char*)vx_alloc(a, len);
-        if (!m->dict) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "material %u", i);
-        memcpy(m->dict, d, len);
-        m->dict_size = len;
-        s->material_count++;
+ *   emissive: _emit = the largest channel of the emission; the voxel's
+ *   colour gives the hue (MagicaVoxel's model: emission = colour x _emit),
+ *   so a glTF emissive colour unlike the base colour changes hue. */
+static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part* parts, size_t count, vx_svo_scene* s,
+                               const vx_allocator* a, vx_error* err) {
+    vx__mesh_mats p;
+    vx_result r = vx__mesh_mats_make(mesh, a, &p, err);
+    if (r) return r;
+    /* the ids: every fixed one, and the sampled ones the parts use */
+    uint64_t* want = (uint64_t*)vx_calloc(a, 65536 / 64, sizeof *want);
+    if (!want) {
+        vx__mesh_mats_free(a, &p);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "material ids");
     }
-    return VX_OK;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < p.count; i++) {
+        uint32_t id = p.m[i].sample ? 0 : vx__mesh_mats_id(&p, i, 0, 0, 0);
+        if (id && !(want[id >> 6] & (1ull << (id & 63)))) want[id >> 6] |= 1ull << (id & 63), n++;
+    }
+    for (size_t k = 0; p.sampled && k < count; k++)
+        for (uint32_t j = 0; j < parts[k].material_id_count; j++) {
+            uint32_t id = parts[k].material_ids[j], mi;
+            float v[4];
+            if (!(want[id >> 6] & (1ull << (id & 63))) && vx__mesh_mats_record(&p, id, &mi, v))
+                want[id >> 6] |= 1ull << (id & 63), n++;
+        }
+    s->materials = n ? (vx_svo_material*)vx_calloc(a, n, sizeof *s->materials) : NULL;
+    if (n && !s->materials) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u materials", n);
+    for (uint32_t w = 0; !r && w < 65536 / 64; w++)
+        for (uint64_t bits = want[w]; bits && !r; bits &= bits - 1) {
+            uint32_t id = w * 64 + (uint32_t)__builtin_ctzll(bits), i;
+            float v[4];
+            if (!vx__mesh_mats_record(&p, id, &i, v)) continue;
+            const vx_gltf_material* g = &mesh->materials[i];
+            char d[256];
+            uint32_t len = 0;
+            double e = v[2];
+            bool glass = v[3] > 0, metal = !glass && v[0] > 0;
+            const char* type = glass ? "_glass" : metal ? "_metal" : e > 0 ? "_emit" : "_diffuse";
+            size_t tl = strlen("_type") + 1, vl = strlen(type) + 1;
+            memcpy(d, "_type", tl), memcpy(d + tl, type, vl), len = (uint32_t)(tl + vl);
+            if (glass) dict_put(d, sizeof d, &len, "_trans", v[3]);
+            if (metal) dict_put(d, sizeof d, &len, "_metal", v[0]);
+            dict_put(d, sizeof d, &len, "_rough", v[1]);
+            if (glass || metal) dict_put(d, sizeof d, &len, "_ior", g->ior - 1.0);
+            if (e > 0) dict_put(d, sizeof d, &len, "_emit", e);
+            vx_svo_material* m = &s->materials[s->material_count];
+            m->id = id;
+            m->dict = (char*)vx_alloc(a, len);
+            if (!m->dict) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "material %u", i);
+                break;
+            }
+            memcpy(m->dict, d, len);
+            m->dict_size = len;
+            s->material_count++;
+        }
+    vx_free(a, want);
+    vx__mesh_mats_free(a, &p);
+    return r;
 }
 
 /* KHR_lights_punctual lights as scene lights: the mesh's world frame is the
@@ -272,7 +336,7 @@ vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc_in, const vx_gltf_
     vx_svo_scene s;
     vx_svo_scene_init(&s, desc.alloc);
     r = parts_to_scene(parts, count, &s, desc.alloc, err);
-    if (!r) r = add_materials(mesh, &s, desc.alloc, err);
+    if (!r) r = add_materials(mesh, parts, count, &s, desc.alloc, err);
     if (!r) r = add_lights(mesh, &s, desc.alloc, err);
     if (r) {
         vx_svo_scene_free(&s);

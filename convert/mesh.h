@@ -57,15 +57,38 @@
  * their x row within the same 64^3 brick (else the brick's first surface
  * cell, else opaque white / +z).
  *
- * Materials: a glTF material that is metallic, transmissive or emissive
- * (formats/gltf.h) becomes a MATL record with MagicaVoxel keys, id = its
- * index + 1, and then every cell stores VX_ATTR_MATERIAL: the id of the
- * material of the triangle with the largest piece in the cell (0 = none,
- * diffuse). A file whose materials are all plain diffuse stores no material
- * channel and no records. The keys (convert/mesh.c, add_materials):
- * _type _glass with _trans, or _metal with _metal, or _emit / _diffuse;
- * _rough; _ior = IOR - 1; _emit = the largest channel of emissiveFactor x
- * emissive strength (the voxel's colour gives the hue, as in MagicaVoxel).
+ * Materials: glTF's metallic = metallicFactor x metallicRoughnessTexture B,
+ * roughness = roughnessFactor x its G (linear texels), emission =
+ * emissiveFactor x emissiveTexture RGB (sRGB texels, linear) x
+ * KHR_materials_emissive_strength; each texture with its own texCoord set,
+ * sampler wraps and KHR_texture_transform. They are sampled as the colour is
+ * (bilinear, at the centroid of each triangle piece in the cell) and
+ * averaged over the cell's pieces, weighted by area. A cell's material is
+ * the glTF material of the triangle with the largest piece in the cell; its
+ * MATL record, with MagicaVoxel keys, is that material's at the cell's
+ * levels: a channel that varies per cell (a decoded texture that is not
+ * uniform, under a factor above 0; roughness only where the material can be
+ * metal, emissive or transmissive) is quantized to 6 levels of its factor
+ * (0, 1/5, ..., 1: the average / factor rounded to the nearest; fewer,
+ * 4, 3 or 2, when the ids would pass 65535, else VX_ERR_LIMIT), one record
+ * per (glTF material, levels) combination the cells name; a texture uniform
+ * over its image counts as its factor (the file is the equivalent factors'
+ * file). A material that varies nothing keeps one record, whether or not
+ * cells name it. A cell that is neither metal (level 0) nor emissive nor
+ * transmissive stores material 0 (diffuse, no record); a file without
+ * metal, emissive or transmissive materials stores no material channel.
+ * Ids (VX_ATTR_MATERIAL) are a function of the mesh alone: glTF material i
+ * gets a block of 6^k ids, k the channels it varies (ids index + 1 when no
+ * material varies any). The keys (convert/mesh.c, add_materials): _type
+ * _glass with _trans, or _metal with _metal, or _emit / _diffuse; _rough;
+ * _ior = IOR - 1; _emit = the largest channel of the emission. MagicaVoxel
+ * gives emission the voxel's colour as hue (emission = colour x _emit), so
+ * the emissive texel's own hue is lost: a glow whose emissive colour
+ * differs from the base colour (DamagedHelmet's lights over a grey base)
+ * keeps the brightness of its strongest channel in the base colour's hue.
+ * A texture that is not decoded (desc.no_color, an unreadable image) leaves
+ * metallic 0 or the emission out (formats/gltf.h). The GPU voxelizer hands
+ * a mesh with per-cell levels to the CPU voxelizer (the same file).
  *
  * Lights: KHR_lights_punctual lights become scene lights (vx_light) in the
  * same world frame as the voxels (world_from_grid maps grid cells back to
@@ -177,6 +200,12 @@ typedef struct vx_conv_mesh_part {
      * model. false (zero): unknown. */
     bool has_box;
     uint32_t box_min[3], box_max[3];
+    /* The distinct VX_ATTR_MATERIAL ids the model's records hold, ascending
+     * (allocated; freed with the part): vx_conv_mesh_assemble writes a MATL
+     * record for each id of a material sampled per cell that some part
+     * uses. A distributed run carries them with the part's fields. */
+    uint16_t* material_ids;
+    uint32_t material_id_count;
 } vx_conv_mesh_part;
 
 /* The non-empty regions of share `share` (< shares) as parts, in region

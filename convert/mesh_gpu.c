@@ -1010,19 +1010,39 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
     if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
+    /* the MATL ids; a material that samples its metallic-roughness or
+     * emissive texture per cell is not in the shaders: such a mesh goes to
+     * the CPU voxelizer whole, so that the file stays the CPU path's */
+    vx__mesh_mats plan;
+    memset(&plan, 0, sizeof plan);
+    if (attrs & VX_ATTR_MATERIAL) {
+        vx_result pr = vx__mesh_mats_make(mesh, a, &plan, err);
+        if (pr) return pr;
+        if (plan.sampled) {
+            vx__mesh_mats_free(a, &plan);
+            vx_log(desc->logger, VX_LOG_INFO, "mesh_gpu.cpu_materials",
+                   "a material samples its metallic-roughness or emissive texture per cell: voxelized on the CPU");
+            return vx__mesh_voxelize(desc, mesh, grid, attrs, share, shares, sink, user, err);
+        }
+    }
     double t0 = vx_time_now();
     bool tex = (attrs & VX_ATTR_RGBA8) != 0;
     size_t texel_count = 0;
     for (uint32_t i = 0; i < mesh->image_count; i++)
         if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
-    if (texel_count > UINT32_MAX)
+    if (texel_count > UINT32_MAX) {
+        vx__mesh_mats_free(a, &plan);
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu texels", texel_count);
+    }
     texel_copy tc = {mesh, NULL};
     pthread_t tc_thread;
     bool tc_running = false;
     if (tex && texel_count) {
         vx_result tr = ensure_host(m, B_TEXUP, (uint64_t)texel_count * 4, err);
-        if (tr) return tr;
+        if (tr) {
+            vx__mesh_mats_free(a, &plan);
+            return tr;
+        }
         tc.at = (uint8_t*)m->buf[B_TEXUP].map;
         tc_running = pthread_create(&tc_thread, NULL, texel_copy_main, &tc) == 0;
         if (!tc_running) texel_copy_main(&tc);
@@ -1032,6 +1052,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     vx_result r = vx__mesh_bin(desc, mesh, grid, &bins, err);
     if (r) {
         if (tc_running) pthread_join(tc_thread, NULL);
+        vx__mesh_mats_free(a, &plan);
         return r;
     }
     size_t P = bins.pair_count, NB = bins.total_bricks, T = mesh->tri_count;
@@ -1103,7 +1124,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         int32_t img = -1;
         if (mt->image >= 0 && (uint32_t)mt->image < mesh->image_count && mesh->images[mt->image].rgba && mesh->uv)
             img = mt->image;
-        uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_material_id(mesh, i)};
+        uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_mats_id(&plan, i, 0, 0, 0)};
         memcpy(o + 4, u, 16);
     }
     struct {
@@ -1377,6 +1398,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.sink = vx_time_now() - t0;
 
 done:
+    vx__mesh_mats_free(a, &plan);
     if (tc_running) pthread_join(tc_thread, NULL);
     vx_free(a, pairs2);
     vx_free(a, bricks);

@@ -36,17 +36,53 @@ typedef struct vx__mesh_region {
 void vx__mesh_region_place(vx__mesh_region* reg, uint64_t region, uint32_t R, const uint32_t grid_size[3], size_t index,
                            size_t region_count);
 
-/* Whether a glTF material needs a MATL record (it is not plain diffuse:
- * metallic, transmissive or emissive). Only then does the scene store
- * VX_ATTR_MATERIAL, so that a file of diffuse materials keeps colour only. */
-static inline bool vx__mesh_material_special(const vx_gltf_material* m) {
-    return m->metallic > 0 || m->transmission > 0 || m->emissive[0] > 0 || m->emissive[1] > 0 || m->emissive[2] > 0;
-}
-/* The material id a cell of glTF material mi gets: mi + 1 for a special
- * material (ids up to 65535), else 0 (no record: diffuse). */
-static inline uint16_t vx__mesh_material_id(const vx_gltf_mesh* mesh, uint32_t mi) {
-    return mi < mesh->material_count && mi < 65535u && vx__mesh_material_special(&mesh->materials[mi]) ? (uint16_t)(mi + 1) : 0;
-}
+/* ---- materials (convert/mesh_material.c) ----------------------------------------------
+ *
+ * The MATL records a mesh's cells can name (convert/mesh.h, "Materials"),
+ * a function of the mesh alone, so that every process of a distributed run
+ * and both voxelizers give the same ids. Per glTF material: its effective
+ * factors (a texture channel that is uniform over its image folded in: the
+ * same as the factor it equals) and which channels vary per cell
+ * (VX__MESH_SAMPLE_*: a decoded texture that is not uniform, under a factor
+ * above 0; roughness only where the material can need a record). A material
+ * that samples nothing has one id, base, when it is special (metallic,
+ * transmissive or emissive) and none (0, diffuse) otherwise: base = index + 1
+ * when no material of the mesh samples (ids above 65535 are 0). One that
+ * samples has a block of levels^k ids from base, k the channels it samples,
+ * one per combination of quantized levels: id = base + (km * Lr + kr) * Le
+ * + ke (L = levels for a sampled channel, else 1 with k = 0). */
+enum { VX__MESH_SAMPLE_METAL = 1, VX__MESH_SAMPLE_ROUGH = 2, VX__MESH_SAMPLE_EMIT = 4 };
+#define VX__MESH_LEVELS 6u /* levels of a sampled channel (0, 1/5, ..., 1 of its factor); fewer when ids run out */
+
+typedef struct vx__mesh_mat {
+    float metal, rough, emit[3], trans; /* effective factors */
+    float emit_max;                     /* the largest of emit */
+    uint32_t base;                      /* first id (0: none) */
+    uint32_t block;                     /* ids from base: levels^k, 1 when nothing is sampled */
+    uint8_t sample;                     /* VX__MESH_SAMPLE_* */
+    bool special;                       /* needs a record whatever its cells sample */
+} vx__mesh_mat;
+
+typedef struct vx__mesh_mats {
+    uint32_t count;     /* = mesh->material_count */
+    vx__mesh_mat* m;
+    uint32_t levels;    /* of every sampled channel */
+    bool sampled;       /* some material samples a channel per cell */
+    bool any_special;   /* some triangle's material can need a record (VX_ATTR_MATERIAL) */
+} vx__mesh_mats;
+
+/* The plan of mesh's materials; VX_ERR_LIMIT when the ids of the materials
+ * that sample do not fit in 65535 even at 2 levels. Free with
+ * vx__mesh_mats_free. */
+vx_result vx__mesh_mats_make(const vx_gltf_mesh* mesh, const vx_allocator* a, vx__mesh_mats* out, vx_error* err);
+void vx__mesh_mats_free(const vx_allocator* a, vx__mesh_mats* p);
+/* The id of a cell whose largest piece is of material mi (UINT32_MAX: none)
+ * and whose area-weighted averages over its pieces are metal, rough and the
+ * emission's largest channel (ignored unless mi samples them); 0: diffuse. */
+uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, float emit);
+/* What record id stands for: its glTF material and values (metal, rough,
+ * emission scalar, transmission); false when no cell can name id. */
+bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4]);
 
 typedef vx_result (*vx__mesh_sink)(void* user, const vx__mesh_region* r, vx_error* err);
 

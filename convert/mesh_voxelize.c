@@ -325,7 +325,10 @@ static int64_t wrap_coord(int64_t x, int64_t n, int mode) {
     return ((x % n) + n) % n;
 }
 
-static void sample_texture(const vx_gltf_image* im, int ws, int wt, double s, double t, float out[4]) {
+/* Bilinear sample at (s, t) with the wrap modes: RGB sRGB-decoded when srgb
+ * (colour), else bytes / 255 as alpha always is (glTF's metallic-roughness
+ * texture is linear). */
+static void sample_texture(const vx_gltf_image* im, int ws, int wt, double s, double t, bool srgb, float out[4]) {
     if (!(fabs(s) < 1e9)) s = 0; /* also NaN */
     if (!(fabs(t) < 1e9)) t = 0;
     double x = s * im->width - 0.5, y = t * im->height - 0.5;
@@ -338,9 +341,9 @@ static void sample_texture(const vx_gltf_image* im, int ws, int wt, double s, do
     for (int c = 0; c < 4; c++) out[c] = 0;
     for (int k = 0; k < 4; k++) {
         const uint8_t* p = im->rgba + ((size_t)ys[k >> 1] * im->width + (size_t)xs[k & 1]) * 4;
-        out[0] += wgt[k] * srgb_to_lin[p[0]];
-        out[1] += wgt[k] * srgb_to_lin[p[1]];
-        out[2] += wgt[k] * srgb_to_lin[p[2]];
+        out[0] += wgt[k] * (srgb ? srgb_to_lin[p[0]] : p[0] / 255.0f);
+        out[1] += wgt[k] * (srgb ? srgb_to_lin[p[1]] : p[1] / 255.0f);
+        out[2] += wgt[k] * (srgb ? srgb_to_lin[p[2]] : p[2] / 255.0f);
         out[3] += wgt[k] * (p[3] / 255.0f);
     }
 }
@@ -362,8 +365,10 @@ static uint32_t oct_encode(double x, double y, double z) {
 
 typedef struct acc {
     float c[4], w, n[3];
-    float mw;     /* the largest clipped area seen, and its material */
+    float mw;     /* the largest clipped area seen, and its material (id; index with sampled materials) */
     uint16_t mat;
+    uint32_t mi;
+    float pm, pr, pe[3]; /* with sampled materials: weighted sums of metallic, roughness, emission RGB */
 } acc;
 
 typedef struct brick_out {
@@ -381,6 +386,8 @@ typedef struct job {
     const vx_allocator* alloc;
     uint32_t attrs;
     bool color, normals, materials;
+    bool sampling;           /* some material samples metallic-roughness or emission per cell */
+    vx__mesh_mats mats;      /* the material ids (j->materials) */
     double* g;               /* grid coordinates, 9 per triangle */
     uint64_t* pairs;         /* brick Morton << 32 | triangle, sorted by brick */
     size_t pair_count;
@@ -445,6 +452,15 @@ typedef struct worker {
     const vx_gltf_image* img;
     int ws, wt;
     double d00, d01, d11, den;
+    /* j->sampling: the triangle's material index, its factors per piece
+     * (vx__mesh_mat's; a triangle without material: 0, 1, 0) and the
+     * textures it samples them from */
+    uint32_t mi;
+    uint8_t samp; /* VX__MESH_SAMPLE_*: a channel not sampled is its factor (a uniform texture folded in) */
+    float metal, rough, emit[3];
+    const vx_gltf_image *mr_img, *em_img;
+    int mr_ws, mr_wt, em_ws, em_wt;
+    float uv_mr[6], uv_em[6];
 } worker;
 
 static void hit_geom(void* user, const int c[3], const double (*poly)[3], int n) {
@@ -488,35 +504,78 @@ static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     /* zero-area pieces still count a little, so a cell touched only by an
      * edge or a degenerate triangle gets that triangle's attributes */
     float wgt = (float)(area + 1e-7);
-    if (w->j->color) {
-        double b1 = 1.0 / 3, b2 = 1.0 / 3;
-        if (w->den > 0) {
-            const double* v = w->v;
-            double v2[3], d20 = 0, d21 = 0;
-            for (int k = 0; k < 3; k++) v2[k] = cen[k] - v[k];
-            for (int k = 0; k < 3; k++) {
-                d20 += v2[k] * (v[3 + k] - v[k]);
-                d21 += v2[k] * (v[6 + k] - v[k]);
-            }
-            b1 = (w->d11 * d20 - w->d01 * d21) / w->den;
-            b2 = (w->d00 * d21 - w->d01 * d20) / w->den;
+    double b0 = 1.0 / 3, b1 = 1.0 / 3, b2 = 1.0 / 3; /* the centroid's barycentrics, where sampled */
+    if ((w->j->color || w->j->sampling) && w->den > 0) {
+        const double* v = w->v;
+        double v2[3], d20 = 0, d21 = 0;
+        for (int k = 0; k < 3; k++) v2[k] = cen[k] - v[k];
+        for (int k = 0; k < 3; k++) {
+            d20 += v2[k] * (v[3 + k] - v[k]);
+            d21 += v2[k] * (v[6 + k] - v[k]);
         }
-        double b0 = 1 - b1 - b2;
+        b1 = (w->d11 * d20 - w->d01 * d21) / w->den;
+        b2 = (w->d00 * d21 - w->d01 * d20) / w->den;
+        b0 = 1 - b1 - b2;
+    }
+    if (w->j->color) {
         float col[4];
         for (int k = 0; k < 4; k++)
             col[k] = w->base[k] * (float)(b0 * w->col[k] + b1 * w->col[4 + k] + b2 * w->col[8 + k]);
         if (w->img) {
             float t[4];
             sample_texture(w->img, w->ws, w->wt, b0 * w->uv[0] + b1 * w->uv[2] + b2 * w->uv[4],
-                           b0 * w->uv[1] + b1 * w->uv[3] + b2 * w->uv[5], t);
+                           b0 * w->uv[1] + b1 * w->uv[3] + b2 * w->uv[5], true, t);
             for (int k = 0; k < 4; k++) col[k] *= t[k];
         }
         for (int k = 0; k < 4; k++) a->c[k] += wgt * col[k];
     }
+    if (w->j->sampling) { /* metallic, roughness and emission at the same point, weighted the same */
+        float pm = w->metal, pr = w->rough, pe[3] = {w->emit[0], w->emit[1], w->emit[2]}, t[4];
+        if (w->mr_img) {
+            sample_texture(w->mr_img, w->mr_ws, w->mr_wt, b0 * w->uv_mr[0] + b1 * w->uv_mr[2] + b2 * w->uv_mr[4],
+                           b0 * w->uv_mr[1] + b1 * w->uv_mr[3] + b2 * w->uv_mr[5], false, t);
+            if (w->samp & VX__MESH_SAMPLE_METAL) pm *= t[2]; /* glTF: metalness in B, roughness in G */
+            if (w->samp & VX__MESH_SAMPLE_ROUGH) pr *= t[1];
+        }
+        if (w->em_img) {
+            sample_texture(w->em_img, w->em_ws, w->em_wt, b0 * w->uv_em[0] + b1 * w->uv_em[2] + b2 * w->uv_em[4],
+                           b0 * w->uv_em[1] + b1 * w->uv_em[3] + b2 * w->uv_em[5], true, t);
+            for (int k = 0; k < 3; k++) pe[k] *= t[k];
+        }
+        a->pm += wgt * pm;
+        a->pr += wgt * pr;
+        for (int k = 0; k < 3; k++) a->pe[k] += wgt * pe[k];
+    }
     for (int k = 0; k < 3; k++) a->n[k] += wgt * w->nrm[k];
     a->w += wgt;
     /* the material of the triangle with the largest piece in the cell */
-    if (wgt > a->mw) a->mw = wgt, a->mat = w->mat;
+    if (wgt > a->mw) a->mw = wgt, a->mat = w->mat, a->mi = w->mi;
+}
+
+/* The triangle's metallic, roughness and emission factors and the
+ * textures that vary them (vx__mesh_mats decides which do). */
+static void setup_tri_sampling(worker* w, uint32_t mi, size_t t) {
+    const vx_gltf_mesh* mesh = w->j->mesh;
+    w->mr_img = w->em_img = NULL;
+    w->samp = 0;
+    w->metal = 0, w->rough = 1;
+    w->emit[0] = w->emit[1] = w->emit[2] = 0;
+    if (mi >= w->j->mats.count) return;
+    const vx__mesh_mat* p = &w->j->mats.m[mi];
+    const vx_gltf_material* g = &mesh->materials[mi];
+    w->metal = p->metal, w->rough = p->rough;
+    memcpy(w->emit, p->emit, sizeof w->emit);
+    w->samp = p->sample;
+    if (p->sample & (VX__MESH_SAMPLE_METAL | VX__MESH_SAMPLE_ROUGH)) {
+        w->mr_img = &mesh->images[g->metal_rough.image];
+        w->mr_ws = g->metal_rough.wrap_s, w->mr_wt = g->metal_rough.wrap_t;
+        memcpy(w->uv_mr, mesh->uv_mr + 6 * t, sizeof w->uv_mr);
+    }
+    if (p->sample & VX__MESH_SAMPLE_EMIT) {
+        w->em_img = &mesh->images[g->emissive_tex.image];
+        w->em_ws = g->emissive_tex.wrap_s, w->em_wt = g->emissive_tex.wrap_t;
+        memcpy(w->uv_em, mesh->uv_emissive + 6 * t, sizeof w->uv_em);
+    }
 }
 
 static void setup_tri_attrs(worker* w, size_t t) {
@@ -536,7 +595,9 @@ static void setup_tri_attrs(worker* w, size_t t) {
     w->den = w->d00 * w->d11 - w->d01 * w->d01;
     if (!(w->den > 1e-30 * w->d00 * w->d11)) w->den = 0;
     uint32_t mi = mesh->material ? mesh->material[t] : UINT32_MAX;
-    w->mat = w->j->materials ? vx__mesh_material_id(mesh, mi) : 0;
+    w->mat = w->j->materials ? vx__mesh_mats_id(&w->j->mats, mi, 0, 0, 0) : 0;
+    w->mi = mi;
+    if (w->j->sampling) setup_tri_sampling(w, mi, t);
     if (!w->j->color) return;
     w->img = NULL;
     for (int k = 0; k < 4; k++) w->base[k] = 1.f;
@@ -620,6 +681,15 @@ static void brick_extent(uint64_t bm, const uint32_t size[3], uint32_t org[3], i
     }
 }
 
+/* A surface cell's material id: its largest piece's material, with the
+ * levels of its averages where that material samples them. */
+static uint16_t cell_material(const job* j, const acc* a) {
+    if (!j->sampling) return a->mat;
+    float w = a->w > 0 ? a->w : 1.f;
+    float e = fmaxf(a->pe[0], fmaxf(a->pe[1], a->pe[2]));
+    return vx__mesh_mats_id(&j->mats, a->mi, a->pm / w, a->pr / w, e / w);
+}
+
 static uint32_t finish_rgba(const acc* a) {
     float c[4];
     for (int k = 0; k < 4; k++) c[k] = a->w > 0 ? a->c[k] / a->w : 1.f;
@@ -668,7 +738,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 const acc* a = &w->acc[m];
                 w->fin_rgba[m] = finish_rgba(a);
                 w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
-                w->fin_mat[m] = a->mat;
+                w->fin_mat[m] = cell_material(j, a);
             }
         solid_attrs(cmax, w->bits, inner, w->fin_rgba, w->fin_nrm, w->fin_mat);
     }
@@ -686,7 +756,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 const acc* a = &w->acc[m];
                 if (o->rgba) o->rgba[k] = finish_rgba(a);
                 if (o->normal) o->normal[k] = oct_encode(a->n[0], a->n[1], a->n[2]);
-                if (o->material) o->material[k] = a->mat;
+                if (o->material) o->material[k] = cell_material(j, a);
             }
             k++;
         }
@@ -957,12 +1027,15 @@ uint32_t vx__mesh_attrs(const vx_conv_mesh_desc* desc, const vx_gltf_mesh* mesh)
     }
     if (!desc->no_color && has_color) attrs |= VX_ATTR_RGBA8;
     if (desc->normals) attrs |= VX_ATTR_NORMAL;
-    /* a material channel only when some triangle has a special material */
-    for (size_t t = 0; mesh->material && t < mesh->tri_count; t++)
-        if (vx__mesh_material_id(mesh, mesh->material[t])) {
-            attrs |= VX_ATTR_MATERIAL;
-            break;
-        }
+    /* a material channel only when some triangle's material can need a record
+     * (a plan that cannot be made: the voxelizer's own attempt reports why) */
+    vx__mesh_mats mp;
+    if (vx__mesh_mats_make(mesh, desc->alloc, &mp, NULL) != VX_OK) {
+        if (mesh->material) attrs |= VX_ATTR_MATERIAL;
+    } else {
+        if (mp.any_special) attrs |= VX_ATTR_MATERIAL;
+        vx__mesh_mats_free(desc->alloc, &mp);
+    }
     return attrs;
 }
 
@@ -1052,6 +1125,7 @@ static void job_free(job* j) {
     vx_free(j->alloc, j->g);
     vx_free(j->alloc, j->pairs);
     for (int a = 0; a < 3; a++) vx_free(j->alloc, j->vote[a]);
+    vx__mesh_mats_free(j->alloc, &j->mats);
 }
 
 
@@ -1175,6 +1249,9 @@ static vx_result job_begin(job* j, const vx_conv_mesh_desc* desc, const vx_gltf_
     j->color = (attrs & VX_ATTR_RGBA8) != 0;
     j->normals = (attrs & VX_ATTR_NORMAL) != 0;
     j->materials = (attrs & VX_ATTR_MATERIAL) != 0;
+    vx_result mr = j->materials ? vx__mesh_mats_make(mesh, desc->alloc, &j->mats, err) : VX_OK;
+    if (mr) return mr;
+    j->sampling = j->mats.sampled;
     j->sink = sink;
     j->user = user;
     j->R = R;

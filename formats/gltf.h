@@ -43,26 +43,42 @@ typedef struct vx_gltf_image {
     uint8_t* rgba; /* width * height * 4 bytes, rows top to bottom, as stored (sRGB for colour) */
 } vx_gltf_image;
 
+/* A texture a material samples besides the base colour: its decoded image
+ * (-1: none, or the texture could not be decoded: see vx_gltf_material)
+ * and its sampler's wrap modes. Its texture coordinates (the texture
+ * info's texCoord set and KHR_texture_transform) are vx_gltf_mesh's uv_mr /
+ * uv_emissive. */
+typedef struct vx_gltf_tex {
+    int32_t image;
+    uint8_t wrap_s, wrap_t; /* VX_GLTF_WRAP_* */
+} vx_gltf_tex;
+
 typedef struct vx_gltf_material {
     float base_color[4];    /* baseColorFactor (linear), default 1 1 1 1 */
     int32_t image;          /* baseColorTexture's decoded image, -1 if none */
     uint8_t wrap_s, wrap_t; /* VX_GLTF_WRAP_* */
     /* The rest of the metallic-roughness model, clamped to the ranges the
      * extensions give (non-finite values fall back to the default):
-     * metallic, roughness: the factors (default 1 1; with a
-     *   metallicRoughnessTexture, which is not sampled, metallic reads 0:
-     *   the texture says where the metal is, the factor alone would turn the
-     *   whole material into metal)
+     * metallic, roughness: the factors (default 1 1). With a
+     *   metallicRoughnessTexture that was decoded (metal_rough.image >= 0)
+     *   the glTF values are metallic x texel B and roughness x texel G
+     *   (linear, not sRGB); one that was not (desc.no_images, an unreadable
+     *   image) leaves metallic 0: the texture says where the metal is, the
+     *   factor alone would turn the whole material into metal.
      * emissive: emissiveFactor x KHR_materials_emissive_strength (linear
-     *   radiance scale; default 0 0 0); 0 0 0 with an emissiveTexture, which
-     *   is not sampled (the factor alone would light the whole material; the
-     *   warning "gltf.emissive_texture" names the material)
+     *   radiance scale; default 0 0 0). With an emissiveTexture that was
+     *   decoded (emissive_tex.image >= 0) the glTF value is emissive x the
+     *   texel's RGB (sRGB-encoded, converted to linear); one that was not
+     *   leaves 0 0 0 with the warning "gltf.emissive_texture" naming the
+     *   material (the factor alone would light the whole material).
      * transmission: KHR_materials_transmission's factor (default 0)
      * ior: KHR_materials_ior (default 1.5, at least 1) */
     float metallic, roughness;
     float emissive[3];
     float transmission;
     float ior;
+    vx_gltf_tex metal_rough; /* metallicRoughnessTexture */
+    vx_gltf_tex emissive_tex; /* emissiveTexture */
 } vx_gltf_material;
 
 /* KHR_lights_punctual types (the extension's strings). */
@@ -87,9 +103,12 @@ typedef struct vx_gltf_light {
 /* Triangle soup of one scene. Per triangle t and corner v (0..2):
  *   pos[9t + 3v + a]   world-space position less origin (a = x, y, z)
  *   uv[6t + 2v + c]    the texture coordinates the triangle's material samples
- *                      with, its KHR_texture_transform applied (0 0 where the
- *                      primitive has none); NULL if no material of the scene
- *                      has a texture
+ *                      its base colour with, its KHR_texture_transform applied
+ *                      (0 0 where the primitive has none); NULL if no material
+ *                      of the scene has a decoded base colour texture
+ *   uv_mr, uv_emissive the same for the metallicRoughnessTexture and the
+ *                      emissiveTexture (each its own texCoord set and
+ *                      transform); NULL if no material has that texture
  *   color[12t + 4v + c] linear RGBA vertex colour COLOR_0 (1 1 1 1 where the
  *                      primitive has none); NULL if no primitive has COLOR_0
  *   material[t]        index into materials, or UINT32_MAX when the primitive
@@ -114,12 +133,15 @@ typedef struct vx_gltf_mesh {
     size_t tri_count;
     float* pos;            /* relative to origin */
     float* uv;
+    float* uv_mr;
+    float* uv_emissive;
     float* color;
     uint32_t* material;
     uint32_t material_count;
     vx_gltf_material* materials;
     uint32_t image_count;
-    vx_gltf_image* images; /* only images used as baseColorTexture are decoded; others have rgba NULL */
+    vx_gltf_image* images; /* only images used as baseColorTexture, metallicRoughnessTexture or
+                              emissiveTexture are decoded; others have rgba NULL */
     double origin[3];      /* world position of pos's 0 0 0 (see above) */
     uint32_t scene;        /* the scene that was flattened (UINT32_MAX: no scene, all root nodes) */
     uint32_t instance_count; /* mesh instances flattened */

@@ -23,8 +23,10 @@
 namespace {
 
 // Marks an image whose encoded bytes were kept (decoding is deferred until we
-// know the image is a base colour texture: the other PBR maps of a model such
-// as DamagedHelmet would cost as much to decode as the voxelization itself).
+// know the image is a texture the voxels sample: base colour, and
+// metallic-roughness or emissive where the factors let them matter; the
+// normal and occlusion maps of a model such as DamagedHelmet would cost as
+// much to decode as the voxelization itself).
 const int kRawImage = -77;
 
 bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
@@ -98,13 +100,16 @@ struct Ctx {
     const vx_gltf_read_desc* desc;
     const tinygltf::Model* m;
     vx_error* err;
-    std::vector<float> pos, uv, col;
+    std::vector<float> pos, col;
     std::vector<uint32_t> mat;
-    std::vector<bool> mat_textured;
-    // per material: KHR_texture_transform as u' = a0 u + a1 v + a2, v' = a3 u + a4 v + a5,
+    // per texture slot (kSlots: base colour, metallic-roughness, emissive): the
+    // uv of every corner, and per material whether it samples that slot, its
+    // KHR_texture_transform as u' = a0 u + a1 v + a2, v' = a3 u + a4 v + a5,
     // and the TEXCOORD set it samples
-    std::vector<std::array<double, 6>> mat_uvx;
-    std::vector<int> mat_texcoord;
+    std::vector<float> uv[3];
+    std::vector<bool> mat_textured[3];
+    std::vector<std::array<double, 6>> mat_uvx[3];
+    std::vector<int> mat_texcoord[3];
     std::vector<vx_gltf_light> lights;
     bool any_color = false;
     bool origin_set = false;
@@ -323,7 +328,7 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
     }
     auto pit = p.attributes.find("POSITION");
     if (pit == p.attributes.end()) return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: primitive without POSITION", mesh_idx);
-    Acc pos, idx, uv, col;
+    Acc pos, idx, uv[3], col;
     vx_result r = get_acc(c, pit->second, "POSITION", &pos);
     if (r) return r;
     if (pos.comps != 3) return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: POSITION has %d components", mesh_idx, pos.comps);
@@ -333,17 +338,17 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
             return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: material %d of %zu", mesh_idx, p.material, m.materials.size());
         mat = (uint32_t)p.material;
     }
-    bool want_uv = mat != UINT32_MAX && c.mat_textured[mat];
-    bool has_uv = false, has_col = false;
-    if (want_uv) {
-        int set = c.mat_texcoord[mat];
+    bool has_uv[3] = {false, false, false}, has_col = false;
+    for (int sl = 0; sl < 3; sl++) {
+        if (mat == UINT32_MAX || !c.mat_textured[sl][mat]) continue;
+        int set = c.mat_texcoord[sl][mat];
         auto it = p.attributes.find("TEXCOORD_" + std::to_string(set));
         if (it != p.attributes.end()) {
-            if ((r = get_acc(c, it->second, "TEXCOORD", &uv))) return r;
-            if (uv.comps != 2 || uv.count != pos.count)
+            if ((r = get_acc(c, it->second, "TEXCOORD", &uv[sl]))) return r;
+            if (uv[sl].comps != 2 || uv[sl].count != pos.count)
                 return fail(c, VX_ERR_BAD_FORMAT, "mesh %u: TEXCOORD_%d has %d components, %zu of %zu vertices",
-                            mesh_idx, set, uv.comps, uv.count, pos.count);
-            has_uv = true;
+                            mesh_idx, set, uv[sl].comps, uv[sl].count, pos.count);
+            has_uv[sl] = true;
         }
     }
     auto cit = p.attributes.find("COLOR_0");
@@ -407,14 +412,16 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
                     c.origin[a] = std::fabs(w[a]) >= VX_GLTF_ORIGIN_FAR ? 1024.0 * std::nearbyint(w[a] / 1024.0) : 0.0;
             }
             for (int a = 0; a < 3; a++) c.pos.push_back((float)(w[a] - c.origin[a]));
-            if (has_uv) {
-                const std::array<double, 6>& x = c.mat_uvx[mat];
-                double u0 = uv.get(vi, 0), v0 = uv.get(vi, 1);
-                c.uv.push_back((float)(x[0] * u0 + x[1] * v0 + x[2]));
-                c.uv.push_back((float)(x[3] * u0 + x[4] * v0 + x[5]));
-            } else {
-                c.uv.push_back(0.f);
-                c.uv.push_back(0.f);
+            for (int sl = 0; sl < 3; sl++) {
+                if (has_uv[sl]) {
+                    const std::array<double, 6>& x = c.mat_uvx[sl][mat];
+                    double u0 = uv[sl].get(vi, 0), v0 = uv[sl].get(vi, 1);
+                    c.uv[sl].push_back((float)(x[0] * u0 + x[1] * v0 + x[2]));
+                    c.uv[sl].push_back((float)(x[3] * u0 + x[4] * v0 + x[5]));
+                } else {
+                    c.uv[sl].push_back(0.f);
+                    c.uv[sl].push_back(0.f);
+                }
             }
             for (int ch = 0; ch < 4; ch++)
                 c.col.push_back(has_col ? (ch < col.comps ? (float)col.get(vi, ch) : 1.f) : 1.f);
@@ -554,7 +561,7 @@ bool ext_number(const tinygltf::Value& v, double* out) {
     return true;
 }
 
-// KHR_texture_transform on the base colour texture: uv' = T R S uv with
+// KHR_texture_transform on a texture info: uv' = T R S uv with
 // T the offset, R the rotation in radians with rows [cos sin; -sin cos]
 // (the extension's matrix read row by row, as viewers that pass Khronos'
 // TextureTransformTest apply it) and S the scale, and an optional texCoord
@@ -771,26 +778,54 @@ double ext_field(const tinygltf::Material& mt, const char* ext, const char* key,
 }
 
 // The metallic-roughness model beyond the base colour (gltf.h: vx_gltf_material).
-void pbr_rest(const tinygltf::Material& mt, size_t index, const vx_logger* log, vx_gltf_material* g) {
+void pbr_rest(const tinygltf::Material& mt, vx_gltf_material* g) {
     const tinygltf::PbrMetallicRoughness& pbr = mt.pbrMetallicRoughness;
-    g->metallic = pbr.metallicRoughnessTexture.index >= 0 ? 0.f : clampf(pbr.metallicFactor, 0, 1, 1);
+    g->metallic = clampf(pbr.metallicFactor, 0, 1, 1); // 0 below when its texture is not decoded
     g->roughness = clampf(pbr.roughnessFactor, 0, 1, 1);
     double strength = ext_field(mt, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
     if (!(strength >= 0)) strength = 1.0;
     for (int k = 0; k < 3; k++)
         g->emissive[k] = clampf((mt.emissiveFactor.size() == 3 ? mt.emissiveFactor[(size_t)k] : 0.0) * strength, 0, 1e30, 0);
-    // gltf.h: an emissiveTexture (not sampled) says where the material glows;
-    // its factor alone lit every voxel of the material (DamagedHelmet: the
-    // whole helmet a white lamp, 23,203 emitting voxels)
-    if (mt.emissiveTexture.index >= 0 && (g->emissive[0] > 0 || g->emissive[1] > 0 || g->emissive[2] > 0)) {
-        vx_log(log, VX_LOG_WARN, "gltf.emissive_texture",
-               "material %zu ('%.40s'): its emissiveTexture is not sampled, so its emission is left out (the factor "
-               "alone would light the whole material)",
-               index, mt.name.c_str());
-        for (int k = 0; k < 3; k++) g->emissive[k] = 0;
-    }
     g->transmission = clampf(ext_field(mt, "KHR_materials_transmission", "transmissionFactor", 0.0), 0, 1, 0);
     g->ior = clampf(ext_field(mt, "KHR_materials_ior", "ior", 1.5), 1, 4, 1.5);
+}
+
+// Texture slot sl (0 base colour, 1 metallic-roughness, 2 emissive) of
+// material mat: its image decoded (once per image), its sampler's wraps, and
+// the uv set and transform the corners of its triangles take (Ctx.uv[sl]).
+// out->image stays -1 when the material has no such texture, when images are
+// not decoded or when the image cannot be (then warned).
+vx_result texture_slot(Ctx& c, size_t mat, int sl, const tinygltf::TextureInfo& info, std::vector<vx_gltf_image>& imgs,
+                       std::vector<char>& decoded, vx_gltf_tex* out) {
+    const tinygltf::Model& m = *c.m;
+    int ti = info.index;
+    if (ti < 0 || c.desc->no_images) return VX_OK;
+    if ((size_t)ti >= m.textures.size())
+        return fail(c, VX_ERR_BAD_FORMAT, "material %zu: texture %d of %zu", mat, ti, m.textures.size());
+    const tinygltf::Texture& tex = m.textures[(size_t)ti];
+    if (tex.source < 0 || (size_t)tex.source >= m.images.size()) {
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.texture_no_source", "texture %d has no usable image", ti);
+        return VX_OK;
+    }
+    c.mat_texcoord[sl][mat] = info.texCoord;
+    auto tt = info.extensions.find("KHR_texture_transform");
+    vx_result r;
+    if (tt != info.extensions.end() &&
+        (r = texture_transform(c, mat, tt->second, &c.mat_uvx[sl][mat], &c.mat_texcoord[sl][mat])))
+        return r;
+    if (tex.sampler >= 0 && (size_t)tex.sampler < m.samplers.size()) {
+        out->wrap_s = wrap_mode(m.samplers[(size_t)tex.sampler].wrapS);
+        out->wrap_t = wrap_mode(m.samplers[(size_t)tex.sampler].wrapT);
+    }
+    if (!decoded[(size_t)tex.source]) {
+        decoded[(size_t)tex.source] = 1;
+        if ((r = decode_image(c, tex.source, &imgs[(size_t)tex.source]))) return r;
+    }
+    if (imgs[(size_t)tex.source].rgba) {
+        out->image = tex.source;
+        c.mat_textured[sl][mat] = true;
+    }
+    return VX_OK;
 }
 
 vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gltf_mesh* out, vx_error* err) {
@@ -806,9 +841,11 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
     std::vector<vx_gltf_material> mats(m.materials.size());
     std::vector<vx_gltf_image> imgs(m.images.size());
     std::vector<char> decoded(m.images.size(), 0);
-    c.mat_textured.assign(m.materials.size(), false);
-    c.mat_uvx.assign(m.materials.size(), std::array<double, 6>{1, 0, 0, 0, 1, 0});
-    c.mat_texcoord.assign(m.materials.size(), 0);
+    for (int sl = 0; sl < 3; sl++) {
+        c.mat_textured[sl].assign(m.materials.size(), false);
+        c.mat_uvx[sl].assign(m.materials.size(), std::array<double, 6>{1, 0, 0, 0, 1, 0});
+        c.mat_texcoord[sl].assign(m.materials.size(), 0);
+    }
     for (size_t i = 0; i < m.materials.size(); i++) {
         const tinygltf::PbrMetallicRoughness& pbr = m.materials[i].pbrMetallicRoughness;
         vx_gltf_material& g = mats[i];
@@ -816,34 +853,35 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
             double v = pbr.baseColorFactor.size() == 4 ? pbr.baseColorFactor[(size_t)k] : 1.0;
             g.base_color[k] = std::isfinite(v) ? (float)std::fmin(std::fmax(v, 0.0), 1.0) : 1.f;
         }
-        g.image = -1;
+        g.image = g.metal_rough.image = g.emissive_tex.image = -1;
         g.wrap_s = g.wrap_t = VX_GLTF_WRAP_REPEAT;
-        pbr_rest(m.materials[i], i, desc->logger, &g);
-        int ti = pbr.baseColorTexture.index;
-        if (ti < 0 || desc->no_images) continue;
-        if ((size_t)ti >= m.textures.size())
-            return fail(c, VX_ERR_BAD_FORMAT, "material %zu: texture %d of %zu", i, ti, m.textures.size());
-        const tinygltf::Texture& tex = m.textures[(size_t)ti];
-        if (tex.source < 0 || (size_t)tex.source >= m.images.size()) {
-            vx_log(desc->logger, VX_LOG_WARN, "gltf.texture_no_source", "texture %d has no usable image", ti);
-            continue;
-        }
-        c.mat_texcoord[i] = pbr.baseColorTexture.texCoord;
-        auto tt = pbr.baseColorTexture.extensions.find("KHR_texture_transform");
-        if (tt != pbr.baseColorTexture.extensions.end() &&
-            (r = texture_transform(c, i, tt->second, &c.mat_uvx[i], &c.mat_texcoord[i])))
-            break;
-        if (tex.sampler >= 0 && (size_t)tex.sampler < m.samplers.size()) {
-            g.wrap_s = wrap_mode(m.samplers[(size_t)tex.sampler].wrapS);
-            g.wrap_t = wrap_mode(m.samplers[(size_t)tex.sampler].wrapT);
-        }
-        if (!decoded[(size_t)tex.source]) {
-            decoded[(size_t)tex.source] = 1;
-            if ((r = decode_image(c, tex.source, &imgs[(size_t)tex.source]))) break;
-        }
-        if (imgs[(size_t)tex.source].rgba) {
-            g.image = tex.source;
-            c.mat_textured[i] = true;
+        pbr_rest(m.materials[i], &g);
+        vx_gltf_tex base = {-1, VX_GLTF_WRAP_REPEAT, VX_GLTF_WRAP_REPEAT};
+        const tinygltf::TextureInfo* infos[3] = {&pbr.baseColorTexture, &pbr.metallicRoughnessTexture,
+                                                 &m.materials[i].emissiveTexture};
+        vx_gltf_tex* outs[3] = {&base, &g.metal_rough, &g.emissive_tex};
+        // a texture whose factor makes it moot is not decoded: metallic-roughness
+        // when neither metal nor emission nor transmission can make a record
+        // (roughness alone is diffuse), emissive under a zero factor
+        bool emits = g.emissive[0] > 0 || g.emissive[1] > 0 || g.emissive[2] > 0;
+        bool need[3] = {true, g.metallic > 0 || emits || g.transmission > 0, emits};
+        for (int sl = 0; sl < 3 && !r; sl++)
+            if (need[sl]) r = texture_slot(c, i, sl, *infos[sl], imgs, decoded, outs[sl]);
+        if (r) break;
+        g.image = base.image;
+        g.wrap_s = base.wrap_s;
+        g.wrap_t = base.wrap_t;
+        // gltf.h: a texture that is not sampled says where the material is
+        // metal or glows; its factor alone would make all of it so (the
+        // corpus's DamagedHelmet a white lamp, 23,203 emitting voxels)
+        if (pbr.metallicRoughnessTexture.index >= 0 && g.metal_rough.image < 0) g.metallic = 0;
+        if (m.materials[i].emissiveTexture.index >= 0 && g.emissive_tex.image < 0 &&
+            (g.emissive[0] > 0 || g.emissive[1] > 0 || g.emissive[2] > 0)) {
+            vx_log(desc->logger, VX_LOG_WARN, "gltf.emissive_texture",
+                   "material %zu ('%.40s'): its emissiveTexture is not decoded, so its emission is left out (the "
+                   "factor alone would light the whole material)",
+                   i, m.materials[i].name.c_str());
+            for (int k = 0; k < 3; k++) g.emissive[k] = 0;
         }
     }
     uint32_t scene_used = UINT32_MAX;
@@ -902,8 +940,9 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
                    mag, c.wstep, ext);
     }
     if (!r) {
-        bool any_tex = false;
-        for (bool t : c.mat_textured) any_tex = any_tex || t;
+        bool any_tex[3] = {false, false, false};
+        for (int sl = 0; sl < 3; sl++)
+            for (bool t : c.mat_textured[sl]) any_tex[sl] = any_tex[sl] || t;
         vx_gltf_mesh o;
         memset(&o, 0, sizeof o);
         o.alloc = desc->alloc;
@@ -913,7 +952,10 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         for (int a = 0; a < 3; a++) o.origin[a] = c.origin[a];
         o.pos = copy_out(desc->alloc, c.pos);
         o.material = copy_out(desc->alloc, c.mat);
-        if (any_tex) o.uv = copy_out(desc->alloc, c.uv);
+        float** uvs[3] = {&o.uv, &o.uv_mr, &o.uv_emissive};
+        bool uv_nomem = false;
+        for (int sl = 0; sl < 3; sl++)
+            if (any_tex[sl]) uv_nomem |= !(*uvs[sl] = copy_out(desc->alloc, c.uv[sl]));
         if (c.any_color) o.color = copy_out(desc->alloc, c.col);
         o.material_count = (uint32_t)mats.size();
         o.materials = copy_out(desc->alloc, mats);
@@ -921,7 +963,7 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         o.images = copy_out(desc->alloc, imgs);
         o.light_count = (uint32_t)c.lights.size();
         o.lights = copy_out(desc->alloc, c.lights);
-        if (!o.pos || !o.material || (any_tex && !o.uv) || (c.any_color && !o.color) || !o.materials || !o.images || !o.lights) {
+        if (!o.pos || !o.material || uv_nomem || (c.any_color && !o.color) || !o.materials || !o.images || !o.lights) {
             for (vx_gltf_image& im : imgs) vx_free(desc->alloc, im.rgba);
             imgs.clear();
             if (o.images) o.image_count = 0;
@@ -1008,6 +1050,8 @@ extern "C" void vx_gltf_mesh_free(vx_gltf_mesh* m) {
     const vx_allocator* a = m->alloc;
     vx_free(a, m->pos);
     vx_free(a, m->uv);
+    vx_free(a, m->uv_mr);
+    vx_free(a, m->uv_emissive);
     vx_free(a, m->color);
     vx_free(a, m->material);
     vx_free(a, m->materials);

@@ -20,6 +20,7 @@
 #include "render/render.h"
 #include "tests/test.h"
 #include "tests/gpu_test.h"
+#include "tests/convert/mesh_tex_gltf.h"
 
 static vx_gpu* gpu;
 static vx_conv_mesh_gpu* mg;
@@ -571,6 +572,45 @@ static void test_collisions(void) {
     gen_free(&g);
 }
 
+/* Materials that sample their metallic-roughness and emissive textures per
+ * cell (tests/convert/mesh_tex_gltf.h): the GPU path gives the CPU path's
+ * file (it hands such a mesh to the CPU voxelizer); uniform textures (folded into the factors, not sampled) stay on the
+ * GPU with the same ids. */
+static void test_textured_materials(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
+    texg_split(mr, em);
+    for (int uniform = 0; uniform < 2; uniform++) {
+        if (uniform)
+            for (int i = 0; i < TEXG_N * TEXG_N; i++) mr[4 * i + 1] = 40, mr[4 * i + 2] = 200, em[4 * i] = 90, em[4 * i + 1] = 30;
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = texg_read(kTexgSplitMat, mr, em, &m, &err);
+        CHECKF(r == VX_OK, "%s", err.msg);
+        if (r) continue;
+        vx_conv_mesh_desc d = {.res = 16}, dg = d;
+        dg.backend = vx_conv_mesh_gpu_backend(mg);
+        vx_svo_scene a, b;
+        REQUIRE(vx_conv_mesh(&d, &m, &a, NULL, &err) == VX_OK);
+        REQUIRE(vx_conv_mesh(&dg, &m, &b, NULL, &err) == VX_OK);
+        uint8_t *da = NULL, *db = NULL;
+        size_t na = 0, nb = 0;
+        CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
+        CHECKF(na == nb && na && memcmp(da, db, na) == 0, "%s textures: the GPU file differs from the CPU's",
+               uniform ? "uniform" : "split");
+        CHECKF(a.material_count >= (uniform ? 1u : 4u), "%u records", a.material_count);
+        fprintf(stderr, "  %s textures: %u records, %zu bytes, equal: %d\n", uniform ? "uniform" : "split", a.material_count, na,
+                na == nb && memcmp(da, db, na) == 0);
+        free(da);
+        free(db);
+        vx_svo_scene_free(&a);
+        vx_svo_scene_free(&b);
+        /* over two shares (the GPU's own boxes: where the GPU voxelizes) */
+        if (uniform) CHECK(same_shares(&m, 16, 0, 2, "uniform textures"));
+        vx_gltf_mesh_free(&m);
+    }
+}
+
 int main(void) {
     vx_error err = {0};
     static char why[256];
@@ -585,6 +625,7 @@ int main(void) {
         gpu_skip = why;
     }
     RUN(test_refusals);
+    RUN(test_textured_materials);
     RUN(test_lattice);
     RUN(test_random);
     RUN(test_collisions);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "convert/mesh.h"
+#include "tests/convert/mesh_tex_gltf.h"
 #include "tests/test.h"
 
 typedef struct dec {
@@ -116,17 +117,7 @@ static void test_files(void) {
 
 /* ---- lights and materials from a glTF file written here ------------------------------- */
 
-static void b64(const uint8_t* d, size_t n, char* out) {
-    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    size_t o = 0;
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)d[i] << 16 | (i + 1 < n ? (uint32_t)d[i + 1] << 8 : 0) | (i + 2 < n ? d[i + 2] : 0);
-        out[o++] = t[v >> 18 & 63], out[o++] = t[v >> 12 & 63];
-        out[o++] = i + 1 < n ? t[v >> 6 & 63] : '=';
-        out[o++] = i + 2 < n ? t[v & 63] : '=';
-    }
-    out[o] = 0;
-}
+static void b64(const uint8_t* d, size_t n, char* out) { texg_b64(d, n, out); }
 
 /* Four triangles side by side (triangle i covers x in [2i, 2i+1], y in
  * [0, 1], z = 0) with materials 0 metal, 1 glass, 2 emissive, 3 diffuse
@@ -304,10 +295,242 @@ static void test_gltf_bad_lights(void) {
     }
 }
 
+/* ---- per-cell metallic-roughness and emission (convert/mesh.h, "Materials") ---------- */
+
+static double ref_srgb(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+static int64_t ref_wrap(int64_t x, int64_t n, bool clamp) { return clamp ? (x < 0 ? 0 : x >= n ? n - 1 : x) : ((x % n) + n) % n; }
+/* Bilinear sample of channel c of a TEXG_N^2 RGBA image at (u, v) (glTF: texel centres at (i + 0.5) / N). */
+static double ref_sample(const uint8_t* im, double u, double v, int c, bool clamp, bool srgb) {
+    double x = u * TEXG_N - 0.5, y = v * TEXG_N - 0.5, fx = floor(x), fy = floor(y), ax = x - fx, ay = y - fy, s = 0;
+    for (int k = 0; k < 4; k++) {
+        int64_t xi = ref_wrap((int64_t)fx + (k & 1), TEXG_N, clamp), yi = ref_wrap((int64_t)fy + (k >> 1), TEXG_N, clamp);
+        double t = im[4 * (yi * TEXG_N + xi) + c] / 255.0;
+        s += ((k & 1) ? ax : 1 - ax) * ((k >> 1) ? ay : 1 - ay) * (srgb ? ref_srgb(t) : t);
+    }
+    return s;
+}
+/* A record's key as a number, 0 when absent. */
+static double mat_key(const vx_svo_scene* s, uint32_t id, const char* key) {
+    for (uint32_t i = 0; i < s->material_count; i++)
+        if (s->materials[i].id == id) {
+            const char* v = vx_svo_material_get(&s->materials[i], key);
+            return v ? strtod(v, NULL) : 0;
+        }
+    return -1; /* no record */
+}
+/* Level of q in [0, 1] over 6 levels; *tie when q * 5 is too near a half for float sums to agree. */
+static int ref_level(double q, bool* tie) {
+    double x = fmin(fmax(q, 0), 1) * 5;
+    if (fabs(x - floor(x) - 0.5) < 1e-3) *tie = true;
+    return (int)floor(x + 0.5);
+}
+
+typedef struct cell_ids {
+    uint16_t id[16 * 16];
+    bool set[16 * 16];
+} cell_ids;
+static bool ids_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    void** u = (void**)user;
+    cell_ids* c = (cell_ids*)u[0];
+    const vx_svo_model* m = (const vx_svo_model*)u[1];
+    if (x < 16 && y < 16 && z == 0) c->id[y * 16 + x] = (m->attrs & VX_ATTR_MATERIAL) ? m->material[attr] : 0, c->set[y * 16 + x] = true;
+    return true;
+}
+
+/* The generated quad (tests/convert/mesh_tex_gltf.h): every cell's record
+ * against a brute-force expectation: the texels sampled bilinearly at the
+ * centroids of the cell's pieces (the whole cell off the diagonal, its two
+ * halves on it), averaged by area, quantized to 6 levels of the factor. */
+static void test_textured_materials(void) {
+    uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
+    texg_split(mr, em);
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_result r = texg_read(kTexgSplitMat, mr, em, &m, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) return;
+    vx_svo_scene s;
+    r = vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &s, NULL, &err);
+    CHECKF(r == VX_OK, "%s", err.msg);
+    if (r) {
+        vx_gltf_mesh_free(&m);
+        return;
+    }
+    REQUIRE(s.model_count == 1 && s.instances[0].xform[3] == 0 && s.instances[0].xform[7] == 0);
+    cell_ids c;
+    memset(&c, 0, sizeof c);
+    void* u[2] = {&c, &s.models[0]};
+    CHECK(vx_svo_decode_model(&s.models[0], ids_visit, u, &err) == VX_OK);
+    size_t metal = 0, lit = 0, diffuse = 0, ties = 0, wrong = 0, levels_seen = 0;
+    bool seen[6 * 6 * 6] = {0};
+    for (int y = 0; y < 16; y++)
+        for (int x = 0; x < 16; x++) {
+            double cx[2] = {x + 0.5, 0}, cy[2] = {y + 0.5, 0}, w[2] = {1, 0};
+            int np = 1;
+            if (x == y) np = 2, cx[0] = x + 2.0 / 3, cy[0] = y + 1.0 / 3, cx[1] = x + 1.0 / 3, cy[1] = y + 2.0 / 3, w[0] = w[1] = 0.5;
+            double pm = 0, pr = 0, pe[3] = {0, 0, 0};
+            for (int k = 0; k < np; k++) {
+                double u0 = cx[k] / 16, v0 = cy[k] / 16, u1 = 1 - cx[k] / 16;
+                pm += w[k] * 0.8 * ref_sample(mr, u0, v0, 2, true, false);
+                pr += w[k] * 0.5 * ref_sample(mr, u0, v0, 1, true, false);
+                for (int ch = 0; ch < 3; ch++) pe[ch] += w[k] * 2 * ref_sample(em, u1, v0, ch, false, true);
+            }
+            bool tie = false;
+            int km = ref_level(pm / 0.8, &tie), kr = ref_level(pr / 0.5, &tie),
+                ke = ref_level(fmax(pe[0], fmax(pe[1], pe[2])) / 2, &tie);
+            if (!c.set[y * 16 + x]) {
+                wrong++;
+                continue;
+            }
+            if (tie) { ties++; continue; }
+            uint16_t id = c.id[y * 16 + x];
+            bool ok;
+            if (km == 0 && ke == 0) {
+                ok = id == 0;
+                diffuse++;
+            } else {
+                ok = id != 0 && fabs(mat_key(&s, id, "_metal") - 0.8 * km / 5) < 1e-6 &&
+                     fabs(mat_key(&s, id, "_rough") - 0.5 * kr / 5) < 1e-6 && fabs(mat_key(&s, id, "_emit") - 2.0 * ke / 5) < 1e-6;
+                metal += km > 0, lit += ke > 0;
+                if (!seen[km * 36 + kr * 6 + ke]) seen[km * 36 + kr * 6 + ke] = true, levels_seen++;
+            }
+            if (!ok) {
+                if (wrong < 5)
+                    fprintf(stderr, "  cell %d %d: id %u (_metal %g _rough %g _emit %g), expected levels %d %d %d\n", x, y, id,
+                            mat_key(&s, id, "_metal"), mat_key(&s, id, "_rough"), mat_key(&s, id, "_emit"), km, kr, ke);
+                wrong++;
+            }
+        }
+    fprintf(stderr, "  %zu metal, %zu emissive, %zu diffuse cells, %zu combinations, %zu records, %zu ties skipped\n", metal,
+            lit, diffuse, levels_seen, (size_t)s.material_count, ties);
+    CHECK(wrong == 0);
+    CHECK(metal >= 64 && lit >= 32 && diffuse >= 32 && levels_seen >= 4 && ties < 16);
+    CHECK(s.material_count == levels_seen); /* one record per combination the cells name */
+    vx_svo_scene_free(&s);
+    vx_gltf_mesh_free(&m);
+}
+
+/* Uniform textures (every texel the same) give the file of the factors they
+ * equal: metallic 0.8 x 1, roughness 0.5 x 0, emission (1 0.5 0.25) x 2 x 1. */
+static void test_uniform_textures(void) {
+    uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
+    for (int i = 0; i < TEXG_N * TEXG_N; i++) {
+        mr[4 * i] = 7, mr[4 * i + 1] = 0, mr[4 * i + 2] = 255, mr[4 * i + 3] = 255;
+        em[4 * i] = em[4 * i + 1] = em[4 * i + 2] = em[4 * i + 3] = 255;
+    }
+    static const char* tex =
+        "{\"pbrMetallicRoughness\":{\"metallicFactor\":0.8,\"roughnessFactor\":0.5,"
+        "\"metallicRoughnessTexture\":{\"index\":0}},\"emissiveFactor\":[1,0.5,0.25],"
+        "\"emissiveTexture\":{\"index\":1,\"texCoord\":1},"
+        "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":2}}}";
+    static const char* fac =
+        "{\"pbrMetallicRoughness\":{\"metallicFactor\":0.8,\"roughnessFactor\":0},\"emissiveFactor\":[1,0.5,0.25],"
+        "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":2}}}";
+    uint8_t* bytes[2] = {NULL, NULL};
+    size_t n[2] = {0, 0};
+    for (int k = 0; k < 2; k++) {
+        char* j = texg_gltf(k ? fac : tex, mr, em);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_svo_scene s;
+        REQUIRE(vx_gltf_read(NULL, j, strlen(j), NULL, &m, &err) == VX_OK);
+        free(j);
+        REQUIRE(vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &s, NULL, &err) == VX_OK);
+        CHECK(s.material_count == 1 && mat_key(&s, 1, "_metal") > 0.79 && mat_key(&s, 1, "_emit") == 2);
+        CHECK(vx_svo_write(&s, NULL, &bytes[k], &n[k], &err) == VX_OK);
+        vx_svo_scene_free(&s);
+        vx_gltf_mesh_free(&m);
+    }
+    CHECKF(n[0] == n[1] && n[0] > 0 && memcmp(bytes[0], bytes[1], n[0]) == 0, "%zu and %zu bytes", n[0], n[1]);
+    free(bytes[0]);
+    free(bytes[1]);
+}
+
+typedef struct helmet_cnt {
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    size_t cells, metal, lit;
+} helmet_cnt;
+static bool helmet_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    (void)x, (void)y, (void)z;
+    helmet_cnt* k = (helmet_cnt*)user;
+    uint16_t id = k->m->material[attr];
+    k->cells++;
+    if (id) {
+        k->metal += mat_key(k->s, id, "_metal") > 0;
+        k->lit += mat_key(k->s, id, "_emit") > 0;
+    }
+    return true;
+}
+static void helmet_count(const vx_svo_scene* s, const vx_svo_model* m, size_t* cells, size_t* metal, size_t* lit) {
+    helmet_cnt k = {s, m, 0, 0, 0};
+    vx_error err = {0};
+    CHECK(vx_svo_decode_model(m, helmet_visit, &k, &err) == VX_OK);
+    *cells += k.cells, *metal += k.metal, *lit += k.lit;
+}
+
+/* The corpus's DamagedHelmet: metal and emissive cells where its textures
+ * say. Independently of the voxelizer: the share of the surface (triangle
+ * area) whose texel at the triangle's centroid is metal (B > 127) or lit
+ * (emissive > 0.25 linear) against the share of cells whose record is
+ * metal or emits. */
+static void test_helmet_materials(void) {
+    const char* path = vx_test_corpus("gltf/khronos_DamagedHelmet.glb");
+    if (!path) {
+        fprintf(stderr, "  SKIP: corpus DamagedHelmet not found (VX_CORPUS_DIR)\n");
+        return;
+    }
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_conv_mesh_desc d = {.res = 128};
+    REQUIRE(vx_conv_mesh_read(&d, path, &m, &err) == VX_OK);
+    REQUIRE(m.material_count >= 1 && m.materials[0].metal_rough.image >= 0 && m.materials[0].emissive_tex.image >= 0);
+    double area = 0, area_metal = 0, area_lit = 0;
+    for (size_t t = 0; t < m.tri_count; t++) {
+        const float* p = m.pos + 9 * t;
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) e1[k] = p[3 + k] - p[k], e2[k] = p[6 + k] - p[k];
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+        double a = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        const vx_gltf_material* g = &m.materials[m.material[t]];
+        const vx_gltf_image* ims[2] = {&m.images[g->metal_rough.image], &m.images[g->emissive_tex.image]};
+        const float* uvs[2] = {m.uv_mr + 6 * t, m.uv_emissive + 6 * t};
+        double val[2];
+        for (int k = 0; k < 2; k++) { /* nearest texel at the centroid (repeat) */
+            double u = (uvs[k][0] + uvs[k][2] + uvs[k][4]) / 3, v = (uvs[k][1] + uvs[k][3] + uvs[k][5]) / 3;
+            int64_t xi = ref_wrap((int64_t)floor(u * ims[k]->width), ims[k]->width, false);
+            int64_t yi = ref_wrap((int64_t)floor(v * ims[k]->height), ims[k]->height, false);
+            const uint8_t* px = ims[k]->rgba + 4 * ((size_t)yi * ims[k]->width + (size_t)xi);
+            val[k] = k == 0 ? px[2] / 255.0 : fmax(ref_srgb(px[0] / 255.0), fmax(ref_srgb(px[1] / 255.0), ref_srgb(px[2] / 255.0)));
+        }
+        area += a;
+        area_metal += val[0] > 0.5 ? a : 0;
+        area_lit += val[1] > 0.25 ? a : 0;
+    }
+    vx_svo_scene s;
+    REQUIRE(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_OK);
+    size_t cells = 0, metal = 0, lit = 0;
+    for (uint32_t i = 0; i < s.model_count; i++) {
+        const vx_svo_model* md = &s.models[i];
+        REQUIRE(md->attrs & VX_ATTR_MATERIAL);
+        helmet_count(&s, md, &cells, &metal, &lit);
+    }
+    double fm = (double)metal / (double)cells, fl = (double)lit / (double)cells;
+    fprintf(stderr, "  DamagedHelmet res 128: %u records, %zu cells, %zu metal (%.3f; surface %.3f), %zu emissive (%.3f; surface %.3f)\n",
+            s.material_count, cells, metal, fm, area_metal / area, lit, fl, area_lit / area);
+    CHECK(s.material_count > 1 && metal > 0 && lit > 0);
+    CHECK(fabs(fm - area_metal / area) < 0.15 && fabs(fl - area_lit / area) < 0.1);
+    vx_svo_scene_free(&s);
+    vx_gltf_mesh_free(&m);
+}
+
 int main(void) {
     RUN(test_regions_match_cells);
     RUN(test_files);
     RUN(test_gltf_lights);
     RUN(test_gltf_bad_lights);
+    RUN(test_textured_materials);
+    RUN(test_uniform_textures);
+    RUN(test_helmet_materials);
     return vx_test_finish();
 }

@@ -711,33 +711,41 @@ static void test_unknown_image_media_type(void) {
     vx_gltf_mesh_free(&m);
 }
 
-/* An emissiveTexture is not sampled: the material's emission is left out
- * with the warning gltf.emissive_texture (formats/gltf.h), not its factor
- * over the whole material (the corpus's DamagedHelmet converted into a
- * white lamp); without the texture the factor stays. */
+/* An emissiveTexture that is decoded keeps the factor (the voxelizer
+ * multiplies it by the texels, formats/gltf.h) with the texture named; one
+ * that is not decoded (no_images; an unreadable image) leaves the emission
+ * out with the warning gltf.emissive_texture, not its factor over the whole
+ * material (the corpus's DamagedHelmet converted into a white lamp);
+ * without the texture the factor stays. */
 static void test_emissive_texture(void) {
     static const char* with =
-        "},\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,1],\"emissiveTexture\":{\"index\":0},"
+        "},\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,1],\"emissiveTexture\":{\"index\":0,\"texCoord\":1},"
         "\"extras\":{\"a\":{\"b\":0";
     static const char* without = "},\"metallicFactor\":0},\"emissiveFactor\":[1,0.5,1],\"extras\":{\"a\":{\"b\":0";
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < 3; i++) {
         char json[4096];
-        snprintf(json, sizeof json, kTriGltf, i ? without : with);
-        warn_log w;
+        snprintf(json, sizeof json, kTriGltf, i == 2 ? without : with);
+        warn_log w = {{0}};
+        vx_logger lg = {keep_warning, &w};
         vx_gltf_mesh m;
         vx_error err = {0};
-        vx_result r = read_logged(json, &m, &w, &err);
+        vx_result r = vx_gltf_read(&(vx_gltf_read_desc){.logger = &lg, .no_images = i == 1}, json, strlen(json), ".", &m,
+                                   &err);
         CHECKF(r == VX_OK, "%s", err.msg);
         if (r) continue;
         REQUIRE(m.material_count == 1);
         const float* e = m.materials[0].emissive;
         bool warned = strstr(w.text, "[gltf.emissive_texture] material 0") != NULL;
-        if (i == 0)
-            CHECKF(e[0] == 0 && e[1] == 0 && e[2] == 0 && warned, "with the texture: %g %g %g, '%s'", e[0], e[1], e[2],
-                   w.text);
+        if (i == 0) /* decoded: the factor, the texture, its own uv set (TEXCOORD_1: 0.5 0.5, 0.75 0.5, 0.5 0.75) */
+            CHECKF(e[0] == 1 && e[1] == 0.5f && e[2] == 1 && !warned && m.materials[0].emissive_tex.image == 0 &&
+                       m.uv_emissive && m.uv_emissive[0] == 0.5f && m.uv_emissive[2] == 0.75f && m.uv_emissive[5] == 0.75f,
+                   "decoded: %g %g %g, image %d, '%s'", e[0], e[1], e[2], m.materials[0].emissive_tex.image, w.text);
+        else if (i == 1)
+            CHECKF(e[0] == 0 && e[1] == 0 && e[2] == 0 && warned && m.materials[0].emissive_tex.image == -1,
+                   "not decoded: %g %g %g, '%s'", e[0], e[1], e[2], w.text);
         else
-            CHECKF(e[0] == 1 && e[1] == 0.5f && e[2] == 1 && !warned, "without: %g %g %g, '%s'", e[0], e[1], e[2],
-                   w.text);
+            CHECKF(e[0] == 1 && e[1] == 0.5f && e[2] == 1 && !warned && !m.uv_emissive, "without: %g %g %g, '%s'", e[0],
+                   e[1], e[2], w.text);
         vx_gltf_mesh_free(&m);
     }
 }

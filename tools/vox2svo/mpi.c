@@ -33,7 +33,7 @@
 
 #define die vx_tool_mpi_die
 
-enum { TAG_COUNT = 1, TAG_META, TAG_DATA };
+enum { TAG_COUNT = 1, TAG_META, TAG_DATA, TAG_MATS };
 #define CHUNK ((size_t)1 << 30) /* MPI counts are ints: arrays go in pieces of 1 GiB */
 
 static vx_tool_mpi g_mpi;
@@ -53,6 +53,7 @@ typedef struct part_meta {
     vx_svo_build_stats build;
     double seconds_build;
     vx_svo_model_coded coded;
+    uint32_t material_id_count; /* then that many uint16_t (TAG_MATS) when not 0 */
 } part_meta;
 
 /* A part on rank 0: where its stream is (owner rank, or in memory). */
@@ -151,10 +152,14 @@ static void send_part(const vx_conv_mesh_part* p, const vx_svo_model_coded* code
     h.build = p->build;
     h.seconds_build = p->seconds_build;
     h.coded = *coded;
+    h.material_id_count = p->material_id_count;
     MPI_Send(&h, (int)sizeof h, MPI_BYTE, 0, TAG_META, MPI_COMM_WORLD);
+    /* the material ids the part's cells name (at most 65535: one message) */
+    if (h.material_id_count)
+        MPI_Send(p->material_ids, (int)h.material_id_count, MPI_UINT16_T, 0, TAG_MATS, MPI_COMM_WORLD);
 }
 
-static void recv_part(int src, vx_conv_mesh_part* p, held* hp) {
+static void recv_part(int src, vx_conv_mesh_part* p, held* hp, const vx_allocator* alloc) {
     part_meta h;
     MPI_Recv(&h, (int)sizeof h, MPI_BYTE, src, TAG_META, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     memset(p, 0, sizeof *p);
@@ -166,6 +171,13 @@ static void recv_part(int src, vx_conv_mesh_part* p, held* hp) {
     memcpy(m->size, h.size, sizeof m->size);
     m->depth = h.depth, m->root = h.root, m->root_attr = h.root_attr, m->attrs = h.attrs;
     m->voxel_count = h.voxel_count, m->node_count = h.node_count, m->attr_count = h.attr_count;
+    if (h.material_id_count > 65535u) die("rank %d sent %u material ids", src, h.material_id_count);
+    if (h.material_id_count) {
+        p->material_ids = (uint16_t*)vx_alloc(alloc, h.material_id_count * sizeof *p->material_ids);
+        if (!p->material_ids) die("out of memory for %u material ids", h.material_id_count);
+        MPI_Recv(p->material_ids, (int)h.material_id_count, MPI_UINT16_T, src, TAG_MATS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        p->material_id_count = h.material_id_count;
+    }
     hp->index = p->index;
     hp->coded = h.coded;
     hp->owner = src;
@@ -184,7 +196,7 @@ static vx_conv_mesh_part* gather(vx_conv_mesh_part* parts, size_t* count, held**
         if (n && (!vx_grow(alloc, (void**)&parts, &cap, *count + (size_t)n, sizeof *parts) ||
                   !vx_grow(alloc, (void**)hs, &hcap, *count + (size_t)n, sizeof **hs)))
             die("out of memory for %zu regions", *count + (size_t)n);
-        for (uint64_t i = 0; i < n; i++, (*count)++) recv_part(st.MPI_SOURCE, &parts[*count], &(*hs)[*count]);
+        for (uint64_t i = 0; i < n; i++, (*count)++) recv_part(st.MPI_SOURCE, &parts[*count], &(*hs)[*count], alloc);
     }
     return parts;
 }

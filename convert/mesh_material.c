@@ -1,0 +1,175 @@
+/* convert/mesh_material.c - the MATL ids of a mesh's cells (mesh_internal.h,
+ * "materials"): which glTF materials sample their metallic-roughness and
+ * emissive textures per cell, the levels those are quantized to, and the id
+ * of each (material, levels) combination. */
+#include <math.h>
+#include <string.h>
+
+#include "convert/mesh_internal.h"
+
+/* The image a material's texture names, when it can be sampled (uv set). */
+static const vx_gltf_image* tex_image(const vx_gltf_mesh* mesh, const vx_gltf_tex* t, const float* uv) {
+    if (t->image < 0 || (uint32_t)t->image >= mesh->image_count || !uv) return NULL;
+    const vx_gltf_image* im = &mesh->images[t->image];
+    return im->rgba && im->width && im->height ? im : NULL;
+}
+
+/* Smallest and largest byte of each channel over the image. */
+static void channel_range(const vx_gltf_image* im, uint8_t lo[4], uint8_t hi[4]) {
+    memset(lo, 255, 4);
+    memset(hi, 0, 4);
+    size_t n = (size_t)im->width * im->height; /* the reader allocated n * 4 bytes */
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 4; c++) {
+            uint8_t v = im->rgba[4 * i + c];
+            lo[c] = v < lo[c] ? v : lo[c];
+            hi[c] = v > hi[c] ? v : hi[c];
+        }
+}
+
+/* The effective factors and sampled channels of glTF material g. */
+static void plan_one(const vx_gltf_mesh* mesh, const vx_gltf_material* g, const float lin[256], vx__mesh_mat* o) {
+    memset(o, 0, sizeof *o);
+    o->metal = g->metallic;
+    o->rough = g->roughness;
+    memcpy(o->emit, g->emissive, sizeof o->emit);
+    o->trans = g->transmission;
+    bool rough_varies = false;
+    const vx_gltf_image* mr = tex_image(mesh, &g->metal_rough, mesh->uv_mr);
+    if (mr) {
+        uint8_t lo[4], hi[4];
+        channel_range(mr, lo, hi);
+        /* a channel uniform over the image is its factor (the file is then
+         * the one the equivalent factor gives) */
+        if (lo[2] == hi[2]) o->metal *= hi[2] / 255.0f;
+        else if (o->metal > 0) o->sample |= VX__MESH_SAMPLE_METAL;
+        if (lo[1] == hi[1]) o->rough *= hi[1] / 255.0f;
+        else rough_varies = o->rough > 0;
+    }
+    const vx_gltf_image* em = tex_image(mesh, &g->emissive_tex, mesh->uv_emissive);
+    if (em) {
+        uint8_t lo[4], hi[4];
+        channel_range(em, lo, hi);
+        if (lo[0] == hi[0] && lo[1] == hi[1] && lo[2] == hi[2]) {
+            for (int k = 0; k < 3; k++) o->emit[k] *= lin[hi[k]];
+        } else if (o->emit[0] > 0 || o->emit[1] > 0 || o->emit[2] > 0) {
+            o->sample |= VX__MESH_SAMPLE_EMIT;
+        }
+    }
+    o->emit_max = fmaxf(o->emit[0], fmaxf(o->emit[1], o->emit[2]));
+    o->special = o->metal > 0 || o->trans > 0 || o->emit_max > 0;
+    /* roughness only matters in a record */
+    if (rough_varies && (o->special || o->sample)) o->sample |= VX__MESH_SAMPLE_ROUGH;
+}
+
+/* levels^(channels sampled) */
+static uint32_t block_of(uint8_t sample, uint32_t levels) {
+    uint32_t b = 1;
+    for (int k = 0; k < 3; k++)
+        if (sample & (1u << k)) b *= levels;
+    return b;
+}
+
+vx_result vx__mesh_mats_make(const vx_gltf_mesh* mesh, const vx_allocator* a, vx__mesh_mats* out, vx_error* err) {
+    memset(out, 0, sizeof *out);
+    uint32_t n = mesh->materials ? mesh->material_count : 0;
+    out->m = (vx__mesh_mat*)vx_calloc(a, n ? n : 1, sizeof *out->m);
+    if (!out->m) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%u materials", n);
+    out->count = n;
+    float thr[256], lin[256], a255[256];
+    uint32_t* guess = (uint32_t*)vx_alloc(a, 4097 * sizeof *guess); /* only lin is wanted here */
+    if (!guess) {
+        vx__mesh_mats_free(a, out);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "colour tables");
+    }
+    vx__mesh_color_tables(thr, guess, lin, a255);
+    vx_free(a, guess);
+    for (uint32_t i = 0; i < n; i++) {
+        plan_one(mesh, &mesh->materials[i], lin, &out->m[i]);
+        out->sampled |= out->m[i].sample != 0;
+    }
+    /* the ids: index + 1 without sampling (as before per-cell materials);
+     * else blocks, with fewer levels when they do not fit in 16 bits */
+    static const uint32_t tries[] = {VX__MESH_LEVELS, 4, 3, 2};
+    uint64_t next = 1;
+    out->levels = VX__MESH_LEVELS;
+    for (size_t t = 0; out->sampled && t < sizeof tries / sizeof tries[0]; t++) {
+        next = 1;
+        for (uint32_t i = 0; i < n; i++) next += block_of(out->m[i].sample, tries[t]);
+        out->levels = tries[t];
+        if (next - 1 <= 65535u) break;
+    }
+    if (out->sampled && next - 1 > 65535u) {
+        vx_result r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                              "glTF materials: %u materials need %llu material ids with their textures at 2 levels, "
+                              "more than 65535",
+                              n, (unsigned long long)(next - 1));
+        vx__mesh_mats_free(a, out);
+        return r;
+    }
+    next = 1;
+    for (uint32_t i = 0; i < n; i++) {
+        vx__mesh_mat* m = &out->m[i];
+        m->block = block_of(m->sample, out->levels);
+        m->base = next <= 65535u ? (uint32_t)next : 0;
+        next += m->block;
+    }
+    for (size_t t = 0; mesh->material && t < mesh->tri_count && !out->any_special; t++) {
+        uint32_t mi = mesh->material[t];
+        out->any_special = mi < n && out->m[mi].base && (out->m[mi].special || out->m[mi].sample);
+    }
+    return VX_OK;
+}
+
+void vx__mesh_mats_free(const vx_allocator* a, vx__mesh_mats* p) {
+    vx_free(a, p->m);
+    memset(p, 0, sizeof *p);
+}
+
+/* The level of a cell's average v of a channel whose factor is f: v / f in
+ * [0, 1] rounded to the nearest of levels steps. */
+static uint32_t level_of(float v, float f, uint32_t levels) {
+    double q = f > 0 ? (double)v / f : 0;
+    if (!(q > 0)) return 0;
+    if (q >= 1) return levels - 1;
+    return (uint32_t)lrint(q * (levels - 1));
+}
+
+uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, float emit) {
+    if (mi >= p->count || !p->m[mi].base) return 0;
+    const vx__mesh_mat* m = &p->m[mi];
+    if (!m->sample) return m->special ? (uint16_t)m->base : 0;
+    uint32_t L = p->levels, km = 0, kr = 0, ke = 0;
+    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1, Le = (m->sample & VX__MESH_SAMPLE_EMIT) ? L : 1;
+    bool lit = m->emit_max > 0, metallic = m->metal > 0;
+    if (m->sample & VX__MESH_SAMPLE_METAL) metallic = (km = level_of(metal, m->metal, L)) > 0;
+    if (m->sample & VX__MESH_SAMPLE_ROUGH) kr = level_of(rough, m->rough, L);
+    if (m->sample & VX__MESH_SAMPLE_EMIT) lit = (ke = level_of(emit, m->emit_max, L)) > 0;
+    if (!metallic && !lit && !(m->trans > 0)) return 0; /* diffuse: no record */
+    return (uint16_t)(m->base + (km * Lr + kr) * Le + ke);
+}
+
+bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4]) {
+    if (id == 0) return false;
+    /* the material whose block holds id: the last with a base <= id (bases
+     * ascend with the index, then are 0 beyond the id space) */
+    uint32_t lo = 0, hi = p->count;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (p->m[mid].base && p->m[mid].base <= id) lo = mid + 1;
+        else hi = mid;
+    }
+    if (lo == 0) return false;
+    lo--;
+    const vx__mesh_mat* m = &p->m[lo];
+    if (!m->base || id < m->base || id - m->base >= m->block) return false;
+    uint32_t L = p->levels, k = id - m->base;
+    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1, Le = (m->sample & VX__MESH_SAMPLE_EMIT) ? L : 1;
+    uint32_t ke = k % Le, kr = (k / Le) % Lr, km = k / Le / Lr;
+    *mi = lo;
+    v[0] = (m->sample & VX__MESH_SAMPLE_METAL) ? m->metal * (float)km / (float)(L - 1) : m->metal;
+    v[1] = (m->sample & VX__MESH_SAMPLE_ROUGH) ? m->rough * (float)kr / (float)(L - 1) : m->rough;
+    v[2] = (m->sample & VX__MESH_SAMPLE_EMIT) ? m->emit_max * (float)ke / (float)(L - 1) : m->emit_max;
+    v[3] = m->trans;
+    return v[0] > 0 || v[2] > 0 || v[3] > 0;
+}
