@@ -12,6 +12,7 @@
 
 #include "convert/convert.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 
 typedef struct cell {
     int32_t x, y, z;
@@ -960,15 +961,6 @@ static void colour_scene(vx_svo_scene* s, uint32_t n, uint32_t step, bool palett
     place(s, 2, 2, (int[3]){1, 2, 3}, (double[3]){0, 0, -9});
 }
 
-static double rgba_dist(uint32_t a, uint32_t b) {
-    double d2 = 0;
-    for (int k = 0; k < 4; k++) {
-        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
-        d2 += d * d;
-    }
-    return sqrt(d2);
-}
-
 /* Export (quantize as asked), write, read back: the cells' colours, and the bytes written. */
 static vx_result export_colours(const vx_svo_scene* s, bool quantize, vx_conv_vox_export_stats* st, cells* out, uint8_t** bytes,
                                 size_t* n, uint32_t pal[256], vx_error* err) {
@@ -1015,8 +1007,8 @@ static void test_quantize_export(void) {
             CHECKF(a->rgba == b->rgba, "(%d %d %d): %08x became %08x", a->x, a->y, a->z, a->rgba, b->rgba);
             continue;
         }
-        double d = rgba_dist(a->rgba, b->rgba), best = INFINITY;
-        for (int e = 1; e < 256; e++) best = fmin(best, rgba_dist(a->rgba, pal[e]));
+        double d = vx_test_rgba_dist(a->rgba, b->rgba), best = INFINITY;
+        for (int e = 1; e < 256; e++) best = fmin(best, vx_test_rgba_dist(a->rgba, pal[e]));
         not_nearest += d != best;
         max = fmax(max, d), sum += d, rgba_cells++;
     }

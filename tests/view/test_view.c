@@ -26,6 +26,7 @@
 #include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 #include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/settings.h"
@@ -2630,15 +2631,6 @@ static void test_script_export_split(void) {
     vx_svo_scene_free(&back);
 }
 
-static double rgba_dist(uint32_t a, uint32_t b) {
-    double d2 = 0;
-    for (int k = 0; k < 4; k++) {
-        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
-        d2 += d * d;
-    }
-    return sqrt(d2);
-}
-
 /* More than 255 colours: the viewer's .vox export refused them and named
  * svo_info --to-vox --quantize as the only way; `export FILE quantize` and
  * the Export panel's checkbox now map them to a 255-entry palette (as
@@ -2702,12 +2694,12 @@ static void test_script_export_quantize(void) {
     double max = 0, sum = 0;
     for (size_t i = 0; moved != SIZE_MAX && i < a.n; i++) {
         if (memcmp(a.v[i].p, b.v[i].p, sizeof a.v[i].p)) moved++;
-        double d = rgba_dist(a.v[i].rgba, b.v[i].rgba), best = INFINITY;
+        double d = vx_test_rgba_dist(a.v[i].rgba, b.v[i].rgba), best = INFINITY;
         for (uint32_t e = 1; e < 256; e++) { /* the entries the export's cells use */
             bool used = false;
             for (uint32_t m = 0; m < vs.model_count && !used; m++)
                 for (uint32_t k = 0; k < vs.models[m].voxel_count && !used; k++) used = vs.models[m].xyzi[4 * (size_t)k + 3] == e;
-            if (used) best = fmin(best, rgba_dist(a.v[i].rgba, vs.palette[e]));
+            if (used) best = fmin(best, vx_test_rgba_dist(a.v[i].rgba, vs.palette[e]));
         }
         not_nearest += d != best;
         max = fmax(max, d), sum += d;
