@@ -98,6 +98,9 @@ typedef struct vx_conv_vox_export_desc {
     bool quantize;
 } vx_conv_vox_export_desc;
 
+/* Filled on VX_OK, and on the refusal of more than 255 colours without
+ * quantize (VX_ERR_UNSUPPORTED with colors set), so that a front end can
+ * name its own option; otherwise untouched. */
 typedef struct vx_conv_vox_export_stats {
     uint32_t colors;   /* the scene's distinct colours, counted when more than 255 (else 0) */
     bool quantized;    /* colours were mapped (quantize and more than 255) */

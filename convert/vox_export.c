@@ -741,13 +741,15 @@ vx_result vx_conv_svo_to_vox_ex(const vx_conv_vox_export_desc* desc, const vx_sv
     quantized qz;
     memset(&qz, 0, sizeof qz);
     r = quantize(in, d.alloc, d.quantize, &qz, &st, err);
-    if (r == VX_OK && !d.quantize)
+    bool refused = r == VX_OK && !d.quantize;
+    if (refused)
         r = vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                    "the scene has %u distinct colours, a .vox palette holds 255; export with quantize (svo_info --to-vox "
-                    "--quantize) to map them to 255", st.colors);
+                    "the scene has %u distinct colours, a .vox palette holds 255; export with quantize to map them to 255",
+                    st.colors);
     if (r == VX_OK) r = export_scene(in, d.alloc, &qz, out, &too_many, err);
     colour_set_free(&qz.set);
-    if (r == VX_OK && stats) *stats = st;
+    /* the refusal's count too: each front end names its own option for quantize */
+    if ((r == VX_OK || refused) && stats) *stats = st;
     return r;
 }
 

@@ -34,6 +34,7 @@
 #endif
 
 static PyObject* vx_py_error; /* voxkit.Error */
+static PyObject* vx_py_quantize_warning; /* voxkit.QuantizeWarning */
 
 /* Raises voxkit.Error for err, naming path (may be NULL) as the tools do. */
 static PyObject* raise_error(const char* path, const vx_error* err) {
@@ -315,18 +316,34 @@ static PyObject* scene_save(Scene* self, PyObject* args) {
     return out;
 }
 
-static PyObject* scene_to_vox(Scene* self, PyObject* args) {
+/* A lossy export warns (voxkit.QuantizeWarning, a UserWarning, through the
+ * warnings module: shown once by default, filtered, recorded or raised as
+ * the caller's filters say) rather than returning what it lost: to_vox's
+ * result stays None, as save's. */
+static PyObject* scene_to_vox(Scene* self, PyObject* args, PyObject* kw) {
+    static char* kwlist[] = {"path", "quantize", NULL};
     PyObject* pathobj;
-    if (!PyArg_ParseTuple(args, "O&:to_vox", PyUnicode_FSConverter, &pathobj)) return NULL;
+    int quantize = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|p:to_vox", kwlist, PyUnicode_FSConverter, &pathobj, &quantize)) return NULL;
     const char* path = PyBytes_AS_STRING(pathobj);
     vx_error err = {0};
     vx_vox_scene v;
-    vx_result r = vx_conv_svo_to_vox(&self->s, NULL, &v, &err);
+    vx_conv_vox_export_stats st = {0};
+    vx_result r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = quantize}, &self->s, &v, &st, &err);
     if (r == VX_OK) {
         r = vx_vox_write_file(NULL, &v, path, &err);
         vx_vox_scene_free(&v);
     }
+    if (r == VX_ERR_UNSUPPORTED && st.colors > 255) /* the library names its desc field; name the keyword */
+        snprintf(err.msg + strlen(err.msg), sizeof err.msg - strlen(err.msg), " (to_vox(path, quantize=True))");
     PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
+    if (out && st.quantized) {
+        char msg[1280]; /* PyErr_WarnFormat has no %f */
+        snprintf(msg, sizeof msg,
+                 "%s: %u distinct colours quantized to a 255-entry palette: colour error (RGBA distance, 0-255 a channel) "
+                 "max %.2f, mean %.2f", path, st.colors, st.max_error, st.mean_error);
+        if (PyErr_WarnEx(vx_py_quantize_warning, msg, 1) < 0) Py_CLEAR(out); /* the filters made it an exception */
+    }
     Py_DECREF(pathobj);
     return out;
 }
@@ -424,8 +441,11 @@ static PyMethodDef scene_methods[] = {
      "visible are the frame's; instance i of every frame is the same object, its model and transform\n"
      "may change). Frame 0 is `instances`; a static scene has frame 0 only."},
     {"save", (PyCFunction)scene_save, METH_VARARGS, "save(path): writes the scene as a .svo file."},
-    {"to_vox", (PyCFunction)scene_to_vox, METH_VARARGS,
-     "to_vox(path): writes the scene as a MagicaVoxel .vox file (as svo_info --to-vox)."},
+    {"to_vox", (PyCFunction)(void (*)(void))scene_to_vox, METH_VARARGS | METH_KEYWORDS,
+     "to_vox(path, quantize=False): writes the scene as a MagicaVoxel .vox file (as svo_info --to-vox).\n"
+     "A .vox palette holds 255 colours: a scene with more raises voxkit.Error, unless quantize=True\n"
+     "maps them to a 255-entry palette (median cut, each cell its nearest entry; svo_info --quantize)\n"
+     "and warns with voxkit.QuantizeWarning giving the count and the colour error (max, mean)."},
 #ifdef VX_PY_RENDER
     {"render", (PyCFunction)(void (*)(void))scene_render, METH_VARARGS | METH_KEYWORDS,
      "render(width=640, height=480, mode='color', spp=1, eye=None, target=None, up=None, fov=45,\n"
@@ -601,7 +621,13 @@ PyMODINIT_FUNC PyInit_voxkit(void) {
     vx_py_error = PyErr_NewExceptionWithDoc(
         "voxkit.Error", "A voxkit call failed: the message is voxkit's, naming the file; attributes path, code, offset.",
         PyExc_Exception, NULL);
-    if (!vx_py_error || PyModule_AddObjectRef(m, "Error", vx_py_error) < 0 ||
+    vx_py_quantize_warning = PyErr_NewExceptionWithDoc(
+        "voxkit.QuantizeWarning",
+        "Scene.to_vox(quantize=True) mapped more than 255 colours to a 255-entry palette: the message gives the count "
+        "and the colour error.",
+        PyExc_UserWarning, NULL);
+    if (!vx_py_error || !vx_py_quantize_warning || PyModule_AddObjectRef(m, "Error", vx_py_error) < 0 ||
+        PyModule_AddObjectRef(m, "QuantizeWarning", vx_py_quantize_warning) < 0 ||
         PyModule_AddObjectRef(m, "Scene", (PyObject*)&SceneType) < 0 ||
         PyModule_AddStringConstant(m, "__version__", vx_version()) < 0 ||
         PyModule_AddIntConstant(m, "has_render",

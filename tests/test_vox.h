@@ -3,6 +3,7 @@
  * vx_formats and vx_convert). */
 #ifndef VX_TESTS_TEST_VOX_H
 #define VX_TESTS_TEST_VOX_H
+#include <math.h>
 #include <stdio.h>
 
 #include "convert/convert.h"
@@ -32,6 +33,17 @@ static inline vx_test_vox vx_test_vox_scene(const char* name, vx_svo_scene* out)
         return VX_TEST_VOX_FAILED;
     }
     return VX_TEST_VOX_OK;
+}
+
+/* The RGBA distance (0..510) of two RGBA8 colours: the colour error
+ * vx_conv_vox_export_stats reports for a quantized .vox export. */
+static inline double vx_test_rgba_dist(uint32_t a, uint32_t b) {
+    double d2 = 0;
+    for (int k = 0; k < 4; k++) {
+        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
+        d2 += d * d;
+    }
+    return sqrt(d2);
 }
 
 #endif

@@ -12,6 +12,7 @@
 
 #include "convert/convert.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 
 typedef struct cell {
     int32_t x, y, z;
@@ -807,74 +808,86 @@ static void check_split(const char* name, const vx_svo_scene* s, uint32_t want_m
  * side ("model 0 is 300x40x700: .vox models are at most 256 cells per side").
  * It is now split into 256^3 pieces, one .vox model each under a group per
  * instance; read back, every cell is where it was. */
+/* A split case's model: size, cells only at or past `from` (split_model),
+ * RGBA8 or palette colours; empty: no cells at all. */
+typedef struct split_spec {
+    uint32_t size[3], from;
+    bool rgba, empty;
+} split_spec;
+
+/* A split case's instance: model, signed permutation rows, translation, name (NULL: none). */
+typedef struct split_inst {
+    uint32_t model;
+    const int* rows;
+    double t[3];
+    const char* name;
+} split_inst;
+
+/* The scene of a split case: its models and instances (split_scene,
+ * split_model, place), for check_split after any further changes. */
+static void split_build(vx_svo_scene* s, const split_spec* models, uint32_t nm, const split_inst* inst, uint32_t ni) {
+    split_scene(s, nm, ni);
+    for (uint32_t m = 0; m < nm; m++) {
+        const split_spec* sp = &models[m];
+        if (sp->empty) {
+            vx_svo_voxels none = {.size = {sp->size[0], sp->size[1], sp->size[2]}};
+            REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &none, &s->models[m], NULL, NULL) == VX_OK);
+        } else {
+            split_model(&s->models[m], sp->size[0], sp->size[1], sp->size[2], sp->from, sp->rgba);
+        }
+    }
+    for (uint32_t i = 0; i < ni; i++) {
+        place(s, i, inst[i].model, inst[i].rows, inst[i].t);
+        if (inst[i].name) snprintf(s->instances[i].name, sizeof s->instances[i].name, "%s", inst[i].name);
+    }
+}
+
+/* svo_info --to-vox and the editor's export refused a model over 256 cells a
+ * side ("model 0 is 300x40x700: .vox models are at most 256 cells per side").
+ * It is now split into 256^3 pieces, one .vox model each under a group per
+ * instance; read back, every cell is where it was. */
 static void test_split_export(void) {
     static const int ID[3] = {1, 2, 3}, TURN[3] = {-2, 3, 1} /* a rotation */, MIRROR[3] = {3, -1, -2} /* turned and mirrored */;
-    {
-        /* 300x40x700: 2 x 1 x 3 tiles, all holding cells */
-        vx_svo_scene s;
-        split_scene(&s, 1, 1);
-        split_model(&s.models[0], 300, 40, 700, 0, false);
-        place(&s, 0, 0, ID, (double[3]){-150, 7, -350});
-        snprintf(s.instances[0].name, sizeof s.instances[0].name, "castle");
-        check_split("300x40x700", &s, 6, 1);
-        vx_svo_scene_free(&s);
-    }
-    {
-        /* 256 a side is one model as before (no group); 257 is two pieces */
-        vx_svo_scene s;
-        split_scene(&s, 2, 2);
-        split_model(&s.models[0], 256, 256, 256, 0, false);
-        split_model(&s.models[1], 257, 5, 3, 0, false);
-        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
-        place(&s, 1, 1, ID, (double[3]){10, 300, -4});
-        check_split("256 and 257", &s, 3, 1);
-        vx_svo_scene_free(&s);
-    }
+    vx_svo_scene s;
+    /* 300x40x700: 2 x 1 x 3 tiles, all holding cells */
+    split_build(&s, (split_spec[]){{.size = {300, 40, 700}}}, 1, (split_inst[]){{0, ID, {-150, 7, -350}, "castle"}}, 1);
+    check_split("300x40x700", &s, 6, 1);
+    vx_svo_scene_free(&s);
+    /* 256 a side is one model as before (no group); 257 is two pieces */
+    split_build(&s, (split_spec[]){{.size = {256, 256, 256}}, {.size = {257, 5, 3}}}, 2,
+                (split_inst[]){{0, ID, {0, 0, 0}, NULL}, {1, ID, {10, 300, -4}, NULL}}, 2);
+    check_split("256 and 257", &s, 3, 1);
+    vx_svo_scene_free(&s);
     {
         /* odd sizes (the pivot rounds down), turned and mirrored instances of
          * one big model, a second instance sharing its pieces, RGBA8 colours,
          * a layer, a hidden instance, a small model beside them */
-        vx_svo_scene s;
-        split_scene(&s, 2, 4);
-        split_model(&s.models[0], 513, 301, 259, 0, true);
-        split_model(&s.models[1], 9, 7, 5, 0, false);
+        split_build(&s, (split_spec[]){{.size = {513, 301, 259}, .from = 0, .rgba = true}, {.size = {9, 7, 5}}}, 2,
+                    (split_inst[]){{0, TURN, {3, -1000, 17}, NULL},
+                                   {0, MIRROR, {-9, 4, 2001}, "mirrored"},
+                                   {1, MIRROR, {1, 2, 3}, NULL},
+                                   {0, ID, {700, 0, 0}, "plain"}},
+                    4);
         s.layers = calloc(2, sizeof *s.layers);
         REQUIRE(s.layers);
         s.layer_count = 2;
         snprintf(s.layers[1].name, sizeof s.layers[1].name, "walls");
-        place(&s, 0, 0, TURN, (double[3]){3, -1000, 17});
-        place(&s, 1, 0, MIRROR, (double[3]){-9, 4, 2001});
-        place(&s, 2, 1, MIRROR, (double[3]){1, 2, 3});
-        place(&s, 3, 0, ID, (double[3]){700, 0, 0});
         s.instances[0].layer = 1;
         s.instances[1].flags = VX_SVO_INSTANCE_HIDDEN;
-        snprintf(s.instances[1].name, sizeof s.instances[1].name, "mirrored");
-        snprintf(s.instances[3].name, sizeof s.instances[3].name, "plain");
         /* 3 x 2 x 2 tiles: 12 pieces, shared by three instances, and the small model */
         check_split("513x301x259 turned, mirrored, shared", &s, 13, 3);
         vx_svo_scene_free(&s);
     }
-    {
-        /* cells only in the far corner: the empty pieces are left out */
-        vx_svo_scene s;
-        split_scene(&s, 1, 1);
-        split_model(&s.models[0], 600, 601, 599, 520, false);
-        place(&s, 0, 0, MIRROR, (double[3]){-5, 5, 0.0});
-        check_split("far corner", &s, 1, 1);
-        vx_svo_scene_free(&s);
-    }
+    /* cells only in the far corner: the empty pieces are left out */
+    split_build(&s, (split_spec[]){{.size = {600, 601, 599}, .from = 520}}, 1, (split_inst[]){{0, MIRROR, {-5, 5, 0.0}, NULL}}, 1);
+    check_split("far corner", &s, 1, 1);
+    vx_svo_scene_free(&s);
     {
         /* an animated instance of a big model (moving, turning), one of a
          * small model, one hidden all along */
-        vx_svo_scene s;
-        split_scene(&s, 2, 3);
-        split_model(&s.models[0], 270, 531, 33, 0, false);
-        split_model(&s.models[1], 4, 4, 4, 0, false);
-        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
-        place(&s, 1, 1, ID, (double[3]){-20, 0, 0});
-        place(&s, 2, 0, TURN, (double[3]){0, 0, 900});
+        split_build(&s, (split_spec[]){{.size = {270, 531, 33}}, {.size = {4, 4, 4}}}, 2,
+                    (split_inst[]){{0, ID, {0, 0, 0}, "mover"}, {1, ID, {-20, 0, 0}, NULL}, {0, TURN, {0, 0, 900}, NULL}}, 3);
         s.instances[2].flags = VX_SVO_INSTANCE_HIDDEN;
-        snprintf(s.instances[0].name, sizeof s.instances[0].name, "mover");
         REQUIRE(vx_svo_scene_alloc_frames(&s, 4, NULL) == VX_OK);
         for (uint32_t f = 1; f < 4; f++) {
             vx_svo_instance* fi = (vx_svo_instance*)vx_svo_scene_frame_instances(&s, f);
@@ -896,18 +909,11 @@ static void test_split_export(void) {
         CHECKF(strstr(err.msg, "frame 2 instance 0") && strstr(err.msg, "270x531x33"), "message: %s", err.msg);
         vx_svo_scene_free(&s);
     }
-    {
-        /* an empty model over 256: no pieces, its instance an empty group */
-        vx_svo_scene s;
-        split_scene(&s, 2, 2);
-        vx_svo_voxels none = {.size = {400, 2, 2}};
-        REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &none, &s.models[0], NULL, NULL) == VX_OK);
-        split_model(&s.models[1], 3, 3, 3, 0, false);
-        place(&s, 0, 0, ID, (double[3]){0, 0, 0});
-        place(&s, 1, 1, ID, (double[3]){0, 0, 0});
-        check_split("empty 400x2x2", &s, 1, 1);
-        vx_svo_scene_free(&s);
-    }
+    /* an empty model over 256: no pieces, its instance an empty group */
+    split_build(&s, (split_spec[]){{.size = {400, 2, 2}, .empty = true}, {.size = {3, 3, 3}}}, 2,
+                (split_inst[]){{0, ID, {0, 0, 0}, NULL}, {1, ID, {0, 0, 0}, NULL}}, 2);
+    check_split("empty 400x2x2", &s, 1, 1);
+    vx_svo_scene_free(&s);
     {
         /* the writer checks a scene's groups: index in range, a rotation */
         uint8_t xyzi[4] = {0, 0, 0, 1};
@@ -953,15 +959,6 @@ static void colour_scene(vx_svo_scene* s, uint32_t n, uint32_t step, bool palett
     place(s, 0, 0, (int[3]){1, 2, 3}, (double[3]){0, 0, 0});
     place(s, 1, 1, (int[3]){1, 2, 3}, (double[3]){0, 0, -5});
     place(s, 2, 2, (int[3]){1, 2, 3}, (double[3]){0, 0, -9});
-}
-
-static double rgba_dist(uint32_t a, uint32_t b) {
-    double d2 = 0;
-    for (int k = 0; k < 4; k++) {
-        double d = (double)((a >> 8 * k) & 255) - (double)((b >> 8 * k) & 255);
-        d2 += d * d;
-    }
-    return sqrt(d2);
 }
 
 /* Export (quantize as asked), write, read back: the cells' colours, and the bytes written. */
@@ -1010,8 +1007,8 @@ static void test_quantize_export(void) {
             CHECKF(a->rgba == b->rgba, "(%d %d %d): %08x became %08x", a->x, a->y, a->z, a->rgba, b->rgba);
             continue;
         }
-        double d = rgba_dist(a->rgba, b->rgba), best = INFINITY;
-        for (int e = 1; e < 256; e++) best = fmin(best, rgba_dist(a->rgba, pal[e]));
+        double d = vx_test_rgba_dist(a->rgba, b->rgba), best = INFINITY;
+        for (int e = 1; e < 256; e++) best = fmin(best, vx_test_rgba_dist(a->rgba, pal[e]));
         not_nearest += d != best;
         max = fmax(max, d), sum += d, rgba_cells++;
     }

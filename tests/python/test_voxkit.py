@@ -8,8 +8,10 @@ colours. Without the corpus only the generated demo scene is checked (with a
 message). With PREFIX, the module and libvoxkit must be loaded from there.
 """
 import os
+import re
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 
@@ -139,6 +141,72 @@ for call, what in ((lambda: a.frame_instances(6), "frame_instances(6)"), (lambda
         check(False, f"{what} raises IndexError")
     except IndexError as e:
         check(True, f"{what} raises IndexError: {e}")
+
+# ---- more than 255 colours: to_vox refuses; quantize=True maps them to 255 ------
+# a triangle whose corners are red, green and blue (test_tools' rgb.gltf): its cells interpolate them
+rgb_gltf, rgb, rgb_vox = (os.path.join(WORK, n) for n in ("rgb.gltf", "rgb.svo", "rgb.vox"))
+with open(rgb_gltf, "w") as f:
+    f.write('{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],'
+            '"meshes":[{"primitives":[{"attributes":{"POSITION":0,"COLOR_0":1}}]}],'
+            '"buffers":[{"byteLength":72,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAA'
+            'AAAAgD8AAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/"}],'
+            '"bufferViews":[{"buffer":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":36}],'
+            '"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},'
+            '{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}]}')
+try:
+    tool("vox2svo", rgb_gltf, rgb, "--res", "64", "-q")
+except subprocess.CalledProcessError as e:
+    print(f"skip: more than 255 colours: vox2svo {rgb_gltf}: {e.stderr.decode().strip()}")
+    rgb = None
+if rgb:
+    ref = dump(rgb)
+    nc = len(np.unique(ref[:, 3:], axis=0))
+    check(nc > 255, f"the triangle has {nc} colours")
+    q = voxkit.open(rgb)
+    if os.path.exists(rgb_vox):
+        os.remove(rgb_vox)
+    try:
+        q.to_vox(rgb_vox)
+        check(False, "to_vox of more than 255 colours raises voxkit.Error")
+    except voxkit.Error as e:
+        check(f"{nc} distinct colours" in str(e) and "quantize=True" in str(e) and "svo_info" not in str(e) and
+              e.path == rgb_vox and not os.path.exists(rgb_vox), f"to_vox of {nc} colours is refused, naming quantize=True: {e}")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = q.to_vox(rgb_vox, quantize=True)
+    qw = [w for w in caught if issubclass(w.category, voxkit.QuantizeWarning)]
+    m = re.search(r"max ([0-9.]+), mean ([0-9.]+)", str(qw[0].message)) if len(qw) == 1 else None
+    check(r is None and issubclass(voxkit.QuantizeWarning, UserWarning) and m and
+          str(qw[0].message).startswith(f"{rgb_vox}: {nc} distinct colours quantized to a 255-entry palette"),
+          f"to_vox(quantize=True) warns once with voxkit.QuantizeWarning: {[str(w.message) for w in caught]}")
+    # the independent path: vox2svo reads the .vox, svo_info dumps it; every cell where it was,
+    # its colour the nearest entry in use, the error as the warning says
+    back_svo = os.path.join(WORK, "rgb-back.svo")
+    tool("vox2svo", rgb_vox, back_svo, "-q")
+    back = dump(back_svo)
+    if check(len(back) == len(ref) and np.array_equal(back[:, :3], ref[:, :3]), f"quantized: all {len(ref)} cells where they were"):
+        err = np.sqrt(((ref[:, 3:] - back[:, 3:]).astype(np.float64) ** 2).sum(axis=1))
+        entries = np.unique(back[:, 3:], axis=0)
+        nearest = np.sqrt(((ref[:, None, 3:] - entries[None, :, :]).astype(np.float64) ** 2).sum(axis=2)).min(axis=1)
+        check(np.array_equal(err, nearest), f"quantized: each cell's colour the nearest of the {len(entries)} entries in use")
+        wmax, wmean = (float(m.group(1)), float(m.group(2))) if m else (-1.0, -1.0)
+        check(abs(err.max() - wmax) <= 0.005 and abs(err.mean() - wmean) <= 0.005,
+              f"quantized: error max {err.max():.2f}, mean {err.mean():.2f} as the warning says ({wmax}, {wmean})")
+        # the colours fill a triangle of side 255 sqrt(2) (r + g + b = 255): 255 entries spread evenly
+        # leave each colour within r of one, the hexagon of 1/255 of its area; the median cut's
+        # axis-aligned boxes within twice that, plus the entries' rounding (half a unit a channel)
+        r_even = np.sqrt(2 * (np.sqrt(3) / 2 * 255**2 / 255) / (3 * np.sqrt(3)))
+        bound = 2 * r_even + 0.5 * np.sqrt(3)
+        check(0 < err.max() <= bound and err.mean() <= r_even,
+              f"quantized: error max {err.max():.2f} <= {bound:.2f}, mean {err.mean():.2f} <= {r_even:.2f}")
+    # the caller's filters decide: "error" raises the warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", voxkit.QuantizeWarning)
+        try:
+            q.to_vox(rgb_vox, quantize=True)
+            check(False, "with the warning as an error, to_vox(quantize=True) raises voxkit.QuantizeWarning")
+        except voxkit.QuantizeWarning as e:
+            check(True, f"with the warning as an error, to_vox(quantize=True) raises voxkit.QuantizeWarning: {e}")
 
 # ---- errors --------------------------------------------------------------------
 bad = os.path.join(WORK, "bad.svo")

@@ -298,35 +298,32 @@ static vx_result op_probes_write(const vx_allocator* a, const op_ctx* c, uint8_t
     return take_output(a, out, on, d, n);
 }
 
-/* svo scene -> .vox scene (svo_info --to-vox, the viewer's export) */
-static vx_result op_vox_export(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+/* svo scene -> .vox scene (svo_info --to-vox, the viewer's export), quantized
+ * or not, then written */
+static vx_result vox_export(const vx_allocator* a, bool quantize, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
     vx_vox_scene vs;
     memset(&vs, 0xAB, sizeof vs);
-    vx_result r = vx_conv_svo_to_vox((const vx_svo_scene*)c->obj, a, &vs, err);
+    vx_conv_vox_export_stats st;
+    const vx_svo_scene* s = (const vx_svo_scene*)c->obj;
+    vx_result r = quantize ? vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.alloc = a, .quantize = true}, s, &vs, &st, err)
+                           : vx_conv_svo_to_vox(s, a, &vs, err);
     if (r) {
         CHECK(vs.model_count == 0xABABABABu);
         return r;
     }
+    if (quantize) CHECK(st.quantized);
     r = vx_vox_write(&vs, NULL, d, n, err);
     vx_vox_scene_free(&vs);
     return r;
 }
 
+static vx_result op_vox_export(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
+    return vox_export(a, false, c, d, n, err);
+}
+
 /* the same with more than 255 colours, quantized */
 static vx_result op_vox_export_quantize(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
-    vx_vox_scene vs;
-    memset(&vs, 0xAB, sizeof vs);
-    vx_conv_vox_export_stats st;
-    vx_result r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.alloc = a, .quantize = true}, (const vx_svo_scene*)c->obj, &vs,
-                                        &st, err);
-    if (r) {
-        CHECK(vs.model_count == 0xABABABABu);
-        return r;
-    }
-    CHECK(st.quantized);
-    r = vx_vox_write(&vs, NULL, d, n, err);
-    vx_vox_scene_free(&vs);
-    return r;
+    return vox_export(a, true, c, d, n, err);
 }
 
 static vx_result op_vox_write(const vx_allocator* a, const op_ctx* c, uint8_t** d, size_t* n, vx_error* err) {
@@ -497,6 +494,24 @@ static void test_vox_and_svo(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The export tests' scene: one RGBA8 model (count cells at keys, coloured
+ * rgba) under `instances` identity instances on no layer. */
+static void rgba_model_scene(vx_svo_scene* s, const uint32_t size[3], size_t count, const uint64_t* keys, const uint32_t* rgba,
+                             uint32_t instances) {
+    vx_svo_scene_init(s, NULL);
+    s->models = (vx_svo_model*)vx_calloc(NULL, 1, sizeof *s->models);
+    s->instances = (vx_svo_instance*)vx_calloc(NULL, instances, sizeof *s->instances);
+    REQUIRE(s->models && s->instances);
+    s->model_count = 1, s->instance_count = instances;
+    vx_svo_voxels v = {.size = {size[0], size[1], size[2]}, .count = count, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s->models[0], NULL, NULL) == VX_OK);
+    for (uint32_t i = 0; i < instances; i++) {
+        vx_svo_instance* in = &s->instances[i];
+        in->xform[0] = in->xform[5] = in->xform[10] = 1;
+        in->layer = UINT32_MAX;
+    }
+}
+
 /* The export of a model over 256 cells a side: 300x3x3 in two pieces, two
  * instances (groups sharing the pieces) over two frames, RGBA8 colours. */
 static void test_vox_export_split(void) {
@@ -504,17 +519,9 @@ static void test_vox_export_split(void) {
     uint32_t rgba[6];
     for (uint32_t k = 0; k < 6; k++) keys[k] = vx_svo_morton(k < 3 ? k : 293 + k, k % 3, 2 - k % 3), rgba[k] = 0xFF000000u | (k * 0x102030u);
     vx_svo_scene s;
-    vx_svo_scene_init(&s, NULL);
-    s.models = (vx_svo_model*)vx_calloc(NULL, 1, sizeof *s.models);
-    s.instances = (vx_svo_instance*)vx_calloc(NULL, 2, sizeof *s.instances);
-    REQUIRE(s.models && s.instances);
-    s.model_count = 1, s.instance_count = 2;
-    vx_svo_voxels v = {.size = {300, 3, 3}, .count = 6, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
-    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
-    static const double x0[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, x1[12] = {0, -1, 0, 10, 1, 0, 0, 0, 0, 0, 1, 0};
-    memcpy(s.instances[0].xform, x0, sizeof x0);
+    rgba_model_scene(&s, (const uint32_t[3]){300, 3, 3}, 6, keys, rgba, 2);
+    static const double x1[12] = {0, -1, 0, 10, 1, 0, 0, 0, 0, 0, 1, 0};
     memcpy(s.instances[1].xform, x1, sizeof x1);
-    s.instances[0].layer = s.instances[1].layer = UINT32_MAX;
     REQUIRE(vx_svo_scene_alloc_frames(&s, 2, NULL) == VX_OK);
     s.frame_instances[1].xform[3] += 4;
     oom_loop("vox export, split (svo -> vox)", op_vox_export, &(op_ctx){.obj = &s});
@@ -528,15 +535,7 @@ static void test_vox_export_quantize(void) {
     for (uint32_t k = 0; k < 343; k++)
         keys[k] = vx_svo_morton(k % 7, k / 7 % 7, k / 49), rgba[k] = 0xFF000000u | (k % 7 * 40) | (k / 7 % 7 * 40) << 8 | (k / 49 * 40) << 16;
     vx_svo_scene s;
-    vx_svo_scene_init(&s, NULL);
-    s.models = (vx_svo_model*)vx_calloc(NULL, 1, sizeof *s.models);
-    s.instances = (vx_svo_instance*)vx_calloc(NULL, 1, sizeof *s.instances);
-    REQUIRE(s.models && s.instances);
-    s.model_count = 1, s.instance_count = 1;
-    vx_svo_voxels v = {.size = {7, 7, 7}, .count = 343, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
-    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
-    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
-    s.instances[0].layer = UINT32_MAX;
+    rgba_model_scene(&s, (const uint32_t[3]){7, 7, 7}, 343, keys, rgba, 1);
     oom_loop("vox export, quantized (svo -> vox)", op_vox_export_quantize, &(op_ctx){.obj = &s});
     vx_svo_scene_free(&s);
 }

@@ -26,6 +26,7 @@
 #include "probes/probes.h"
 #include "render/render.h"
 #include "tests/test.h"
+#include "tests/test_vox.h"
 #include "tools/svo_view/batch.h"
 #include "tools/svo_view/editor.h"
 #include "tools/svo_view/settings.h"
@@ -2518,6 +2519,41 @@ static void test_script_new_colour(void) {
     vx_svo_scene_free(&got);
 }
 
+/* A headless script run's files under the work folder: NAME_in.EXT (the
+ * scene opened), NAME.txt (the script), NAME.log (its output), NAME_out.svo
+ * and NAME_out.vox (what it saves and exports; removed first). */
+typedef struct script_files {
+    char in[1024], script[1024], log[1024], out[1024], ex[1024];
+} script_files;
+
+static void script_files_init(script_files* f, const char* name, const char* in_ext) {
+    snprintf(f->in, sizeof f->in, "%s/%s_in.%s", g_dir, name, in_ext);
+    snprintf(f->script, sizeof f->script, "%s/%s.txt", g_dir, name);
+    snprintf(f->log, sizeof f->log, "%s/%s.log", g_dir, name);
+    snprintf(f->out, sizeof f->out, "%s/%s_out.svo", g_dir, name);
+    snprintf(f->ex, sizeof f->ex, "%s/%s_out.vox", g_dir, name);
+    remove(f->out), remove(f->ex);
+}
+
+/* Writes the script (fmt and its arguments) and runs svo_view on f->in with
+ * it, hidden at 64x48, then opts (a later --size wins); the status, and in
+ * *text (when not NULL; free it) the run's output. */
+static int run_script(const script_files* f, const char* opts, char** text, const char* fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int run_script(const script_files* f, const char* opts, char** text, const char* fmt, ...) {
+    FILE* sf = fopen(f->script, "w");
+    if (text) *text = NULL;
+    if (!sf) return -1;
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(sf, fmt, ap);
+    va_end(ap);
+    fclose(sf);
+    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 %s > %s 2>&1", g_view, f->in, f->script, opts, f->log);
+    if (text) *text = slurp(f->log);
+    return rc;
+}
+
 /* A shape on a layer the .vox hides (opened with --keep-hidden): `layer N
  * show` shows it, and the .vox export hides the layer, not its transform.
  * The reader gave such a shape hidden = true besides its layer's flag, so
@@ -2525,12 +2561,8 @@ static void test_script_new_colour(void) {
  * transform too. */
 static void test_script_hidden_layer(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
-    char in[1024], script[1024], log[1024], out[1024], ex[1024];
-    path(in, sizeof in, "layer_in.vox");
-    path(script, sizeof script, "layer.txt");
-    path(log, sizeof log, "layer.log");
-    path(out, sizeof out, "layer_out.svo");
-    path(ex, sizeof ex, "layer_out.vox");
+    script_files fs;
+    script_files_init(&fs, "layer", "vox");
     vx_svo_scene s;
     make_scene(&s, 1);
     vx_vox_scene vs;
@@ -2541,24 +2573,20 @@ static void test_script_hidden_layer(void) {
     *l = (vx_vox_layer){.id = 0, .hidden = true, .name = "off"};
     vs.layers = l, vs.layer_count = 1;
     vs.instances[1].layer = 0, vs.instances[1].hidden = false;
-    REQUIRE(vx_vox_write_file(NULL, &vs, in, NULL) == VX_OK);
+    REQUIRE(vx_vox_write_file(NULL, &vs, fs.in, NULL) == VX_OK);
     vx_vox_scene_free(&vs);
-    FILE* f = fopen(script, "w");
-    REQUIRE(f);
-    fprintf(f, "export %s\nlayer 0 show\nsave %s\nquit\n", ex, out);
-    fclose(f);
-    int rc = run_cmd("%s %s --keep-hidden --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
+    int rc = run_script(&fs, "--keep-hidden", NULL, "export %s\nlayer 0 show\nsave %s\nquit\n", fs.ex, fs.out);
     REQUIRE(rc == 0);
     vx_svo_scene got;
-    REQUIRE(vx_svo_read_file(NULL, out, &got, NULL) == VX_OK);
+    REQUIRE(vx_svo_read_file(NULL, fs.out, &got, NULL) == VX_OK);
     CHECKF(got.instance_count == 2 && visible(&got, 0) && visible(&got, 1), "the shown layer's shape %s",
            got.instance_count == 2 && !visible(&got, 1) ? "stays hidden" : "is missing");
     vx_svo_scene_free(&got);
     /* the export: "_hidden" once, the layer's */
     struct stat st;
-    char* b = slurp(ex);
+    char* b = slurp(fs.ex);
     int n = 0;
-    for (off_t i = 0; b && !stat(ex, &st) && i + 7 <= st.st_size; i++) n += !memcmp(b + i, "_hidden", 7);
+    for (off_t i = 0; b && !stat(fs.ex, &st) && i + 7 <= st.st_size; i++) n += !memcmp(b + i, "_hidden", 7);
     CHECKF(n == 1, "the export holds _hidden %d times", n);
     free(b);
 }
@@ -2570,35 +2598,27 @@ static void test_script_hidden_layer(void) {
  * of the save. */
 static void test_script_export_split(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
-    char in[1024], script[1024], log[1024], out[1024], ex[1024];
-    path(in, sizeof in, "split_in.svo");
-    path(script, sizeof script, "split.txt");
-    path(log, sizeof log, "split.log");
-    path(out, sizeof out, "split_out.svo");
-    path(ex, sizeof ex, "split_out.vox");
+    script_files fs;
+    script_files_init(&fs, "split", "svo");
     vx_svo_scene s;
     make_scene(&s, 1); /* two instances of one 6x5x4 model, the second turned */
-    REQUIRE(vx_svo_write_file(NULL, &s, in, NULL) == VX_OK);
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, NULL) == VX_OK);
     vx_svo_scene_free(&s);
-    remove(out), remove(ex);
-    FILE* f = fopen(script, "w");
-    REQUIRE(f);
-    fprintf(f, "select 0\nbrush box 1\ncolor 2\nvoxel add 300 2 1\nvoxel add -60 2 2\nexport %s\nsave %s\nquit\n", ex, out);
-    fclose(f);
-    int rc = run_cmd("%s %s --script %s --hidden --size 64x48 > %s 2>&1", g_view, in, script, log);
-    char* text = slurp(log);
+    char* text;
+    int rc = run_script(&fs, "", &text, "select 0\nbrush box 1\ncolor 2\nvoxel add 300 2 1\nvoxel add -60 2 2\nexport %s\nsave %s\nquit\n",
+                        fs.ex, fs.out);
     CHECKF(rc == 0, "status %d: %s", rc, text ? text : "(none)");
     free(text);
     vx_svo_scene got, back;
-    if (rc != 0 || vx_svo_read_file(NULL, out, &got, NULL) != VX_OK) return;
+    if (rc != 0 || vx_svo_read_file(NULL, fs.out, &got, NULL) != VX_OK) return;
     CHECKF(got.model_count == 1 && got.models[0].size[0] > 256, "the saved model is %ux%ux%u", got.models[0].size[0],
            got.models[0].size[1], got.models[0].size[2]);
     vx_vox_scene vs;
-    REQUIRE(vx_vox_read_file(NULL, ex, &vs, NULL) == VX_OK);
+    REQUIRE(vx_vox_read_file(NULL, fs.ex, &vs, NULL) == VX_OK);
     /* two pieces along x, shared by the two instances' groups */
     CHECKF(vs.model_count == 2 && vs.instance_count == 4, "%u models, %u shapes", vs.model_count, vs.instance_count);
     vx_vox_scene_free(&vs);
-    REQUIRE(load_vox(ex, &back));
+    REQUIRE(load_vox(fs.ex, &back));
     cells a = {0}, b = {0};
     scene_cells(&got, &a);
     scene_cells(&back, &b);
@@ -2609,6 +2629,112 @@ static void test_script_export_split(void) {
     free(a.v), free(b.v);
     vx_svo_scene_free(&got);
     vx_svo_scene_free(&back);
+}
+
+/* More than 255 colours: the viewer's .vox export refused them and named
+ * svo_info --to-vox --quantize as the only way; `export FILE quantize` and
+ * the Export panel's checkbox now map them to a 255-entry palette (as
+ * svo_info --quantize) with a warning giving the count and the error. An
+ * 8^3 RGBA8 cube, cell (x, y, z) coloured (32x, 32y, 32z): 512 colours.
+ * Without quantize: refused (status 1, no file), naming the count and the
+ * viewer's option. With it: every saved cell at its place in the export,
+ * each colour's error its distance to the nearest palette entry in use, the
+ * largest as the warning says and within the median cut's bound; the
+ * panel's checkbox and button write the same bytes. */
+static void test_script_export_quantize(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    script_files fs;
+    script_files_init(&fs, "quant", "svo");
+    enum { N = 8, STEP = 32 };
+    uint64_t keys[N * N * N];
+    uint32_t rgba[N * N * N];
+    for (uint32_t k = 0; k < N * N * N; k++) {
+        uint32_t x = k % N, y = k / N % N, z = k / (N * N);
+        keys[k] = vx_svo_morton(x, y, z), rgba[k] = 0xFF000000u | (z * STEP) << 16 | (y * STEP) << 8 | x * STEP;
+    }
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = vx_calloc(NULL, 1, sizeof *s.models);
+    s.instances = vx_calloc(NULL, 1, sizeof *s.instances);
+    REQUIRE(s.models && s.instances);
+    s.model_count = 1, s.instance_count = 1;
+    vx_svo_voxels v = {.size = {N, N, N}, .count = N * N * N, .keys = keys, .attrs = VX_ATTR_RGBA8, .rgba = rgba};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
+    s.instances[0].xform[0] = s.instances[0].xform[5] = s.instances[0].xform[10] = 1;
+    s.instances[0].layer = UINT32_MAX;
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    /* refused without quantize: the run ends 1 (as a failed export does), no file */
+    char* text;
+    int rc = run_script(&fs, "", &text, "export %s\nsave %s\nquit\n", fs.ex, fs.out);
+    CHECKF(rc == 1 && access(fs.ex, F_OK) != 0, "without quantize: status %d, the file %s", rc,
+           access(fs.ex, F_OK) ? "absent" : "written");
+    CHECKF(text && strstr(text, fs.ex) && strstr(text, "512 distinct colours") && strstr(text, "export FILE.vox quantize") &&
+               !strstr(text, "svo_info"),
+           "the refusal: %s", text ? text : "(none)");
+    free(text);
+    /* quantized, with a warning */
+    rc = run_script(&fs, "", &text, "export %s quantize\nsave %s\nquit\n", fs.ex, fs.out);
+    const char* w = text ? strstr(text, "512 distinct colours quantized to a 255-entry palette") : NULL;
+    double wmax = -1, wmean = -1;
+    CHECKF(rc == 0 && w && sscanf(strstr(w, "max "), "max %lf, mean %lf", &wmax, &wmean) == 2, "status %d: %s", rc,
+           text ? text : "(none)");
+    free(text);
+    vx_svo_scene got, back;
+    vx_vox_scene vs;
+    if (rc != 0 || vx_svo_read_file(NULL, fs.out, &got, NULL) != VX_OK) return;
+    REQUIRE(vx_vox_read_file(NULL, fs.ex, &vs, NULL) == VX_OK);
+    REQUIRE(load_vox(fs.ex, &back));
+    cells a = {0}, b = {0};
+    scene_cells(&got, &a);
+    scene_cells(&back, &b);
+    qsort(a.v, a.n, sizeof *a.v, cmp_cell);
+    qsort(b.v, b.n, sizeof *b.v, cmp_cell);
+    size_t moved = a.n != b.n ? SIZE_MAX : 0, not_nearest = 0;
+    double max = 0, sum = 0;
+    for (size_t i = 0; moved != SIZE_MAX && i < a.n; i++) {
+        if (memcmp(a.v[i].p, b.v[i].p, sizeof a.v[i].p)) moved++;
+        double d = vx_test_rgba_dist(a.v[i].rgba, b.v[i].rgba), best = INFINITY;
+        for (uint32_t e = 1; e < 256; e++) { /* the entries the export's cells use */
+            bool used = false;
+            for (uint32_t m = 0; m < vs.model_count && !used; m++)
+                for (uint32_t k = 0; k < vs.models[m].voxel_count && !used; k++) used = vs.models[m].xyzi[4 * (size_t)k + 3] == e;
+            if (used) best = fmin(best, vx_test_rgba_dist(a.v[i].rgba, vs.palette[e]));
+        }
+        not_nearest += d != best;
+        max = fmax(max, d), sum += d;
+    }
+    CHECKF(a.n == N * N * N && moved == 0, "%zu saved cells, %zu exported; %zu moved", a.n, b.n, moved);
+    CHECKF(not_nearest == 0, "%zu cells not at their nearest entry", not_nearest);
+    double mean = a.n ? sum / (double)a.n : 0;
+    /* 255 boxes over the 8^3 lattice, halved along the widest side: none
+     * larger than 2 x 2 x 2 points, so a colour lies at most sqrt(3) half
+     * steps from its box's mean, plus the mean's rounding (half a unit a channel) */
+    double bound = STEP / 2.0 * sqrt(3) + 0.5 * sqrt(3);
+    fprintf(stderr, "  512 colours quantized: error max %.2f, mean %.2f (warning: %.2f, %.2f; bound %.2f)\n", max, mean, wmax,
+            wmean, bound);
+    CHECKF(fabs(max - wmax) <= 0.005 && fabs(mean - wmean) <= 0.005, "error max %.3f mean %.3f, the warning says %.2f %.2f", max,
+           mean, wmax, wmean);
+    CHECKF(max > 0 && max <= bound, "error max %.2f, bound %.2f", max, bound);
+    free(a.v), free(b.v);
+    vx_vox_scene_free(&vs);
+    vx_svo_scene_free(&back);
+    vx_svo_scene_free(&got);
+#if VX_VIEW_PANELS
+    /* the Export panel: the checkbox, then the button (Ctrl+E's file, FILE.edited.vox) */
+    char edited[1024];
+    path(edited, sizeof edited, "quant_in.edited.vox");
+    remove(edited);
+    rc = run_script(&fs, "--size 640x640", &text, "panels on\nui click Export\nui click quantize colours (over 255)\n"
+                                    "ui click export .vox (Ctrl+E)\nwait 2\nquit\n");
+    char *e1 = slurp(edited), *e2 = slurp(fs.ex);
+    struct stat s1, s2;
+    bool same = e1 && e2 && !stat(edited, &s1) && !stat(fs.ex, &s2) && s1.st_size == s2.st_size &&
+                !memcmp(e1, e2, (size_t)s1.st_size);
+    CHECKF(rc == 0 && same, "the panel's export (status %d) %s the script's: %s", rc, e1 ? "differs from" : "did not write",
+           text ? text : "(none)");
+    free(e1), free(e2), free(text);
+#endif
 }
 
 /* ---- mode gi ------------------------------------------------------------------------------ */
@@ -2876,6 +3002,7 @@ int main(int argc, char** argv) {
     RUN(test_script_new_colour);
     RUN(test_script_hidden_layer);
     RUN(test_script_export_split);
+    RUN(test_script_export_quantize);
     RUN(test_gi_mode);
     return vx_test_finish();
 }

@@ -361,7 +361,7 @@ int main(int argc, char** argv) {
     if (o.dump) status = dump(&o, &view);
     if (status == 0 && o.to_vox) {
         vx_vox_scene v;
-        vx_conv_vox_export_stats xs;
+        vx_conv_vox_export_stats xs = {0};
         r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = o.quantize}, o.frame_set ? &view : &s, &v, &xs, &err);
         if (r == VX_OK) {
             r = vx_vox_write_file(NULL, &v, o.to_vox, &err);
@@ -372,6 +372,8 @@ int main(int argc, char** argv) {
                     "%s: warning: %s: %u distinct colours quantized to a 255-entry palette: colour error (RGBA distance, "
                     "0-255 a channel) max %.2f, mean %.2f\n",
                     vx_tool_name, o.to_vox, xs.colors, xs.max_error, xs.mean_error);
+        if (r == VX_ERR_UNSUPPORTED && xs.colors > 255) /* the library names its desc field */
+            snprintf(err.msg + strlen(err.msg), sizeof err.msg - strlen(err.msg), " (--quantize)");
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
         else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
     }

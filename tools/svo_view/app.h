@@ -103,6 +103,9 @@ typedef struct app {
     bool voxel_mode;
     vvx_brush brush;
     double pick_rgb[3]; /* the panel's colour picker, taken by its button */
+    /* .vox export (Ctrl+E, the Export panel): more than 255 colours mapped to
+     * a 255-entry palette (the panel's checkbox; a script's `export FILE quantize`) */
+    bool export_quantize;
     /* panels (NULL without ImGui or when off) */
     struct ui* ui;
     bool panels;
@@ -208,7 +211,14 @@ void sv_edit_end(app* a, const char* what);
 bool sv_open(app* a, const char* path);
 bool sv_add(app* a, const char* path);
 bool sv_save(app* a, const char* path);
-bool sv_export(app* a, const char* path);
+/* quantize: more than 255 colours are mapped to a 255-entry palette
+ * (vx_conv_vox_export_desc), the message a warning giving the count and the
+ * colour error; without it such a scene is refused, the message naming the
+ * script's and the panel's option. */
+bool sv_export(app* a, const char* path, bool quantize);
+/* Ctrl+E and the Export panel's button: FILE.edited.vox beside the file
+ * opened, quantized as the panel's checkbox says. */
+bool sv_export_default(app* a);
 void sv_probes(app* a, const char* path);
 /* Starts baking probes over the scene as shown (res, spp, grid probes per
  * axis, 0 0 0: the default spacing) on the GPU, in steps between frames; the

@@ -73,11 +73,7 @@ static void key_cb(GLFWwindow* win, int key, int sc, int action, int mods) {
             }
             sv_save(a, path);
         } else if (key == GLFW_KEY_E) {
-            char path[1024];
-            const char* dot = strrchr(a->o.in, '.');
-            int n = dot ? (int)(dot - a->o.in) : (int)strlen(a->o.in);
-            snprintf(path, sizeof path, "%.*s.edited.vox", n, a->o.in);
-            sv_export(a, path);
+            sv_export_default(a);
         } else if (key == GLFW_KEY_Q) a->quit = true;
         return;
     }

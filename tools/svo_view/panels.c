@@ -112,6 +112,11 @@ static void outliner(app* a) {
             if (ui_selectable(label, a->sel_light == l)) a->sel_light = a->sel_light == l ? NO_SEL : l;
         }
     }
+    /* a .vox palette holds 255 colours: an RGBA8 scene with more is refused unless quantized */
+    if (ui_collapsing("Export", false)) {
+        ui_checkbox("quantize colours (over 255)", &a->export_quantize);
+        if (ui_button("export .vox (Ctrl+E)")) sv_export_default(a);
+    }
 }
 
 /* ---- properties ------------------------------------------------------------------------- */

@@ -256,22 +256,37 @@ bool sv_save(app* a, const char* path) {
     return !r;
 }
 
-bool sv_export(app* a, const char* path) {
+bool sv_export(app* a, const char* path, bool quantize) {
     vx_error err = {0};
     vx_vox_scene vs;
     vx_svo_scene fs;
+    vx_conv_vox_export_stats st = {0};
     vx_result r = vvx_file_scene(&a->ed, &fs, &err);
     if (!r) {
-        r = vx_conv_svo_to_vox(&fs, NULL, &vs, &err);
+        r = vx_conv_svo_to_vox_ex(&(vx_conv_vox_export_desc){.quantize = quantize}, &fs, &vs, &st, &err);
         vvx_file_scene_free(&a->ed, &fs);
     }
     if (!r) {
         r = vx_vox_write_file(NULL, &vs, path, &err);
         vx_vox_scene_free(&vs);
     }
+    if (r == VX_ERR_UNSUPPORTED && st.colors > 255) /* the library names its desc field; the user needs the viewer's */
+        snprintf(err.msg + strlen(err.msg), sizeof err.msg - strlen(err.msg), " (export FILE.vox quantize, the Export panel's "
+                 "checkbox)");
     if (r) file_error(a, path, err.msg);
+    else if (st.quantized) /* a warning, not an error: the file is written, its colours approximate */
+        sv_message(a, false, "exported %s: warning: %u distinct colours quantized to a 255-entry palette: colour error (RGBA "
+                   "distance, 0-255 a channel) max %.2f, mean %.2f", path, st.colors, st.max_error, st.mean_error);
     else sv_message(a, false, "exported %s", path);
     return !r;
+}
+
+bool sv_export_default(app* a) {
+    char path[1024];
+    const char* dot = strrchr(a->o.in, '.');
+    int n = dot ? (int)(dot - a->o.in) : (int)strlen(a->o.in);
+    snprintf(path, sizeof path, "%.*s.edited.vox", n, a->o.in);
+    return sv_export(a, path, a->export_quantize);
 }
 
 void sv_edit_move(app* a, int axis, int32_t n) {

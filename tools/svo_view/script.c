@@ -154,8 +154,8 @@ bool sv_script_command(app* a, char* line, uint32_t lineno) {
     else if (!strcmp(c, "redo")) sv_undo(a, true);
     else if (!strcmp(c, "save") && nt == 2) {
         if (!sv_save(a, tok[1])) return false; /* a headless run must not end 0 without its file */
-    } else if (!strcmp(c, "export") && nt == 2) {
-        if (!sv_export(a, tok[1])) return false;
+    } else if (!strcmp(c, "export") && (nt == 2 || (nt == 3 && !strcmp(tok[2], "quantize")))) {
+        if (!sv_export(a, tok[1], nt == 3)) return false;
     }
     else if (!strcmp(c, "screenshot") && nt == 2) {
         snprintf(a->shot_buf, sizeof a->shot_buf, "%s", tok[1]);
