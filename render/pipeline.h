@@ -363,6 +363,15 @@ vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err);
  * dropped): the next frame writes the scene's tables whatever they are. */
 void vx_frame_record_cancel(vx_frame_renderer* fr);
 
+/* The directional albedo of the metal lobe's specular part (the path
+ * tracer's: GGX, alpha = max(rough^2, 1e-3), Smith height-correlated G2,
+ * Schlick's Fresnel) as f0 A + B: n x n entries of four floats (A, B, 0, 0),
+ * the cosine of the view angle (i + 0.5) / n across, the roughness
+ * (j + 0.5) / n down, each from 32 x 32 stratified visible-normal samples.
+ * The pass pipeline's sky term for metal (pass_bodies.glsl) and the cones'
+ * specular cone (cones/cones.c) read it. out holds 4 n^2 floats. */
+void vx_ggx_albedo_table(uint32_t n, float* out);
+
 #ifdef __cplusplus
 }
 #endif
