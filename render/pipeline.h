@@ -35,6 +35,18 @@
  * the lights' irradiance + albedo * sky * ao (emission from the scene's
  * materials, per attribute record, as the gi methods take it).
  *
+ * Metal seen directly (radiometric model): a pixel whose attribute record is
+ * metal (_type _metal) gets the path tracer's BRDF f = kd / pi + GGX
+ * (probes/pathtrace.c): the direct pass multiplies the sun's and each
+ * light's irradiance by f(v, l) (v towards the pinhole eye, l towards the
+ * shadow ray's point of the source), so the direct image holds the radiance
+ * leaving the pixel, which resolve adds as it is; the sky term is kd * sky
+ * + the sky along the mirror direction * the specular lobe's directional
+ * albedo (vx_ggx_albedo_table), times ao. The records' materials are bound
+ * only when some record is metal (the shaders are specialised on it: a scene
+ * without metal runs the code and gives the pixels it did before). Glass
+ * seen directly is shaded as diffuse; the colour model has no metal.
+ *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,
  * no emission term without emissive records).
@@ -98,7 +110,7 @@ typedef enum vx_show {
     VX_SHOW_ALBEDO,   /* attribute colour (1 without attributes), 0 on a miss */
     VX_SHOW_NORMAL,   /* world normal xyz */
     VX_SHOW_DEPTH,    /* depth in every channel, +inf on a miss (float) */
-    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo) */
+    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo; a metal pixel: its radiance) */
     VX_SHOW_GI,       /* the gi pass's radiance */
     VX_SHOW_AO,       /* unoccluded share, 1 where ao is absent */
     VX_SHOW_INSTANCE, /* a colour per instance id */
