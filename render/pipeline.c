@@ -401,19 +401,16 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             if (n > fr->max_cell) fr->max_cell = n;
         }
     }
-    uint8_t* pal = NULL;
+    uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
     float* e = NULL;
-    vx_result r = vx__render_scene_attr_palette(fr->rs, scene, &g->alloc, &pal, &n, err);
+    vx_svo_material_table t = {0};
+    vx_result r = vx__render_scene_attr_material(fr->rs, scene, &g->alloc, &pal, &n, err);
+    if (!r) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
     if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
-        float by_id[256] = {0};
-        for (uint32_t i = 0; i < scene->material_count; i++) {
-            uint32_t id = scene->materials[i].id;
-            if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
-        }
-        for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
+        for (size_t i = 0; t.emissive && i < n; i++) e[i] = (float)vx_svo_material_table_emission(&t, pal[i]);
         bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, n * sizeof *e);
         if (same) {
             vx_free(&g->alloc, e); /* what the GPU holds stays */
@@ -424,6 +421,7 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
         }
     }
     vx_free(&g->alloc, pal);
+    vx_svo_material_table_free(&t);
     return r;
 }
 

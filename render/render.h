@@ -668,6 +668,7 @@ typedef struct vx_render_ray_hit {
     uint32_t cell[3];
     uint32_t rgba;    /* attribute colour (opaque white without attributes) */
     uint32_t palette; /* palette index, 0 if the model has none */
+    uint32_t material; /* material id (vx_svo_attr_material): what MATL materials are keyed by */
 } vx_render_ray_hit;
 
 vx_result vx_render_caster_create(const vx_svo_scene* scene, const vx_allocator* alloc, vx_render_caster** out,
