@@ -513,56 +513,6 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
     return r;
 }
 
-/* The GGX lobe's directional albedo as f0 A + B (the path tracer's lobe:
- * probes/shaders/path_common.glsl bsdf_eval, Schlick's Fresnel f0 + (1 - f0)
- * (1 - wi.h)^5, Smith height-correlated masking), for ENV_N view cosines x
- * ENV_N roughnesses at cell centres: 32 x 32 stratified VNDF samples each, of
- * weight F G2 / G1(wo) (Heitz 2018: f cos / pdf of a visible normal). */
-static double lambda_ggx(double a2, double z) {
-    double z2 = z * z;
-    if (z2 >= 1) return 0;
-    if (!(z2 > 0)) return 1e30;
-    return 0.5 * (-1 + sqrt(1 + a2 * (1 - z2) / z2));
-}
-static void env_table(float* out) {
-    enum { S = 32 };
-    for (uint32_t j = 0; j < ENV_N; j++)
-        for (uint32_t i = 0; i < ENV_N; i++) {
-            double nv = (i + 0.5) / ENV_N, rough = (j + 0.5) / ENV_N;
-            double alpha = fmax(rough * rough, 1e-3), a2 = alpha * alpha;
-            double wo[3] = {sqrt(1 - nv * nv), 0, nv};
-            double A = 0, B = 0, lo = lambda_ggx(a2, nv);
-            /* the visible normals' frame (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") */
-            double vh[3] = {alpha * wo[0], alpha * wo[1], wo[2]}, lv = sqrt(vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2]);
-            for (int k = 0; k < 3; k++) vh[k] /= lv;
-            double l2 = vh[0] * vh[0] + vh[1] * vh[1];
-            double t1[3] = {1, 0, 0};
-            if (l2 > 0) t1[0] = -vh[1] / sqrt(l2), t1[1] = vh[0] / sqrt(l2), t1[2] = 0;
-            double t2[3] = {vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]};
-            for (int a = 0; a < S; a++)
-                for (int b = 0; b < S; b++) {
-                    double u1 = (a + 0.5) / S, u2 = (b + 0.5) / S;
-                    double r = sqrt(u1), phi = 2 * 3.14159265358979323846 * u2;
-                    double p1 = r * cos(phi), p2 = r * sin(phi), sh = 0.5 * (1 + vh[2]);
-                    p2 = (1 - sh) * sqrt(fmax(0, 1 - p1 * p1)) + sh * p2;
-                    double p3 = sqrt(fmax(0, 1 - p1 * p1 - p2 * p2)), nh[3];
-                    for (int k = 0; k < 3; k++) nh[k] = p1 * t1[k] + p2 * t2[k] + p3 * vh[k];
-                    double m[3] = {alpha * nh[0], alpha * nh[1], fmax(0, nh[2])};
-                    double lm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-                    if (!(lm > 0)) continue;
-                    for (int k = 0; k < 3; k++) m[k] /= lm;
-                    double c = wo[0] * m[0] + wo[1] * m[1] + wo[2] * m[2];
-                    double wiz = 2 * c * m[2] - wo[2];
-                    if (c <= 0 || wiz <= 0) continue;
-                    double li = lambda_ggx(a2, wiz), w = (1 + lo) / (1 + lo + li);
-                    double s5 = pow(1 - c, 5); /* wi.h = wo.h */
-                    A += (1 - s5) * w, B += s5 * w;
-                }
-            float* o = out + 4 * (j * ENV_N + i);
-            o[0] = (float)(A / (S * S)), o[1] = (float)(B / (S * S)), o[2] = o[3] = 0;
-        }
-}
-
 /* Per attribute record its material for the specular cones (cone_common.glsl
  * cmat: kind 1 metal, roughness, metalness, specular weight), then the
  * environment BRDF table; only when some record is metal. */
@@ -586,7 +536,7 @@ static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const
         o[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
         o[1] = (float)mt.roughness, o[2] = (float)mt.metalness, o[3] = (float)mt.specular;
     }
-    env_table(m + 4 * n);
+    vx_ggx_albedo_table(ENV_N, m + 4 * n); /* render/pipeline.h */
     vx_result r = vx__buffer_create(cg->g, count * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone materials",
                                     &cg->b[B_MAT], err);
     if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_MAT], m, count * 16, err);

@@ -504,9 +504,10 @@ vx_result vx_probe_gpu_render_into(vx_probe_gpu* pg, const vx_probe_render_desc*
  * method's lights, which the frame must then pass too). Fills *method
  * (valid while *out lives) with the render callback and the light the
  * pipeline's direct pass must use (the probes' sun, sky and direction,
- * emission per attribute record). The pipeline's direct pass shades the
- * first surface as diffuse: with metal or glass there, gi=pathtrace adds
- * only the light after the first bounce. rs, scene and ps
+ * emission per attribute record). The pipeline's direct pass shades a
+ * metal first surface with its BRDF (render/pipeline.h) and glass as
+ * diffuse: with glass there, gi=pathtrace adds only the light after the
+ * first bounce. rs, scene and ps
  * must outlive *out. */
 typedef struct vx_probe_gi vx_probe_gi;
 vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_set* ps, const char* method,

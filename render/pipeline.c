@@ -136,11 +136,14 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out) {
 
 /* ---- the renderer -------------------------------------------------------------------- */
 
-enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_SKY, B_COUNT };
+enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_SKY, B_MAT, B_COUNT };
 /* 0-19 the passes' (passes_common.glsl), 20-22 the sun's depth map (smap_lookup.glsl: the direct pass's sun
- * rays), then a display variant's 23 and 24 (display_out.glsl) */
-#define NBIND 23
-_Static_assert(NBIND + 2 <= VX_GPU_MAX_BINDINGS, "pass shaders use 25 bindings");
+ * rays), 23 the records' materials (pass_bodies.glsl MAT_BINDING: metal seen directly), then a display
+ * variant's 24 and 25 (display_out.glsl) */
+#define NBIND 24
+_Static_assert(NBIND + 2 <= VX_GPU_MAX_BINDINGS, "pass shaders use 26 bindings");
+/* the side of the GGX albedo table after the material records (pass_bodies.glsl MAT_ENV_N) */
+#define MAT_ENV_N 32
 /* the specialisation constants: the tracer's ids 0-10, then 11 SMAP (smap_lookup.glsl) */
 #define PASS_SPECS (VX__SPEC_TRACE_IDS + 1)
 
@@ -345,6 +348,11 @@ struct vx_frame_renderer {
     size_t scene_emit_count;
     size_t emit_count;     /* records in b[B_EMIT] */
     const float* emit_src; /* what b[B_EMIT] was filled from */
+    /* metal seen directly: per attribute record (1 metal / 0, roughness, metalness, specular), then the GGX
+     * albedo table (pass_bodies.glsl MAT_BINDING); NULL when no record is metal */
+    float* scene_mat;
+    size_t scene_mat_count; /* records */
+    bool mat_valid;         /* b[B_MAT] holds scene_mat */
     bool sky_valid;        /* b[B_SKY] holds sky_key's sky (sky.glsl's parameters, the table, the texels) */
     vx_sky sky_key;
     vx_sky_texels sky_map_key;
@@ -377,6 +385,45 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
         return r;
     }
     *out = fr;
+    return VX_OK;
+}
+
+/* One record's entry: (1 metal / 0, roughness, metalness, specular) of material id `id`. */
+static void mat_record(const vx_svo_material_table* t, uint32_t id, float out[4]) {
+    const vx_material* f = vx_svo_material_table_find(t, id);
+    vx_material mt = f ? *f : vx_material_default(VX_MATERIAL_DIFFUSE);
+    out[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
+    out[1] = (float)mt.roughness, out[2] = (float)mt.metalness, out[3] = (float)mt.specular;
+}
+
+/* Metal seen directly: each attribute record's material for the direct pass and resolve (pass_bodies.glsl
+ * MAT_BINDING), then the GGX lobe's albedo table, when some record is metal; none otherwise (the frames
+ * then bind a placeholder and keep their SPIR-V path). Host-side, uploaded by the next frame that uses it.
+ * ids: the records' material ids (vx__render_scene_attr_material), t the scene's materials by id. */
+static vx_result scene_materials(vx_frame_renderer* fr, const vx_svo_material_table* t, const uint16_t* ids, size_t n,
+                                 vx_error* err) {
+    vx_gpu* g = fr->g;
+    bool metal = false;
+    for (size_t i = 0; t->specular && i < n && !metal; i++) {
+        const vx_material* f = vx_svo_material_table_find(t, ids[i]);
+        metal = f && f->type == VX_MATERIAL_METAL;
+    }
+    float* m = NULL;
+    if (metal) {
+        if (n > (SIZE_MAX / 16) - MAT_ENV_N * MAT_ENV_N)
+            return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
+        if (!(m = vx_calloc(&g->alloc, n + MAT_ENV_N * MAT_ENV_N, 4 * sizeof(float))))
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu material records", n);
+        for (size_t i = 0; i < n; i++) mat_record(t, ids[i], m + 4 * i);
+        vx_ggx_albedo_table(MAT_ENV_N, m + 4 * n);
+        if (fr->scene_mat && fr->scene_mat_count == n && !memcmp(fr->scene_mat, m, (n + MAT_ENV_N * MAT_ENV_N) * 16)) {
+            vx_free(&g->alloc, m); /* what the GPU holds stays */
+            return VX_OK;
+        }
+    }
+    vx_free(&g->alloc, fr->scene_mat);
+    fr->scene_mat = m, fr->scene_mat_count = metal ? n : 0;
+    fr->mat_valid = false;
     return VX_OK;
 }
 
@@ -420,6 +467,7 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
         }
     }
+    if (!r) r = scene_materials(fr, &t, pal, n, err);
     vx_free(&g->alloc, pal);
     vx_svo_material_table_free(&t);
     return r;
@@ -436,6 +484,7 @@ void vx_frame_renderer_destroy(vx_frame_renderer* fr) {
         vx_free(&fr->g->alloc, sl);
     }
     vx_free(&fr->g->alloc, fr->scene_emit);
+    vx_free(&fr->g->alloc, fr->scene_mat);
     for (int i = 0; i < B_COUNT; i++) vx__buffer_destroy(fr->g, &fr->b[i]);
     if (fr->qp) vkDestroyQueryPool(fr->g->device, fr->qp, NULL);
     vx_allocator a = fr->g->alloc;
@@ -738,6 +787,8 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     const float* emit_tab = has_gi ? gm->emit_attr : fr->scene_emit;
     size_t emit_n = has_gi ? gm->emit_count : fr->scene_emit_count;
     bool emit = phys && any_emission(emit_tab, emit_n);
+    /* metal seen directly: the radiometric model's direct light and sky term with the records' BRDF */
+    bool metal = phys && fr->scene_mat && (has_direct || sky);
     size_t npx = (size_t)f.width * f.height;
     VkDeviceSize px = (VkDeviceSize)npx;
     /* image buffers; absent passes get a 16-byte placeholder */
@@ -774,6 +825,17 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
             return r;
         fr->emit_src = emit_tab, fr->emit_count = emit_n;
     } else if (!fr->b[B_EMIT].buf && (r = ensure(fr, B_EMIT, 16, "emission", err))) {
+        return r;
+    }
+    if (metal && !fr->mat_valid) {
+        settle(fr);
+        vx__buffer_destroy(g, &fr->b[B_MAT]);
+        VkDeviceSize size = (VkDeviceSize)(fr->scene_mat_count + MAT_ENV_N * MAT_ENV_N) * 16;
+        if ((r = vx__buffer_create(g, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "materials", &fr->b[B_MAT], err)) ||
+            (r = vx__buffer_upload(g, &fr->b[B_MAT], fr->scene_mat, size, err)))
+            return r;
+        fr->mat_valid = true;
+    } else if (!fr->b[B_MAT].buf && (r = ensure(fr, B_MAT, 16, "materials", err))) {
         return r;
     }
     /* the sky by direction (background, the sky term): the gi method's, else
@@ -875,7 +937,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     /* the last pass, which writes the display image with dt: tonemap, else aa, else the merged kernel or resolve */
     bool d_tm = dt && run_tm, d_aa = dt && run_aa && !run_tm, d_last = dt && !run_aa && !run_tm;
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
-                          shadows << 2 | (emit ? 1u << 8 : 0u);
+                          shadows << 2 | (emit ? 1u << 8 : 0u) | (metal ? 1u << 9 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
     spec[7] = 0;
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
@@ -887,14 +949,15 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     spec[6] = 0, spec[7] = 0;
     if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
-              (phys ? 16u : 0u) | (sky ? 32u : 0u);
+              (phys ? 16u : 0u) | (sky ? 32u : 0u) | (metal ? 64u : 0u);
     spec[6] = (uint32_t)desc->show;
     if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
     if (merge) {
         uint32_t ms[PASS_SPECS];
         memcpy(ms, spec, sizeof ms);
         ms[PASS_SPECS - 1] = has_direct && sun_map.map != NULL;
-        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u);
+        ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u) |
+                (metal ? 64u : 0u);
         ms[6] = has_dof && !f.ortho;
         ms[7] = light_spec;
         if ((r = get_pipeline(g, SH_FRAME, ms, d_last, &p_merged, err))) return r;
@@ -1002,7 +1065,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                                       /* the sun's map, else placeholders */
                                       sun_map.map ? sun_map.map : &fr->b[B_SKY],
                                       sun_map.map ? sun_map.nodes : &fr->b[B_SKY],
-                                      sun_map.map ? sun_map.insts_buf : &fr->b[B_SKY]};
+                                      sun_map.map ? sun_map.insts_buf : &fr->b[B_SKY], &fr->b[B_MAT]};
             VkDescriptorBufferInfo infos[NBIND];
             VkWriteDescriptorSet w[NBIND];
             for (uint32_t i = 0; i < NBIND; i++) {
@@ -1197,3 +1260,54 @@ vx_result vx_frame_record_result(vx_frame_renderer* fr, uint32_t slot, vx_frame_
     if (!r) out->image.gpu_seconds = out->frame_ms * 1e-3;
     return r;
 }
+
+/* The GGX lobe's directional albedo as f0 A + B (the path tracer's lobe:
+ * probes/shaders/path_common.glsl bsdf_eval, Schlick's Fresnel f0 + (1 - f0)
+ * (1 - wi.h)^5, Smith height-correlated masking), for n view cosines x
+ * n roughnesses at cell centres (render/pipeline.h): 32 x 32 stratified VNDF samples each, of
+ * weight F G2 / G1(wo) (Heitz 2018: f cos / pdf of a visible normal). */
+static double ggx_lambda(double a2, double z) {
+    double z2 = z * z;
+    if (z2 >= 1) return 0;
+    if (!(z2 > 0)) return 1e30;
+    return 0.5 * (-1 + sqrt(1 + a2 * (1 - z2) / z2));
+}
+void vx_ggx_albedo_table(uint32_t n, float* out) {
+    enum { S = 32 };
+    for (uint32_t j = 0; j < n; j++)
+        for (uint32_t i = 0; i < n; i++) {
+            double nv = (i + 0.5) / n, rough = (j + 0.5) / n;
+            double alpha = fmax(rough * rough, 1e-3), a2 = alpha * alpha;
+            double wo[3] = {sqrt(1 - nv * nv), 0, nv};
+            double A = 0, B = 0, lo = ggx_lambda(a2, nv);
+            /* the visible normals' frame (Heitz 2018, "Sampling the GGX Distribution of Visible Normals") */
+            double vh[3] = {alpha * wo[0], alpha * wo[1], wo[2]}, lv = sqrt(vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2]);
+            for (int k = 0; k < 3; k++) vh[k] /= lv;
+            double l2 = vh[0] * vh[0] + vh[1] * vh[1];
+            double t1[3] = {1, 0, 0};
+            if (l2 > 0) t1[0] = -vh[1] / sqrt(l2), t1[1] = vh[0] / sqrt(l2), t1[2] = 0;
+            double t2[3] = {vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2], vh[0] * t1[1] - vh[1] * t1[0]};
+            for (int a = 0; a < S; a++)
+                for (int b = 0; b < S; b++) {
+                    double u1 = (a + 0.5) / S, u2 = (b + 0.5) / S;
+                    double r = sqrt(u1), phi = 2 * 3.14159265358979323846 * u2;
+                    double p1 = r * cos(phi), p2 = r * sin(phi), sh = 0.5 * (1 + vh[2]);
+                    p2 = (1 - sh) * sqrt(fmax(0, 1 - p1 * p1)) + sh * p2;
+                    double p3 = sqrt(fmax(0, 1 - p1 * p1 - p2 * p2)), nh[3];
+                    for (int k = 0; k < 3; k++) nh[k] = p1 * t1[k] + p2 * t2[k] + p3 * vh[k];
+                    double m[3] = {alpha * nh[0], alpha * nh[1], fmax(0, nh[2])};
+                    double lm = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                    if (!(lm > 0)) continue;
+                    for (int k = 0; k < 3; k++) m[k] /= lm;
+                    double c = wo[0] * m[0] + wo[1] * m[1] + wo[2] * m[2];
+                    double wiz = 2 * c * m[2] - wo[2];
+                    if (c <= 0 || wiz <= 0) continue;
+                    double li = ggx_lambda(a2, wiz), w = (1 + lo) / (1 + lo + li);
+                    double s5 = pow(1 - c, 5); /* wi.h = wo.h */
+                    A += (1 - s5) * w, B += s5 * w;
+                }
+            float* o = out + 4 * (j * n + i);
+            o[0] = (float)(A / (S * S)), o[1] = (float)(B / (S * S)), o[2] = o[3] = 0;
+        }
+}
+

@@ -35,6 +35,18 @@
  * the lights' irradiance + albedo * sky * ao (emission from the scene's
  * materials, per attribute record, as the gi methods take it).
  *
+ * Metal seen directly (radiometric model): a pixel whose attribute record is
+ * metal (_type _metal) gets the path tracer's BRDF f = kd / pi + GGX
+ * (probes/pathtrace.c): the direct pass multiplies the sun's and each
+ * light's irradiance by f(v, l) (v towards the pinhole eye, l towards the
+ * shadow ray's point of the source), so the direct image holds the radiance
+ * leaving the pixel, which resolve adds as it is; the sky term is kd * sky
+ * + the sky along the mirror direction * the specular lobe's directional
+ * albedo (vx_ggx_albedo_table), times ao. The records' materials are bound
+ * only when some record is metal (the shaders are specialised on it: a scene
+ * without metal runs the code and gives the pixels it did before). Glass
+ * seen directly is shaded as diffuse; the colour model has no metal.
+ *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,
  * no emission term without emissive records).
@@ -98,7 +110,7 @@ typedef enum vx_show {
     VX_SHOW_ALBEDO,   /* attribute colour (1 without attributes), 0 on a miss */
     VX_SHOW_NORMAL,   /* world normal xyz */
     VX_SHOW_DEPTH,    /* depth in every channel, +inf on a miss (float) */
-    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo) */
+    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo; a metal pixel: its radiance) */
     VX_SHOW_GI,       /* the gi pass's radiance */
     VX_SHOW_AO,       /* unoccluded share, 1 where ao is absent */
     VX_SHOW_INSTANCE, /* a colour per instance id */
@@ -362,6 +374,15 @@ vx_result vx_frame_recordable(const vx_frame_desc* desc, vx_error* err);
 /* The frame last recorded will not be submitted (its command buffer was
  * dropped): the next frame writes the scene's tables whatever they are. */
 void vx_frame_record_cancel(vx_frame_renderer* fr);
+
+/* The directional albedo of the metal lobe's specular part (the path
+ * tracer's: GGX, alpha = max(rough^2, 1e-3), Smith height-correlated G2,
+ * Schlick's Fresnel) as f0 A + B: n x n entries of four floats (A, B, 0, 0),
+ * the cosine of the view angle (i + 0.5) / n across, the roughness
+ * (j + 0.5) / n down, each from 32 x 32 stratified visible-normal samples.
+ * The pass pipeline's sky term for metal (pass_bodies.glsl) and the cones'
+ * specular cone (cones/cones.c) read it. out holds 4 n^2 floats. */
+void vx_ggx_albedo_table(uint32_t n, float* out);
 
 #ifdef __cplusplus
 }

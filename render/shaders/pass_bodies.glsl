@@ -68,6 +68,95 @@ layout(constant_id = 7) const uint LIGHTS = 0u;
 const uint CULLING = LIGHTS & 3u, SHADOWED = (LIGHTS >> 2) & 63u;
 const bool EMIT_KNOWN = (LIGHTS & 256u) != 0u;
 
+// ---- metal seen directly ----------------------------------------------------------
+// METAL: some attribute record is metal (radiometric model only): LIGHTS bit 9
+// in the direct pass, FLAGS bit 64 in resolve, both in the merged kernel. The
+// includer defines MAT_BINDING (direct.comp, resolve.comp, frame.comp) for
+// the records' materials (render/pipeline.c, bound only then): per record
+// vec4(1 metal / 0 not, roughness, metalness, specular), then the GGX lobe's
+// directional albedo table (MAT_ENV_N x MAT_ENV_N (A, B, 0, 0): cos of the
+// view angle across, roughness down, texel centres at (i + 0.5) / N; the
+// albedo is f0 A + B): the records are the first mats.length() - N^2.
+// Without METAL no code below runs and the passes keep their SPIR-V path.
+const bool METAL = (((LIGHTS >> 9) | (FLAGS >> 6)) & 1u) != 0u;
+const uint MAT_ENV_N = 32u;
+#ifdef MAT_BINDING
+layout(std430, binding = MAT_BINDING) readonly buffer Mats { vec4 mats[]; };
+#endif
+
+// A metal pixel's BRDF (probes/pathtrace.c bsdf_of, bsdf_eval): a Lambert
+// lobe kd / pi, kd = (1 - metalness)(1 - 0.08 specular) colour, plus GGX
+// with alpha = max(rough^2, 1e-3), Smith height-correlated G2 and Schlick's
+// Fresnel from f0 = mix(0.08 specular, colour, metalness). wo: unit,
+// towards the eye.
+struct Metal { vec3 kd, f0, wo; float a2, rough; };
+
+// The eye's direction from a G-buffer point p (relative to the frame
+// reference): the pinhole's (with dof the lens point is not kept).
+vec3 view_to_eye(vec3 p) {
+    if (F.rx.w != 0.0) return -F.fwd.xyz;
+    return normalize(-(p + F.fwd.w * F.fwd.xyz)); // the eye at -t_start * fwd
+}
+
+// Whether the G-buffer entry's record is metal, and its lobe.
+bool metal_of(uvec4 g0, uvec4 g1, out Metal M) {
+    M.kd = vec3(0.0), M.f0 = vec3(0.0), M.wo = vec3(0.0, 0.0, 1.0), M.a2 = 1.0, M.rough = 1.0;
+#ifdef MAT_BINDING
+    if (g1.y == NO_HIT || g1.w >= uint(mats.length()) - MAT_ENV_N * MAT_ENV_N) return false; // (callers test METAL)
+    vec4 m = mats[g1.w];
+    if (m.x != 1.0) return false;
+    vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
+    float f0d = 0.08 * m.w, alpha = max(m.y * m.y, 1e-3);
+    M.kd = (1.0 - m.z) * (1.0 - f0d) * alb;
+    M.f0 = (1.0 - m.z) * f0d + m.z * alb;
+    M.a2 = alpha * alpha, M.rough = m.y;
+    M.wo = view_to_eye(uintBitsToFloat(g0.xyz));
+    return true;
+#else
+    return false;
+#endif
+}
+
+float ggx_lambda(float a2, float z) {
+    float z2 = z * z;
+    if (z2 >= 1.0) return 0.0;
+    return 0.5 * (-1.0 + sqrt(1.0 + a2 * (1.0 - z2) / z2));
+}
+
+// The specular lobe's directional albedo f0 A + B towards the eye (cos nv
+// from the normal): the table after the records (render/pipeline.h
+// vx_ggx_albedo_table), bilinear between its texel centres.
+vec3 metal_albedo(Metal M, float nv) {
+#ifdef MAT_BINDING
+    const float N = float(MAT_ENV_N);
+    uint base = uint(mats.length()) - MAT_ENV_N * MAT_ENV_N;
+    vec2 g = vec2(nv, M.rough) * N - 0.5;
+    vec2 c = clamp(floor(g), vec2(0.0), vec2(N - 2.0));
+    vec2 f = clamp(g - c, vec2(0.0), vec2(1.0));
+    uint b = base + uint(c.y) * MAT_ENV_N + uint(c.x);
+    vec2 ab = mix(mix(mats[b].xy, mats[b + 1u].xy, f.x), mix(mats[b + MAT_ENV_N].xy, mats[b + MAT_ENV_N + 1u].xy, f.x), f.y);
+    return M.f0 * ab.x + ab.y;
+#else
+    return vec3(0.0);
+#endif
+}
+
+// f(wo, wi) of the lobe at unit normal n towards unit wi: what multiplies a
+// light's irradiance (which holds n.wi) into the radiance it reflects to the
+// eye. The specular part is 0 below either horizon; the Lambert part stays
+// (the irradiance already is 0 there, or a source's clipped share).
+vec3 metal_brdf(Metal M, vec3 n, vec3 wi) {
+    vec3 f = M.kd / PI;
+    float no = dot(n, M.wo), ni = dot(n, wi);
+    if (no <= 0.0 || ni <= 0.0) return f;
+    vec3 h = normalize(M.wo + wi);
+    float z = dot(n, h), c = z * z * (M.a2 - 1.0) + 1.0;
+    float d = M.a2 / (PI * c * c);
+    float g2 = 1.0 / (1.0 + ggx_lambda(M.a2, no) + ggx_lambda(M.a2, ni));
+    float s5 = pow(1.0 - max(dot(wi, h), 0.0), 5.0);
+    return f + (M.f0 + (1.0 - M.f0) * s5) * (d * g2 / (4.0 * no * ni));
+}
+
 // The light's window: (1 - (d/R)^4)^2 below R, 0 from R on; R = 0: none.
 float light_window(float dist, float R) {
     if (R <= 0.0) return 1.0;
@@ -201,8 +290,11 @@ uint grid_cell(vec3 p, uvec2 px) {
 
 // Irradiance from the frame's lights at a G-buffer entry: every light
 // (brute force) or the lights of its grid cell, plus the directional ones;
-// the SHADOWED strongest get a ray-traced shadow.
-vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
+// the SHADOWED strongest get a ray-traced shadow. A metal pixel (mt): each
+// light's irradiance times the BRDF towards its shadow ray's point (a
+// sampled point of an area source, converging over samples), the radiance
+// it reflects to the eye; its strongest by that radiance get the shadows.
+vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw, bool mt, Metal M) {
     vec3 p = uintBitsToFloat(g0.xyz);
     vec3 ps = gb_offset_point(p, nw, g1.y);
     float cell = insts[g1.y].cell;
@@ -226,6 +318,7 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
         vec3 le, sd;
         float st;
         if (!light_eval(k, ps, nw, cell, emissive, px, le, sd, st)) continue;
+        if (mt) le *= metal_brdf(M, nw, sd);
         if (SHADOWED == 0u || st <= 0.0) {
             e += le;
             continue;
@@ -258,7 +351,10 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw) {
 
 // What the direct pass delivers for a G-buffer entry: in the colour model
 // (1 - ambient) * n.l * visibility, in the radiometric one (PHYS) sun
-// irradiance * n.l * visibility.
+// irradiance * n.l * visibility plus the lights' irradiance; for a metal
+// record (METAL) the radiance that light leaves towards the eye instead
+// (each source's irradiance times the BRDF towards it: resolve adds it as it
+// is, where a diffuse pixel's irradiance is multiplied by albedo / pi).
 vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
     if (g1.y == NO_HIT) return vec4(0.0);
     vec3 nw = gb_normal(g1);
@@ -283,8 +379,11 @@ vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
         float amb = F.light.w;
         return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
     }
+    Metal M;
+    bool mt = METAL && metal_of(g0, g1, M);
     vec3 e = PC.f1.xyz * ndl * vis;
-    if (PC.u1.z > 0u) e += lights_pixel(px, g0, g1, nw);
+    if (mt) e *= metal_brdf(M, nw, F.light.xyz);
+    if (PC.u1.z > 0u) e += lights_pixel(px, g0, g1, nw, mt, M);
     return vec4(e, 1.0);
 }
 
@@ -320,10 +419,22 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
             return vec4(alb * (amb + e), 1.0);
         }
         vec3 rad = vec3(0.0);
+        Metal M;
+        bool mt = METAL && metal_of(g0, g1, M); // the direct pass gave its radiance
         if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += alb * emit_attr[g1.w];
-        if (HAS_DIRECT) rad += alb / PI * dir.xyz;
+        if (HAS_DIRECT) rad += mt ? dir.xyz : alb / PI * dir.xyz;
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);
-        if (HAS_SKY) rad += alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0); // the sky's light times its visibility
+        if (HAS_SKY && mt) {
+            // metal: the sky's light on the Lambert lobe (kd), and the sky along the mirror direction times the
+            // specular lobe's albedo (exact for a uniform unoccluded sky; the sky by direction is not filtered
+            // by the lobe), both times the visibility
+            vec3 n = gb_normal(g1);
+            float nv = max(dot(n, M.wo), 0.0);
+            vec3 sky_spec = frame_sky(reflect(-M.wo, n)) * metal_albedo(M, nv);
+            rad += (M.kd * frame_sky_irradiance(n) + sky_spec) * (HAS_AO ? ao : 1.0);
+        } else if (HAS_SKY) {
+            rad += alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0); // the sky's light times its visibility
+        }
         return vec4(rad, 1.0);
     }
     if (SHOW == 1u) return hit ? vec4(alb, 1.0) : vec4(0.0);

@@ -16,6 +16,12 @@ if(VX_WITH_VULKAN)
   # under the sanitizers without the two long convergence checks (59 s of lavapipe under ASan, stop 60): the
   # tracer's host code runs in the furnaces, the lights and the GPU-against-CPU materials
   vx_sanitize_trim(test_pathtrace SKIP test_converges_to_itself test_stiff_emitter)
+  # metal seen directly in the pass pipeline: a metal plate against the BRDF in double, the CPU path tracer
+  # and the sky term's closed form; a diffuse plate unchanged
+  vx_add_test(test_metal_direct SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_metal_direct.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_metal_direct PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)

@@ -111,7 +111,8 @@ static void rooms_free(rooms* r) {
     for (int i = 0; i < 3; i++) vx_svo_scene_free(&r->s[i]);
 }
 
-/* im[0..2] of the three scenes: [1] must equal [0] and differ from [2] */
+/* im[0..2] of the three scenes: [1] must equal [0] and differ from [2]. (Not "brighter than [2]": metal seen
+ * directly reflects the dim sky where the diffuse floor took the light, so a sum can go either way.) */
 static void check_images(const char* what, vx_render_image im[3]) {
     size_t same = differ(&im[0], &im[1]), unlit = differ(&im[1], &im[2]);
     printf("  %-34s palette vs rgba+material: %zu floats differ; rgba+material vs no MATL: %zu differ "
@@ -119,7 +120,6 @@ static void check_images(const char* what, vx_render_image im[3]) {
     CHECKF(same == 0, "%s: the RGBA scene with a material channel renders %zu floats unlike the palette scene", what,
            same);
     CHECKF(unlit > 0, "%s: the RGBA scene's materials are not seen (the same image without its MATL records)", what);
-    CHECKF(sum_rgb(&im[1]) > sum_rgb(&im[2]), "%s: the lamp adds no light", what);
 }
 
 /* ---- the CPU reference's hit ------------------------------------------------------------- */
