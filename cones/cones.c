@@ -516,16 +516,22 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
 /* Per attribute record its material for the specular cones (cone_common.glsl
  * cmat: kind 1 metal, roughness, metalness, specular weight), then the
  * environment BRDF table; only when some record is metal. */
-static vx_result materials(vx_cone_gi* cg, const uint8_t* pal, size_t n, vx_error* err) {
+static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const uint16_t* ids, size_t n,
+                           vx_error* err) {
+    const vx_material diffuse = vx_material_default(VX_MATERIAL_DIFFUSE);
     bool metal = false;
-    for (size_t i = 0; i < n && !cg->d.no_specular; i++) metal |= vx_svo_scene_material(cg->scene, pal[i]).type == VX_MATERIAL_METAL;
+    for (size_t i = 0; t->specular && i < n && !cg->d.no_specular && !metal; i++) {
+        const vx_material* mt = vx_svo_material_table_find(t, ids[i]);
+        metal = mt && mt->type == VX_MATERIAL_METAL;
+    }
     if (!metal) return VX_OK;
     if (n > UINT32_MAX - ENV_N * ENV_N) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
     size_t count = n + ENV_N * ENV_N;
     float* m = vx_calloc(cg->alloc, count, 4 * sizeof(float));
     if (!m) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu material records", n);
     for (size_t i = 0; i < n; i++) {
-        vx_material mt = vx_svo_scene_material(cg->scene, pal[i]);
+        const vx_material* f = vx_svo_material_table_find(t, ids[i]);
+        vx_material mt = f ? *f : diffuse;
         float* o = m + 4 * i;
         o[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
         o[1] = (float)mt.roughness, o[2] = (float)mt.metalness, o[3] = (float)mt.specular;
@@ -545,20 +551,25 @@ static vx_result materials(vx_cone_gi* cg, const uint8_t* pal, size_t n, vx_erro
 /* Emission scale per attribute record (the scene's materials), and the
  * materials of the specular cones. */
 static vx_result emission(vx_cone_gi* cg, vx_error* err) {
-    uint8_t* pal = NULL;
+    uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
-    vx_result r = vx__render_scene_attr_palette(cg->rs, cg->scene, cg->alloc, &pal, &n, err);
-    if (r) return r;
-    double em[256];
-    for (uint32_t i = 0; i < 256; i++) em[i] = vx_svo_scene_material(cg->scene, i).emission;
+    vx_svo_material_table t = {0};
+    vx_result r = vx__render_scene_attr_material(cg->rs, cg->scene, cg->alloc, &pal, &n, err);
+    if (!r) r = vx_svo_material_table_make(cg->scene, cg->alloc, &t, err);
+    if (r) {
+        vx_free(cg->alloc, pal);
+        return r;
+    }
     if (!(cg->emit_attr = vx_calloc(cg->alloc, n ? n : 1, sizeof(float)))) {
         vx_free(cg->alloc, pal);
+        vx_svo_material_table_free(&t);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     }
-    for (size_t i = 0; i < n; i++) cg->emit_attr[i] = (float)em[pal[i]];
+    for (size_t i = 0; t.emissive && i < n; i++) cg->emit_attr[i] = (float)vx_svo_material_table_emission(&t, pal[i]);
     cg->emit_count = n;
-    r = materials(cg, pal, n, err);
+    r = materials(cg, &t, pal, n, err);
     vx_free(cg->alloc, pal);
+    vx_svo_material_table_free(&t);
     if (!r) r = vx__buffer_create(cg->g, (n ? n : 1) * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
                           &cg->b[B_EMIT], err);
     if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (n ? n : 1) * sizeof(float), err);

@@ -114,7 +114,7 @@ static void sky_mean(const vx__light* L, double out[3]) {
  * only; the probes' emitter table (vx__light em) samples all six faces of a
  * voxel, and a photon from a buried face was lost (5% of the photons were
  * stored on the caustic scene). The radiance is the path tracer's
- * (probes/light.c em_voxel: colour times the palette entry's emission). */
+ * (probes/light.c em_voxel: colour times its material's emission). */
 typedef struct face_ctx {
     vx_photon_gi* pg;
     const vx_svo_model* m;
@@ -171,8 +171,7 @@ static bool face_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t 
 
 static vx_result make_faces(vx_photon_gi* pg, vx_error* err) {
     const vx_svo_scene* s = pg->scene;
-    bool any = false;
-    for (int i = 0; i < 256; i++) any |= pg->P.L.emit[i] > 0;
+    bool any = pg->P.L.mt.emissive;
     face_ctx F = {.pg = pg};
     for (uint32_t i = 0; any && i < s->instance_count && !F.r; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
@@ -215,7 +214,7 @@ static bool occ_voxel(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a
 }
 
 /* mats: the packed materials of the attribute records (vx__pack_materials, the models' records one model
- * after another, as vx__scene_attr_palette counts them), nm records, 0: none */
+ * after another, as vx__scene_attr_material counts them), nm records, 0: none */
 static vx_result make_occ(vx_photon_gi* pg, const float* mats, size_t nm, vx_error* err) {
     const vx_svo_scene* s = pg->scene;
     uint8_t* glass = vx_calloc(pg->alloc, nm ? nm : 1, 1);
@@ -738,14 +737,14 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     pg->buckets = pow2_at_least(2 * (uint64_t)d.capacity);
     if (pg->buckets < pow2_at_least(d.photons / 2 + 1)) pg->buckets = pow2_at_least(d.photons / 2 + 1);
     if (!r) r = make_faces(pg, err);
-    uint8_t* pal = NULL;
+    uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
     float* m = NULL;
-    if (!r) r = vx__render_scene_attr_palette(rs, scene, a, &pal, &n, err);
+    if (!r) r = vx__render_scene_attr_material(rs, scene, a, &pal, &n, err);
     if (!r && (!(pg->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))) || !(m = vx_calloc(a, n ? 8 * n : 4, sizeof(float)))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", n);
     if (!r) {
-        for (size_t i = 0; i < n; i++) pg->emit_attr[i] = (float)pg->P.L.emit[pal[i]];
+        for (size_t i = 0; pg->P.L.mt.emissive && i < n; i++) pg->emit_attr[i] = (float)vx__light_emission(&pg->P.L, pal[i]);
         pg->emit_count = n;
         vx__pack_materials(&pg->P.L, pal, pg->P.L.materials ? n : 0, m);
         size_t nm = pg->P.L.materials ? n : 0;

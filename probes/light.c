@@ -23,21 +23,19 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
         L->sun[k] = no_sun ? 0 : (sun && (sun[0] || sun[1] || sun[2]) ? sun[k] : D.sun[k]);
         L->sky[k] = black_sky ? 0 : (sky && (sky[0] || sky[1] || sky[2]) ? sky[k] : D.sky[k]);
     }
-    for (uint32_t i = 0; i < 256; i++) L->mat[i] = vx_material_default(VX_MATERIAL_DIFFUSE);
+    L->diffuse = vx_material_default(VX_MATERIAL_DIFFUSE);
+    vx_result r = s ? vx_svo_material_table_make(s, L->alloc, &L->mt, err) : VX_OK;
+    if (r) return r;
     bool glass = false;
-    for (uint32_t i = 0; s && i < s->material_count; i++) {
-        uint32_t id = s->materials[i].id;
-        if (id >= 256) continue;
-        vx_material m = vx_svo_scene_material(s, id); /* the first record of that id, as the scene defines */
-        L->mat[id] = m;
-        L->emit[id] = m.emission;
-        L->materials |= m.type == VX_MATERIAL_METAL || m.type == VX_MATERIAL_GLASS;
-        glass |= m.type == VX_MATERIAL_GLASS && m.transmission > 0;
-    }
+    for (uint32_t i = 0; i < L->mt.count; i++)
+        glass |= L->mt.mats[i].type == VX_MATERIAL_GLASS && L->mt.mats[i].transmission > 0;
+    L->materials = L->mt.specular;
     if (glass && s->instance_count) {
         L->inst_inv = vx_calloc(L->alloc, s->instance_count, 12 * sizeof(double));
-        if (!L->inst_inv)
+        if (!L->inst_inv) {
+            vx__light_free(L); /* nothing held on failure */
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u instance maps", s->instance_count);
+        }
         for (uint32_t i = 0; i < s->instance_count; i++) {
             double w[12];
             vx_svo_instance_world(s, &s->instances[i], w);
@@ -49,10 +47,10 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
 
 bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,
                               double rad[3]) {
-    uint32_t pal = (m->attrs & VX_ATTR_PALETTE) && attr < m->attr_count ? m->palette[attr] : 0;
-    if (pal >= 256 || !(L->emit[pal] > 0)) return false;
+    double e = vx__light_emission(L, vx_svo_attr_material(m, attr));
+    if (!(e > 0)) return false;
     uint32_t c = m->attrs ? vx_svo_attr_rgba(s, m, attr) : 0xFFFFFFFFu;
-    for (int k = 0; k < 3; k++) rad[k] = ((c >> (8 * k)) & 0xFF) / 255.0 * L->emit[pal];
+    for (int k = 0; k < 3; k++) rad[k] = ((c >> (8 * k)) & 0xFF) / 255.0 * e;
     return true;
 }
 
@@ -100,9 +98,7 @@ vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool e
     L->lights = lights, L->light_count = n;
     for (uint32_t i = 0; i < n; i++) L->voxel_lights |= (lights[i].flags & VX_LIGHT_FROM_VOXELS) != 0;
     const vx_svo_scene* s = L->scene;
-    bool any = false;
-    for (int i = 0; i < 256; i++) any |= L->emit[i] > 0;
-    if (!emitters || !any || !s) return VX_OK;
+    if (!emitters || !L->mt.emissive || !s) return VX_OK;
     em_ctx E = {.L = L};
     for (uint32_t i = 0; i < s->instance_count && !E.nomem; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
@@ -134,6 +130,7 @@ void vx__light_free(vx__light* L) {
     vx_free(L->alloc, L->inst_inv);
     vx_free(L->alloc, L->em);
     vx_free(L->alloc, L->em_cdf);
+    vx_svo_material_table_free(&L->mt);
     L->inst_inv = NULL, L->em = NULL, L->em_cdf = NULL, L->em_count = 0;
 }
 
@@ -149,9 +146,9 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
     for (int k = 0; k < 3; k++) s->n[k] = h->normal[k], s->p[k] += h->normal[k] * eps;
     uint32_t c = h->rgba;
     s->albedo[0] = (c & 0xFF) / 255.0, s->albedo[1] = ((c >> 8) & 0xFF) / 255.0, s->albedo[2] = ((c >> 16) & 0xFF) / 255.0;
-    s->palette = h->palette < 256 ? h->palette : 0;
+    s->material = h->material;
     s->cell = h->cell_size;
-    double e = L->emit[s->palette];
+    double e = vx__light_emission(L, s->material);
     for (int k = 0; k < 3; k++) s->emit[k] = s->albedo[k] * e;
 }
 

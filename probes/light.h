@@ -2,7 +2,7 @@
  * probe bake and the path tracer (probes/) and by the GI modules that trace
  * the same light (photons/): random streams independent of threads, the
  * light of a frame (sun, sky, the frame's lights, emissive voxels, the
- * palette's materials), surfaces and direct light, the path tracer's
+ * scene's materials), surfaces and direct light, the path tracer's
  * radiance, the materials as the shaders read them, and the render set-up
  * that a probe render or a GI pass resolves before it traces (vx__prender).
  * Names keep the vx__ prefix, as render/gpu.h: the toolkit's own layer,
@@ -12,7 +12,7 @@
  *   vx__prender P;
  *   vx__prender_setup(scene, NULL, false, &(vx_probe_render_desc){...}, &P, err);
  *   ... P.L (the light), P.lo / P.hi (the scene's bounds) ...
- *   vx__pack_materials(&P.L, pal, n, mats);   // for the shaders' mats[]
+ *   vx__pack_materials(&P.L, ids, n, mats);   // for the shaders' mats[]
  *   vx__prender_free(&P); */
 #ifndef VX_PROBES_LIGHT_H
 #define VX_PROBES_LIGHT_H
@@ -69,9 +69,13 @@ typedef struct vx__light {
      * the path tracer's (vx_probe_render_desc.sky, texels borrowed) */
     vx_sky sky_dir;
     vx_sky_texels sky_map;
-    double emit[256];    /* emission scale by palette index (vx_material.emission) */
-    vx_material mat[256]; /* by palette index */
-    bool materials;       /* some palette entry is metal or glass */
+    /* the scene's materials by material id (vx_svo_attr_material: the
+     * material channel, else the palette index; ids up to 65535, so a
+     * sorted table, not one entry per id): vx__light_material and
+     * vx__light_emission look them up */
+    vx_svo_material_table mt;
+    vx_material diffuse;  /* what an id without a material reads */
+    bool materials;       /* some material is metal or glass */
     const vx_light* lights; /* the frame's lights (sampled at every vertex) */
     uint32_t light_count;
     bool voxel_lights; /* some light stands for emissive voxels (VX_LIGHT_FROM_VOXELS) */
@@ -95,8 +99,17 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
  * scene's emissive voxels as lights for next-event estimation. */
 vx_result vx__light_add(vx__light* L, const vx_light* lights, uint32_t n, bool emitters, vx_error* err);
 void vx__light_free(vx__light* L);
+/* The material of material id `id` (the default diffuse where the scene has none). */
+static inline const vx_material* vx__light_material(const vx__light* L, uint32_t id) {
+    const vx_material* m = vx_svo_material_table_find(&L->mt, id);
+    return m ? m : &L->diffuse;
+}
+/* The emission scale of material id `id` (vx_material.emission; 0: none). */
+static inline double vx__light_emission(const vx__light* L, uint32_t id) {
+    return vx_svo_material_table_emission(&L->mt, id);
+}
 /* The emitted radiance of a voxel (attribute `attr` of model m): its colour
- * times its palette entry's emission; false, rad untouched, where the voxel
+ * times its material's emission (by vx_svo_attr_material); false, rad untouched, where the voxel
  * does not emit. The one rule for the path tracer's emitter table and the
  * photons' emitting faces. */
 bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,
@@ -109,7 +122,7 @@ typedef struct vx__surface {
     double n[3];
     double albedo[3];
     double emit[3];
-    uint32_t palette;
+    uint32_t material; /* material id (vx_render_ray_hit.material) */
     double cell; /* world size of the hit instance's cells */
 } vx__surface;
 
@@ -154,10 +167,10 @@ vx_result vx__prender_setup(const vx_svo_scene* s, const vx_probe_set* ps, bool 
 uint32_t vx__prender_rows(const vx_probe_render_desc* desc, uint32_t height);
 void vx__prender_free(vx__prender* P);
 
-/* The materials of the colors[] entries whose palette indices are pal[0..n)
+/* The materials of the colors[] entries whose material ids are ids[0..n)
  * as path_common.glsl reads them (mats[]): 8 floats each, (type: 0 diffuse,
  * 1 metal, 2 glass; GGX alpha; metalness; specular), (ior, transmission, 0, 0).
  * probe_gpu.c and photons/ upload them. */
-void vx__pack_materials(const vx__light* L, const uint8_t* pal, size_t n, float* out);
+void vx__pack_materials(const vx__light* L, const uint16_t* ids, size_t n, float* out);
 
 #endif

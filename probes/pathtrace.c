@@ -2,7 +2,7 @@
  * materials, light sampling and the path loop; probes/shaders/probe.comp
  * runs the same algorithm in float on the GPU.
  *
- * Materials (vx_material by palette index; colour = the voxel's colour):
+ * Materials (vx_material by material id, vx_svo_attr_material; colour = the voxel's colour):
  *  diffuse, emit  Lambert; emit adds colour * emission (any type may emit)
  *  metal          GGX microfacet, alpha = max(rough^2, 1e-3), Smith
  *                 height-correlated G2, Schlick Fresnel with
@@ -135,7 +135,7 @@ static void to_world(const bsdf* B, const double v[3], double o[3]) {
 /* The vertex's BSDF; glass that does not transmit this time is Lambert. */
 static void bsdf_of(const vx__light* L, const vx__surface* s, vx__rng* rng, bsdf* B) {
     memset(B, 0, sizeof *B);
-    const vx_material* m = &L->mat[s->palette];
+    const vx_material* m = vx__light_material(L, s->material);
     memcpy(B->alb, s->albedo, sizeof B->alb);
     memcpy(B->n, s->n, sizeof B->n);
     basis(B->n, B->t, B->b);
@@ -271,7 +271,7 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
         double qi[3] = {q[0] + d[0] * eps, q[1] + d[1] * eps, q[2] + d[2] * eps};
         vx_render_ray_hit g;
         if (vx_render_cast(L->caster, qi, d, eps, false, &g)) {
-            const vx_material* gm = &L->mat[g.palette < 256 ? g.palette : 0];
+            const vx_material* gm = vx__light_material(L, g.material);
             if (gm->type == VX_MATERIAL_GLASS && gm->transmission > 0) {
                 inst = g.instance, c[0] = g.cell[0], c[1] = g.cell[1], c[2] = g.cell[2];
                 memcpy(p, qi, 3 * sizeof(double));
@@ -572,7 +572,7 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             double p[3];
             for (int k = 0; k < 3; k++) p[k] = ro[k] + rd[k] * h.t - s.n[k] * 1e-6 * h.cell_size;
             memcpy(rd, wi, sizeof rd);
-            const vx_material* m = &L->mat[s.palette];
+            const vx_material* m = vx__light_material(L, s.material);
             if (!glass_walk(L, h.instance, h.cell, h.cell_size, m->ior, B.alpha, p, rd, rng, thr, ro)) break;
             continue;
         }

@@ -111,9 +111,9 @@ static vx_result upload_new(gctx* c, vx__buffer* b, const void* data, size_t siz
     return upload_to(c->g, b, data, size, label, err);
 }
 
-void vx__pack_materials(const vx__light* L, const uint8_t* pal, size_t n, float* out) {
+void vx__pack_materials(const vx__light* L, const uint16_t* ids, size_t n, float* out) {
     for (size_t i = 0; i < n; i++) {
-        const vx_material* mt = &L->mat[pal[i]];
+        const vx_material* mt = vx__light_material(L, ids[i]);
         float* o = out + 8 * i;
         o[0] = mt->type == VX_MATERIAL_METAL ? 1.0f : (mt->type == VX_MATERIAL_GLASS ? 2.0f : 0.0f);
         o[1] = (float)(mt->roughness * mt->roughness);
@@ -126,7 +126,7 @@ void vx__pack_materials(const vx__light* L, const uint8_t* pal, size_t n, float*
  * attribute record only when some material is metal or glass, the lights
  * and the emissive voxels relative to the frame's reference point; each a
  * 16-byte placeholder when the scene has none. */
-static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* pal, size_t na, vx_error* err) {
+static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint16_t* ids, size_t na, vx_error* err) {
     const double* ref = c->f.ref;
     size_t nm = L->materials ? na : 0, nl = 0, ne = L->em_count;
     for (uint32_t i = 0; i < L->light_count; i++) nl += !(L->lights[i].flags & VX_LIGHT_FROM_VOXELS);
@@ -138,7 +138,7 @@ static vx_result upload_path_tracer(gctx* c, const vx__light* L, const uint8_t* 
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the path tracer's tables");
         goto done;
     }
-    vx__pack_materials(L, pal, nm, m);
+    vx__pack_materials(L, ids, nm, m);
     for (size_t i = 0, j = 0; j < L->light_count; j++) {
         const vx_light* li = &L->lights[j];
         if (li->flags & VX_LIGHT_FROM_VOXELS) continue; /* the voxels emit themselves (pathtrace.c) */
@@ -197,9 +197,9 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     c->f = *f;
     vx_result r = vx__render_scene_bind(rs, f, c->scene, c->spec, err);
     if (r) return r;
-    uint8_t* pal = NULL;
+    uint16_t* pal = NULL; /* material ids per record */
     size_t na = 0;
-    if ((r = vx__render_scene_attr_palette(rs, s, c->alloc, &pal, &na, err))) return r;
+    if ((r = vx__render_scene_attr_material(rs, s, c->alloc, &pal, &na, err))) return r;
     c->spec[VX__SPEC_COUNT + SPEC_MATS] = L->materials;
     if ((r = upload_path_tracer(c, L, pal, na, err))) {
         vx_free(c->alloc, pal);
@@ -215,7 +215,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     if (!em || !pp) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     } else {
-        for (size_t i = 0; i < na; i++) em[i] = (float)L->emit[pal[i]];
+        for (size_t i = 0; L->mt.emissive && i < na; i++) em[i] = (float)vx__light_emission(L, pal[i]);
         for (size_t i = 0; ps && i < np; i++) {
             for (int k = 0; k < 3; k++) pp[4 * i + k] = (float)(ps->probes[i].pos[k] - f->ref[k]);
             pp[4 * i + 3] = (float)ps->probes[i].state;

@@ -886,7 +886,7 @@ static vx_result assemble(builder* b, vx_compact_scene* c, vx_error* err) {
 /* ---- the geometry of the models -------------------------------------------------- */
 
 /* The palette indices model m's attribute records use into c->palette_used
- * (the records vx__scene_attr_palette lists: a model with the palette kind
+ * (the records vx__scene_attr_material lists by palette index: a model with the palette kind
  * and its array); several build threads at once, hence the atomic or. */
 static void note_palette(vx_compact_scene* c, const vx_svo_model* m) {
     if (!m->attrs || !(m->attrs & VX_ATTR_PALETTE) || !m->palette) return;

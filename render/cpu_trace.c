@@ -481,6 +481,7 @@ bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d
     hit->instance = in->id;
     hit->rgba = m->attrs ? vx_svo_attr_rgba(s, m, h.attr) : 0xFFFFFFFFu;
     hit->palette = (m->attrs & VX_ATTR_PALETTE) && h.attr < m->attr_count ? m->palette[h.attr] : 0;
+    hit->material = vx_svo_attr_material(m, h.attr);
     return true;
 }
 

@@ -370,20 +370,27 @@ vx_result vx__render_scene_tables(vx_render_scene* rs, const vx__frame* f, vx__b
  * updates) wait for the queue to go idle first. */
 vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, void* cmd, vx__buffer* bufs[7],
                                     uint32_t spec[VX__SPEC_COUNT], vx_error* err);
-/* Palette index (0: none) of every entry of the colors buffer, in its order
- * (the models' attribute records one model after another); *out freed with
- * vx_free(alloc, ...). */
-vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
-                                 vx_error* err);
+/* Material id (vx_svo_attr_material: the record's VX_ATTR_MATERIAL value,
+ * else its palette index, else 0) of every entry of the colors buffer, in
+ * its order (the models' attribute records one model after another); the
+ * per-record tables of the passes and GI methods (emission, materials) are
+ * built from these ids and the scene's vx_svo_material_table. *out freed
+ * with vx_free(alloc, ...). */
+vx_result vx__scene_attr_material(const vx_svo_scene* s, const vx_allocator* alloc, uint16_t** out, size_t* n,
+                                  vx_error* err);
 /* The same for the tables a pass indexes by the hit's Hit.attr: a compact
  * scene's kernels give the palette index there (0 for RGBA records, as
- * vx__scene_attr_palette's entries of them), so its tables are per palette
- * index: *out 256 entries, entry i = i where some record has palette index
- * i, else 0; *n 256 (the indices from the layout's build,
- * vx_compact_scene.palette_used: s may be a reader's graph without the
- * models' arrays). Else vx__scene_attr_palette(s). */
-vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
-                                        uint8_t** out, size_t* n, vx_error* err);
+ * vx__scene_attr_material's entries of them without a material channel), so
+ * its tables are per palette index: *out 256 entries, entry i = i where some
+ * record has palette index i, else 0; *n 256 (the indices from the layout's
+ * build, vx_compact_scene.palette_used: s may be a reader's graph without
+ * the models' arrays). The compact layout does not carry the material
+ * channel: where a model has one (VX_ATTR_MATERIAL) and some material of the
+ * scene is not plain diffuse (emission, metal, glass), the compact tables
+ * could not give the plain layout's image, so this is VX_ERR_UNSUPPORTED
+ * (the plain layout renders it). Else vx__scene_attr_material(s). */
+vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
+                                         uint16_t** out, size_t* n, vx_error* err);
 /* pipeline.c: the buffer holding the last frame's image (RGBA32F,
  * rows top first, *w x *h), NULL before the first frame (render/display.c). */
 struct vx_frame_renderer;

@@ -388,27 +388,33 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     return VX_OK;
 }
 
+/* One record's entry: (1 metal / 0, roughness, metalness, specular) of material id `id`. */
+static void mat_record(const vx_svo_material_table* t, uint32_t id, float out[4]) {
+    const vx_material* f = vx_svo_material_table_find(t, id);
+    vx_material mt = f ? *f : vx_material_default(VX_MATERIAL_DIFFUSE);
+    out[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
+    out[1] = (float)mt.roughness, out[2] = (float)mt.metalness, out[3] = (float)mt.specular;
+}
+
 /* Metal seen directly: each attribute record's material for the direct pass and resolve (pass_bodies.glsl
  * MAT_BINDING), then the GGX lobe's albedo table, when some record is metal; none otherwise (the frames
- * then bind a placeholder and keep their SPIR-V path). Host-side, uploaded by the next frame that uses it. */
-static vx_result scene_materials(vx_frame_renderer* fr, const vx_svo_scene* scene, const uint8_t* pal, size_t n,
+ * then bind a placeholder and keep their SPIR-V path). Host-side, uploaded by the next frame that uses it.
+ * ids: the records' material ids (vx__render_scene_attr_material), t the scene's materials by id. */
+static vx_result scene_materials(vx_frame_renderer* fr, const vx_svo_material_table* t, const uint16_t* ids, size_t n,
                                  vx_error* err) {
     vx_gpu* g = fr->g;
-    float by_id[256][4]; /* the record of each palette index */
     bool metal = false;
-    for (uint32_t id = 0; id < 256; id++) {
-        vx_material mt = vx_svo_scene_material(scene, id);
-        by_id[id][0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
-        by_id[id][1] = (float)mt.roughness, by_id[id][2] = (float)mt.metalness, by_id[id][3] = (float)mt.specular;
+    for (size_t i = 0; t->specular && i < n && !metal; i++) {
+        const vx_material* f = vx_svo_material_table_find(t, ids[i]);
+        metal = f && f->type == VX_MATERIAL_METAL;
     }
-    for (size_t i = 0; i < n && !metal; i++) metal = by_id[pal[i]][0] == 1.0f;
     float* m = NULL;
     if (metal) {
         if (n > (SIZE_MAX / 16) - MAT_ENV_N * MAT_ENV_N)
             return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
         if (!(m = vx_calloc(&g->alloc, n + MAT_ENV_N * MAT_ENV_N, 4 * sizeof(float))))
             return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu material records", n);
-        for (size_t i = 0; i < n; i++) memcpy(m + 4 * i, by_id[pal[i]], sizeof by_id[0]);
+        for (size_t i = 0; i < n; i++) mat_record(t, ids[i], m + 4 * i);
         vx_ggx_albedo_table(MAT_ENV_N, m + 4 * n);
         if (fr->scene_mat && fr->scene_mat_count == n && !memcmp(fr->scene_mat, m, (n + MAT_ENV_N * MAT_ENV_N) * 16)) {
             vx_free(&g->alloc, m); /* what the GPU holds stays */
@@ -442,19 +448,16 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             if (n > fr->max_cell) fr->max_cell = n;
         }
     }
-    uint8_t* pal = NULL;
+    uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
     float* e = NULL;
-    vx_result r = vx__render_scene_attr_palette(fr->rs, scene, &g->alloc, &pal, &n, err);
+    vx_svo_material_table t = {0};
+    vx_result r = vx__render_scene_attr_material(fr->rs, scene, &g->alloc, &pal, &n, err);
+    if (!r) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
     if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
-        float by_id[256] = {0};
-        for (uint32_t i = 0; i < scene->material_count; i++) {
-            uint32_t id = scene->materials[i].id;
-            if (id < 256) by_id[id] = (float)vx_svo_scene_material(scene, id).emission;
-        }
-        for (size_t i = 0; i < n; i++) e[i] = by_id[pal[i]];
+        for (size_t i = 0; t.emissive && i < n; i++) e[i] = (float)vx_svo_material_table_emission(&t, pal[i]);
         bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, n * sizeof *e);
         if (same) {
             vx_free(&g->alloc, e); /* what the GPU holds stays */
@@ -464,8 +467,9 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
             fr->emit_src = NULL; /* uploaded again at the next frame that uses it */
         }
     }
-    if (!r) r = scene_materials(fr, scene, pal, n, err);
+    if (!r) r = scene_materials(fr, &t, pal, n, err);
     vx_free(&g->alloc, pal);
+    vx_svo_material_table_free(&t);
     return r;
 }
 

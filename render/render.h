@@ -384,7 +384,10 @@ enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves
  * (vx_render_scene_update_model, LOD, models past VX_RENDER_PRECISE_DEPTH;
- * a paged one also the passes that bind the scene) with VX_ERR_UNSUPPORTED;
+ * a paged one also the passes that bind the scene; the passes and GI
+ * methods of a scene whose models carry a material channel naming
+ * materials other than plain diffuse: the compact records keep no material
+ * id, docs/FORMAT.md 4.1) with VX_ERR_UNSUPPORTED;
  * AUTO falls back to the plain layout where the compact one cannot render
  * the scene. */
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, const vx_render_scene_desc* desc,
@@ -668,6 +671,7 @@ typedef struct vx_render_ray_hit {
     uint32_t cell[3];
     uint32_t rgba;    /* attribute colour (opaque white without attributes) */
     uint32_t palette; /* palette index, 0 if the model has none */
+    uint32_t material; /* material id (vx_svo_attr_material): what MATL materials are keyed by */
 } vx_render_ray_hit;
 
 vx_result vx_render_caster_create(const vx_svo_scene* scene, const vx_allocator* alloc, vx_render_caster** out,

@@ -2254,16 +2254,28 @@ uint32_t vx__render_scene_compact_form(const vx_render_scene* rs) {
     return !vx__render_scene_compact(rs) ? 0u : rs->layout.brick_dict ? 2u : 1u;
 }
 
-vx_result vx__render_scene_attr_palette(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
-                                        uint8_t** out, size_t* n, vx_error* err) {
-    if (!vx__render_scene_compact(rs)) return vx__scene_attr_palette(s, alloc, out, n, err);
+vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
+                                         uint16_t** out, size_t* n, vx_error* err) {
+    if (!vx__render_scene_compact(rs)) return vx__scene_attr_material(s, alloc, out, n, err);
+    /* the compact records hold a palette index or a colour, never the material channel: refuse where that
+     * channel would name a material other than plain diffuse (the plain layout's image would differ) */
+    bool channel = false, special = false;
+    for (uint32_t i = 0; i < s->model_count && !channel; i++) channel = (s->models[i].attrs & VX_ATTR_MATERIAL) != 0;
+    for (uint32_t i = 0; channel && i < s->material_count && !special; i++) {
+        vx_material m = vx_svo_material_resolve(&s->materials[i]);
+        special = m.emission > 0 || m.type == VX_MATERIAL_METAL || m.type == VX_MATERIAL_GLASS;
+    }
+    if (special)
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "the compact layout keys materials by palette index, and a model names its materials "
+                       "through a material channel (VX_ATTR_MATERIAL): use the plain layout");
     /* per palette index; the indices no record uses are 0 (none), so that a table's "some record is ..." (metal,
      * emissive) is the plain layout's. The indices in use come from the layout's build (palette_used), not from
      * s's models: a scene built from a model reader is its graph here, without the models' arrays (svo_bake
      * --load models) */
-    uint8_t* p = vx_calloc(alloc, 256, 1);
+    uint16_t* p = vx_calloc(alloc, 256, sizeof *p);
     if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    for (uint32_t i = 0; i < 256; i++) p[i] = rs->palette_used[i >> 5] & (1u << (i & 31)) ? (uint8_t)i : 0;
+    for (uint32_t i = 0; i < 256; i++) p[i] = rs->palette_used[i >> 5] & (1u << (i & 31)) ? (uint16_t)i : 0;
     *out = p;
     *n = 256;
     return VX_OK;
@@ -2588,19 +2600,18 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
 }
 
 /* Must walk the models as prepare_models does. */
-vx_result vx__scene_attr_palette(const vx_svo_scene* s, const vx_allocator* alloc, uint8_t** out, size_t* n,
-                                 vx_error* err) {
+vx_result vx__scene_attr_material(const vx_svo_scene* s, const vx_allocator* alloc, uint16_t** out, size_t* n,
+                                  vx_error* err) {
     size_t total = 0;
     for (uint32_t i = 0; i < s->model_count; i++)
         if (s->models[i].attrs) total += s->models[i].attr_count;
-    uint8_t* p = vx_calloc(alloc, total ? total : 1, 1);
+    uint16_t* p = vx_calloc(alloc, total ? total : 1, sizeof *p);
     if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", total);
     size_t at = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         if (!m->attrs) continue;
-        for (uint32_t a = 0; a < m->attr_count; a++)
-            p[at++] = (m->attrs & VX_ATTR_PALETTE) && m->palette ? m->palette[a] : 0;
+        for (uint32_t a = 0; a < m->attr_count; a++) p[at++] = (uint16_t)vx_svo_attr_material(m, a);
     }
     *out = p;
     *n = total;

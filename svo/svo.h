@@ -447,6 +447,36 @@ vx_material vx_svo_material_resolve(const vx_svo_material* m);
  * whose id matches), diffuse when there is none. */
 vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id);
 
+/* The material id of attribute record `attr` of model m: its
+ * VX_ATTR_MATERIAL value where the model has that channel, else its palette
+ * index (VX_ATTR_PALETTE), else 0 (also for attr past the model's records).
+ * The one rule by which every renderer, the GI methods and the emissive
+ * lights find a record's MATL material (an RGBA model from the glTF
+ * importer names its materials through the channel, ids up to 65535). */
+uint32_t vx_svo_attr_material(const vx_svo_model* m, uint32_t attr);
+
+/* The scene's materials resolved once and sorted by id, for a lookup per
+ * record or per hit (vx_svo_scene_material parses the dictionary at every
+ * call). Ids may go up to 65535 and beyond, so the table holds one entry per
+ * MATL record (the first record of an id, as vx_svo_scene_material), not
+ * one per possible id. Zero-initialised: an empty table (every id diffuse).
+ * emissive / specular: some entry has emission > 0 / is metal or glass. */
+typedef struct vx_svo_material_table {
+    uint32_t count;
+    uint32_t* ids;     /* ascending, unique */
+    vx_material* mats; /* mats[i]: material id ids[i] */
+    bool emissive, specular;
+    const vx_allocator* alloc;
+} vx_svo_material_table;
+/* *out gets the table of scene's materials (alloc NULL: malloc). */
+vx_result vx_svo_material_table_make(const vx_svo_scene* scene, const vx_allocator* alloc, vx_svo_material_table* out,
+                                     vx_error* err);
+/* The material of id, NULL where the scene has none (diffuse, no emission). */
+const vx_material* vx_svo_material_table_find(const vx_svo_material_table* t, uint32_t id);
+/* Emission of id (vx_material.emission), 0 where it has no material. */
+double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t id);
+void vx_svo_material_table_free(vx_svo_material_table* t);
+
 /* ---- emissive voxels as lights (svo_emissive.c) ----------------------------------- */
 
 /* Emissive voxels (a material with emission > 0: MagicaVoxel _emit, the

@@ -97,7 +97,7 @@ typedef struct collect {
 static bool collect_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a) {
     collect* c = (collect*)user;
     const vx_svo_model* m = c->m;
-    uint32_t id = (m->attrs & VX_ATTR_MATERIAL) ? m->material[a] : (m->attrs & VX_ATTR_PALETTE) ? m->palette[a] : UINT32_MAX;
+    uint32_t id = vx_svo_attr_material(m, a); /* models with neither channel are not visited (emissive_lights) */
     float e = id < c->id_count ? c->emit_by_id[id] : 0.f;
     if (!(e > 0)) return true;
     if (c->n == c->max) return c->limit = true, false;

@@ -175,3 +175,70 @@ vx_material vx_svo_scene_material(const vx_svo_scene* scene, uint32_t id) {
         if (scene->materials[i].id == id) return vx_svo_material_resolve(&scene->materials[i]);
     return vx_material_default(VX_MATERIAL_DIFFUSE);
 }
+
+uint32_t vx_svo_attr_material(const vx_svo_model* m, uint32_t attr) {
+    if (!m || attr >= m->attr_count) return 0;
+    if ((m->attrs & VX_ATTR_MATERIAL) && m->material) return m->material[attr];
+    if ((m->attrs & VX_ATTR_PALETTE) && m->palette) return m->palette[attr];
+    return 0;
+}
+
+typedef struct mat_key {
+    uint32_t id, at; /* at: the record's place in the scene, so that the first record of an id wins */
+} mat_key;
+static int mat_key_cmp(const void* a, const void* b) {
+    const mat_key *x = a, *y = b;
+    if (x->id != y->id) return x->id < y->id ? -1 : 1;
+    return x->at < y->at ? -1 : x->at > y->at;
+}
+
+vx_result vx_svo_material_table_make(const vx_svo_scene* scene, const vx_allocator* alloc, vx_svo_material_table* out,
+                                     vx_error* err) {
+    if (!scene || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    vx_svo_material_table t = {.alloc = alloc};
+    uint32_t n = scene->material_count;
+    if (n) {
+        mat_key* k = vx_calloc(alloc, n, sizeof *k);
+        t.ids = vx_calloc(alloc, n, sizeof *t.ids);
+        t.mats = vx_calloc(alloc, n, sizeof *t.mats);
+        if (!k || !t.ids || !t.mats) {
+            vx_free(alloc, k);
+            vx_svo_material_table_free(&t);
+            return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u materials", n);
+        }
+        for (uint32_t i = 0; i < n; i++) k[i] = (mat_key){scene->materials[i].id, i};
+        qsort(k, n, sizeof *k, mat_key_cmp);
+        for (uint32_t i = 0; i < n; i++) {
+            if (t.count && t.ids[t.count - 1] == k[i].id) continue; /* a later record of the same id */
+            vx_material m = vx_svo_material_resolve(&scene->materials[k[i].at]);
+            t.ids[t.count] = k[i].id, t.mats[t.count++] = m;
+            t.emissive |= m.emission > 0;
+            t.specular |= m.type == VX_MATERIAL_METAL || m.type == VX_MATERIAL_GLASS;
+        }
+        vx_free(alloc, k);
+    }
+    *out = t;
+    return VX_OK;
+}
+
+const vx_material* vx_svo_material_table_find(const vx_svo_material_table* t, uint32_t id) {
+    uint32_t lo = 0, hi = t ? t->count : 0;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (t->ids[mid] < id) lo = mid + 1;
+        else hi = mid;
+    }
+    return t && lo < t->count && t->ids[lo] == id ? &t->mats[lo] : NULL;
+}
+
+double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t id) {
+    const vx_material* m = vx_svo_material_table_find(t, id);
+    return m ? m->emission : 0;
+}
+
+void vx_svo_material_table_free(vx_svo_material_table* t) {
+    if (!t) return;
+    vx_free(t->alloc, t->ids);
+    vx_free(t->alloc, t->mats);
+    t->ids = NULL, t->mats = NULL, t->count = 0, t->emissive = t->specular = false;
+}

@@ -91,7 +91,7 @@ static void check_same(const vx_compact_scene* c, const vx_compact_scene* one, c
            name, how);
 }
 
-/* The palette indices the scene's records use (as render/gpu.h's vx__scene_attr_palette lists them), and 0:
+/* The palette indices the scene's records use (as render/gpu.h's vx__render_scene_attr_material lists them for a compact scene), and 0:
  * what the layout's build found (palette_used, which the passes' tables take for a compact scene). */
 static void check_used(const vx_compact_scene* c, const vx_svo_scene* s, const char* name, const char* how) {
     uint32_t used[8] = {1};

@@ -1,0 +1,287 @@
+/* tests/probes/test_material_key.c - a record's material is keyed by its
+ * material id (svo/svo.h vx_svo_attr_material: the VX_ATTR_MATERIAL value,
+ * else the palette index), in every renderer. The same room built twice:
+ * a palette model whose indices carry metal, glass and emissive MATL
+ * records, and an RGBA8 model with the same colours and a material channel
+ * naming materials with the same dictionaries under other ids (two above
+ * 255, one the largest, 65535). The two scenes have the same cells and the
+ * same attribute records in the same order (palette index -> (colour, id) is
+ * one to one), so every renderer must give the same floats: the CPU path
+ * tracer, the GPU path tracer, the pass pipeline (gbuffer,direct with a frame
+ * light: the emission), gi=cones and gi=photons. That the RGBA scene's materials are
+ * seen at all is checked against the RGBA scene without its MATL records
+ * (the images must differ): keyed by palette index, as before the fix, both
+ * render diffuse and dark alike. The compact layout, which keeps no material
+ * channel, must refuse the RGBA scene's passes rather than render it
+ * diffuse. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cones/cones.h"
+#include "photons/photons.h"
+#include "probes/probes.h"
+#include "render/pipeline.h"
+#include "tests/gpu_test.h"
+#include "tests/probes/probe_scenes.h"
+#include "tests/test.h"
+
+static vx_gpu* gpu;
+static const char* gpu_skip;
+
+enum { N = 12, ID_METAL = 300, ID_GLASS = 4, ID_EMIT = 65535, ID_WALL = 5 };
+
+static const char* const glass_kv[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+static const char* const metal_kv[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+static const char* const emit_kv[] = {"_type", "_emit", "_emit", "2"};
+
+/* palette index -> colour and material id of the RGBA twin (3 metal, 4 glass, 5 a diffuse wall, 9 the lamp) */
+static uint32_t colour_of(uint8_t p) {
+    return p == 3 ? 0xFF80A0C0u : p == 4 ? 0xFFE0F0FFu : p == 5 ? 0xFF4080E0u : 0xFFFFFFFFu;
+}
+static uint16_t id_of(uint8_t p) { return p == 3 ? ID_METAL : p == 4 ? ID_GLASS : p == 5 ? ID_WALL : ID_EMIT; }
+
+static void palette_room(vx_svo_scene* s) {
+    cells_scene(s, N, glass_room_cell);
+    const uint8_t used[] = {3, 4, 5, 9};
+    for (size_t i = 0; i < sizeof used; i++) s->palette[used[i]] = colour_of(used[i]);
+    add_material(s, 4, glass_kv, 3);
+    add_material(s, 3, metal_kv, 3);
+    add_material(s, 9, emit_kv, 2);
+}
+
+/* The same cells as an RGBA8 model with a material channel; with_materials: its MATL records (else none). The
+ * palette stays ts_scene's random one: no record reads it. */
+static void rgba_room(vx_svo_scene* s, bool with_materials) {
+    size_t cap = (size_t)N * N * N, k = 0;
+    uint64_t* keys = malloc(cap * sizeof *keys);
+    uint32_t* rgba = malloc(cap * sizeof *rgba);
+    uint16_t* mat = malloc(cap * sizeof *mat);
+    for (uint32_t z = 0; z < N; z++)
+        for (uint32_t y = 0; y < N; y++)
+            for (uint32_t x = 0; x < N; x++) {
+                uint8_t c = glass_room_cell(x, y, z, N);
+                if (!c) continue;
+                keys[k] = vx_svo_morton(x, y, z), rgba[k] = colour_of(c), mat[k++] = id_of(c);
+            }
+    vx_svo_voxels v = {.size = {N, N, N}, .count = k, .keys = keys, .attrs = VX_ATTR_RGBA8 | VX_ATTR_MATERIAL,
+                       .rgba = rgba, .material = mat};
+    vx_svo_model m;
+    vx_error err = {0};
+    vx_result r = vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &m, NULL, &err);
+    if (r) fprintf(stderr, "build: %s\n", err.msg);
+    free(keys), free(rgba), free(mat);
+    vx_svo_instance in = ts_inst(0, NULL, 0, 0, 0);
+    ts_scene(s, &m, 1, &in, 1);
+    if (with_materials) {
+        add_material(s, ID_GLASS, glass_kv, 3);
+        add_material(s, ID_METAL, metal_kv, 3);
+        add_material(s, ID_EMIT, emit_kv, 2);
+    }
+}
+
+/* Floats of b that differ from a (bit for bit), 4 per pixel; a size mismatch counts all. */
+static size_t differ(const vx_render_image* a, const vx_render_image* b) {
+    size_t n = (size_t)a->width * a->height, d = 0;
+    if (a->width != b->width || a->height != b->height || !a->pixels || !b->pixels) return 4 * n + 1;
+    for (size_t i = 0; i < 4 * n; i++) d += memcmp(&a->pixels[i], &b->pixels[i], 4) != 0;
+    return d;
+}
+
+static double sum_rgb(const vx_render_image* a) {
+    double m = 0;
+    for (size_t i = 0; a->pixels && i < (size_t)a->width * a->height; i++)
+        m += a->pixels[4 * i] + a->pixels[4 * i + 1] + a->pixels[4 * i + 2];
+    return m;
+}
+
+/* the three scenes: the palette room, its RGBA twin, the twin without MATL records */
+typedef struct rooms {
+    vx_svo_scene s[3];
+} rooms;
+static const char* const room_name[3] = {"palette", "rgba+material", "rgba, no MATL"};
+
+static void rooms_make(rooms* r) {
+    palette_room(&r->s[0]);
+    rgba_room(&r->s[1], true);
+    rgba_room(&r->s[2], false);
+}
+static void rooms_free(rooms* r) {
+    for (int i = 0; i < 3; i++) vx_svo_scene_free(&r->s[i]);
+}
+
+/* im[0..2] of the three scenes: [1] must equal [0] and differ from [2]. (Not "brighter than [2]": metal seen
+ * directly reflects the dim sky where the diffuse floor took the light, so a sum can go either way.) */
+static void check_images(const char* what, vx_render_image im[3]) {
+    size_t same = differ(&im[0], &im[1]), unlit = differ(&im[1], &im[2]);
+    printf("  %-34s palette vs rgba+material: %zu floats differ; rgba+material vs no MATL: %zu differ "
+           "(sums %.3f %.3f %.3f)\n", what, same, unlit, sum_rgb(&im[0]), sum_rgb(&im[1]), sum_rgb(&im[2]));
+    CHECKF(same == 0, "%s: the RGBA scene with a material channel renders %zu floats unlike the palette scene", what,
+           same);
+    CHECKF(unlit > 0, "%s: the RGBA scene's materials are not seen (the same image without its MATL records)", what);
+}
+
+/* ---- the CPU reference's hit ------------------------------------------------------------- */
+
+static void test_cpu_hit_material(void) {
+    rooms R;
+    rooms_make(&R);
+    /* straight down onto the lamp (cells 8..9, 8..9, 0..2), the metal floor and the glass block */
+    const double at[3][2] = {{9, 9}, {1.5, 10.5}, {4.5, 4.5}};
+    const uint32_t want[3][2] = {{9, ID_EMIT}, {3, ID_METAL}, {4, ID_GLASS}};
+    for (int sc = 0; sc < 2; sc++) {
+        vx_render_caster* c = NULL;
+        vx_error err = {0};
+        REQUIRE(vx_render_caster_create(&R.s[sc], NULL, &c, &err) == VX_OK);
+        for (int i = 0; i < 3; i++) {
+            double o[3] = {at[i][0], at[i][1], N + 5.0}, d[3] = {0, 0, -1};
+            vx_render_ray_hit h = {0};
+            bool hit = vx_render_cast(c, o, d, 1e9, false, &h);
+            CHECKF(hit && h.material == want[i][sc], "%s: ray %d: hit %d, material %u, want %u", room_name[sc], i,
+                   (int)hit, h.material, want[i][sc]);
+            CHECKF(hit && h.palette == (sc ? 0u : want[i][0]), "%s: ray %d: palette %u", room_name[sc], i, h.palette);
+        }
+        vx_render_caster_destroy(c);
+    }
+    rooms_free(&R);
+}
+
+/* ---- the path tracers -------------------------------------------------------------------- */
+
+static void test_pathtrace_cpu(void) {
+    rooms R;
+    rooms_make(&R);
+    double sky[3] = {0.1, 0.1, 0.1};
+    vx_probe_set ps = light_only(0, sky, 3);
+    vx_render_desc base = {.width = 24, .height = 18};
+    vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 8, .seed = 3, .threads = 2};
+    vx_render_image im[3] = {{0}};
+    for (int i = 0; i < 3; i++) {
+        vx_error err = {0};
+        CHECKF(vx_probe_render(&R.s[i], &ps, &d, &im[i], &err) == VX_OK, "%s: CPU path tracer: %s", room_name[i],
+               err.msg);
+    }
+    check_images("CPU path tracer", im);
+    for (int i = 0; i < 3; i++) vx_render_image_free(&im[i]);
+    rooms_free(&R);
+}
+
+static void test_pathtrace_gpu(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    rooms R;
+    rooms_make(&R);
+    double sky[3] = {0.1, 0.1, 0.1};
+    vx_probe_set ps = light_only(0, sky, 3);
+    vx_render_desc base = {.width = 24, .height = 18};
+    vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 8, .seed = 3};
+    vx_render_image im[3] = {{0}};
+    for (int i = 0; i < 3; i++) {
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        vx_result r = vx_render_scene_create(gpu, &R.s[i], &rs, &err);
+        if (!r) r = vx_probe_render_gpu(rs, &R.s[i], &ps, &d, &im[i], &err);
+        CHECKF(r == VX_OK, "%s: GPU path tracer: %s", room_name[i], err.msg);
+        vx_render_scene_destroy(rs);
+    }
+    check_images("GPU path tracer", im);
+    for (int i = 0; i < 3; i++) vx_render_image_free(&im[i]);
+    rooms_free(&R);
+}
+
+/* ---- the pass pipeline and the GI methods ------------------------------------------------ */
+
+/* Without a gi method the pass pipeline shows emission in its radiometric model only, the one frame lights
+ * select (render/pipeline.c): the direct frame gets a point light above the room. */
+static bool frame(vx_frame_renderer* fr, const char* list, const vx_gi_method* gm, vx_render_image* out) {
+    static const vx_light point = {.type = VX_LIGHT_POINT, .position = {6, 6, 10}, .color = {1, 1, 1}, .intensity = 30};
+    vx_pass_list L;
+    vx_error err = {0};
+    vx_frame_desc d = vx_frame_desc_defaults();
+    d.base = (vx_render_desc){.width = 32, .height = 24};
+    if (!gm) d.lights = &point, d.light_count = 1;
+    vx_frame_result res;
+    vx_result r = vx_pass_list_parse(list, &L, &err);
+    d.passes = &L, d.gi = gm;
+    if (!r) r = vx_frame_render(fr, &d, &res, &err);
+    if (r) fprintf(stderr, "  '%s': %s\n", list, err.msg);
+    else *out = res.image;
+    return r == VX_OK;
+}
+
+static void test_passes(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    rooms R;
+    rooms_make(&R);
+    enum { DIRECT, CONES, PHOTONS, KINDS };
+    static const char* const lists[KINDS] = {"gbuffer,direct (lit)", "gbuffer,direct,gi=cones", "gbuffer,direct,gi=photons"};
+    vx_render_image im[KINDS][3] = {{{0}}};
+    for (int i = 0; i < 3; i++) {
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        vx_result r = vx_render_scene_create(gpu, &R.s[i], &rs, &err);
+        if (!r) r = vx_frame_renderer_create(rs, &R.s[i], &fr, &err);
+        CHECKF(r == VX_OK, "%s: frame renderer: %s", room_name[i], err.msg);
+        if (!r) {
+            CHECKF(frame(fr, "gbuffer,direct", NULL, &im[DIRECT][i]), "%s: %s", room_name[i], lists[DIRECT]);
+            vx_gi_method gm;
+            vx_cone_gi* cg = NULL;
+            if (vx_cone_gi_create(rs, &R.s[i], &(vx_cone_desc){.res = 32}, &gm, &cg, &err) == VX_OK)
+                CHECKF(frame(fr, lists[CONES], &gm, &im[CONES][i]), "%s: %s", room_name[i], lists[CONES]);
+            else CHECKF(false, "%s: gi=cones: %s", room_name[i], err.msg);
+            vx_cone_gi_destroy(cg);
+            vx_photon_gi* pg = NULL;
+            vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+            if (vx_photon_gi_create(rs, &R.s[i], NULL, &phd, &gm, &pg, &err) == VX_OK)
+                CHECKF(frame(fr, lists[PHOTONS], &gm, &im[PHOTONS][i]), "%s: %s", room_name[i], lists[PHOTONS]);
+            else CHECKF(false, "%s: gi=photons: %s", room_name[i], err.msg);
+            vx_photon_gi_destroy(pg);
+        }
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+    }
+    for (int k = 0; k < KINDS; k++) {
+        check_images(lists[k], im[k]);
+        for (int i = 0; i < 3; i++) vx_render_image_free(&im[k][i]);
+    }
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    rooms_free(&R);
+}
+
+/* The compact layout keeps a palette index or a colour per record, not the material channel: the passes over the
+ * RGBA scene must refuse (VX_ERR_UNSUPPORTED) rather than render it diffuse; the scene without MATL records (every
+ * id diffuse) renders, as the plain layout does. */
+static void test_compact_refuses(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    rooms R;
+    rooms_make(&R);
+    vx_render_scene_desc cd = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = 1ull << 40};
+    for (int i = 1; i < 3; i++) {
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        REQUIRE(vx_render_scene_create_ex(gpu, &R.s[i], &cd, &rs, &err) == VX_OK);
+        vx_result r = vx_frame_renderer_create(rs, &R.s[i], &fr, &err);
+        printf("  compact %-16s frame renderer: %s%s%s\n", room_name[i], vx_result_str(r), r ? ": " : "", r ? err.msg : "");
+        CHECKF(i == 1 ? r == VX_ERR_UNSUPPORTED : r == VX_OK, "%s: compact frame renderer: %s", room_name[i],
+               vx_result_str(r));
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+    }
+    rooms_free(&R);
+}
+
+int main(void) {
+    int logged = 0;
+    vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
+    gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &gpu);
+    (void)box_scene, (void)room_scene, (void)ts_random_model; /* the shared headers' other scenes */
+    RUN(test_cpu_hit_material);
+    RUN(test_pathtrace_cpu);
+    RUN(test_pathtrace_gpu);
+    RUN(test_passes);
+    RUN(test_compact_refuses);
+    vx_gpu_destroy(gpu);
+    return vx_test_finish();
+}
