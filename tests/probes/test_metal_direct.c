@@ -248,7 +248,7 @@ static void test_diffuse_plate_unchanged(void) {
     REQUIRE(frame(&s, "gbuffer,direct", false, 0.3, &a));
     REQUIRE(frame(&m, "gbuffer,direct", false, 0.3, &b));
     size_t n, same = 0, right = 0, differ = 0;
-    double peak;
+    double peak, apart = 0; /* the diffuse half's largest relative difference */
     /* the sky term adds albedo * 0.3: subtract it for the closed form */
     vx_render_image c = {0};
     REQUIRE(frame(&s, "gbuffer,direct", false, 0, &c));
@@ -263,12 +263,25 @@ static void test_diffuse_plate_unchanged(void) {
             if (!pixel_point(&cam, x, y, p)) continue;
             size_t i = 4 * ((size_t)y * W + x);
             bool eq = !memcmp(a.pixels + i, b.pixels + i, 4 * sizeof(float));
-            if (p[0] > 8.25) same += eq, right++; /* diffuse in both */
+            if (p[0] > 8.25) { /* diffuse in both */
+                same += eq, right++;
+                for (int k = 0; k < 3; k++) {
+                    double u = a.pixels[i + k], v = b.pixels[i + k];
+                    if (u > 0) apart = fmax(apart, fabs(u - v) / u);
+                }
+            }
             else if (p[0] < 7.75) differ += !eq;   /* metal in m */
         }
-    fprintf(stderr, "  diffuse half beside metal: %zu of %zu pixels equal bit for bit; metal half: %zu differ\n", same,
-            right, differ);
-    CHECK(right > 100 && same == right);
+    fprintf(stderr,
+            "  diffuse half beside metal: %zu of %zu pixels equal bit for bit, at most %.2e apart; metal half: %zu "
+            "differ\n",
+            same, right, apart, differ);
+    /* The scene with metal runs the kernels specialised with METAL: the same
+     * expressions for a diffuse pixel, but a driver may schedule and contract
+     * them differently (lavapipe gives the same bits; the H200 251 of 394
+     * pixels, the rest a float rounding apart), so the check is the rounding */
+    CHECK(right > 100);
+    CHECKF(apart < 1e-5, "the diffuse half %.2e apart", apart);
     CHECK(differ > 100);
     vx_render_image_free(&a), vx_render_image_free(&b), vx_render_image_free(&c);
     vx_svo_scene_free(&s), vx_svo_scene_free(&m);
