@@ -94,6 +94,10 @@ typedef struct vx_conv_mesh_gpu_stats {
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */
     uint32_t build_fallback;
+    /* 1: some glTF material samples its metallic-roughness or emissive
+     * texture per cell, and the shaders sampled them (the records carry the
+     * weighted values, the reduce makes each cell's material id); 0: none. */
+    uint32_t sampled_materials;
 } vx_conv_mesh_gpu_stats;
 
 /* Who builds the octrees from the cells. */
