@@ -23,7 +23,8 @@ enum { B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT, B_MATS, B_IMA
        B_TABLES, B_VALS, B_KEYS2, B_VALS2, B_HIST, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT, B_RTABLES, B_READ,
        B_UP, B_DOWN, B_SCAN0, B_SCAN1, B_SCAN2, B_SCAN3, B_REGION, B_IDS, B_UTAB, B_BINFO, B_RINFO, B_ROUT, B_ITA,
        B_ITB, B_START, B_NODES, B_TAB, B_MISC, B_POOL, B_RBASE, B_PDOWN, B_NREP, B_TTAB, B_RNEW, B_EXT, B_RTAB,
-       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_TEXUP, B_LVL, B_ARGBA, B_ANRM, B_AMAT, B_COUNT };
+       B_RNODE, B_RIDS, B_RFIRST, B_LAY, B_ORD, B_WORDS, B_TEXUP, B_LVL, B_ARGBA, B_ANRM, B_AMAT,
+       B_SMATS, B_UVMR, B_UVEM, B_RECX, B_PLANS, B_COUNT };
 #define SCAN_LEVELS 4
 
 #define BUILD_MODES 31 /* meshbuild.comp's modes: pipeline P_BUILD + mode */
@@ -1010,23 +1011,19 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     const vx_allocator* a = desc->alloc;
     memset(&m->stats, 0, sizeof m->stats);
     if (share >= (shares ? shares : 1)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "share %u of %u", share, shares);
-    /* the MATL ids; a material that samples its metallic-roughness or
-     * emissive texture per cell is not in the shaders: such a mesh goes to
-     * the CPU voxelizer whole, so that the file stays the CPU path's */
+    /* the MATL ids; with materials that sample their metallic-roughness or
+     * emissive textures per cell (plan.sampled) the records carry those
+     * values and meshreduce.comp makes each cell's id from its averages */
     vx__mesh_mats plan;
     memset(&plan, 0, sizeof plan);
     if (attrs & VX_ATTR_MATERIAL) {
         vx_result pr = vx__mesh_mats_make(mesh, a, &plan, err);
         if (pr) return pr;
-        if (plan.sampled) {
-            vx__mesh_mats_free(a, &plan);
-            vx_log(desc->logger, VX_LOG_INFO, "mesh_gpu.cpu_materials",
-                   "a material samples its metallic-roughness or emissive texture per cell: voxelized on the CPU");
-            return vx__mesh_voxelize(desc, mesh, grid, attrs, share, shares, sink, user, err);
-        }
     }
+    m->stats.sampled_materials = plan.sampled;
     double t0 = vx_time_now();
     bool tex = (attrs & VX_ATTR_RGBA8) != 0;
+    bool texels = tex || plan.sampled; /* the shaders sample images */
     size_t texel_count = 0;
     for (uint32_t i = 0; i < mesh->image_count; i++)
         if (mesh->images[i].rgba) texel_count += (size_t)mesh->images[i].width * mesh->images[i].height;
@@ -1037,7 +1034,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     texel_copy tc = {mesh, NULL};
     pthread_t tc_thread;
     bool tc_running = false;
-    if (tex && texel_count) {
+    if (texels && texel_count) {
         vx_result tr = ensure_host(m, B_TEXUP, (uint64_t)texel_count * 4, err);
         if (tr) {
             vx__mesh_mats_free(a, &plan);
@@ -1072,6 +1069,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     size_t mine_count = 0;
     float* mats = NULL;
     uint32_t* images = NULL;
+    float* smats = NULL;  /* plan.sampled: meshvox.comp's SMat per material */
+    float* plans = NULL;  /* plan.sampled: meshreduce.comp's Plan per material */
     if (P > UINT32_MAX / 64 - 1 || NB > (1ull << 40)) {
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "GPU voxelizer: %zu brick pairs", P);
         goto done;
@@ -1127,6 +1126,28 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_mats_id(&plan, i, 0, 0, 0)};
         memcpy(o + 4, u, 16);
     }
+    if (plan.sampled) { /* setup_tri_sampling's factors and textures per material; vx__mesh_mats_id's plan */
+        smats = (float*)vx_calloc(a, MC ? MC : 1, 64);
+        plans = (float*)vx_calloc(a, MC ? MC : 1, 32);
+        if (!smats || !plans) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
+            goto done;
+        }
+        for (uint32_t i = 0; i < MC && i < plan.count; i++) {
+            const vx__mesh_mat* p = &plan.m[i];
+            const vx_gltf_material* mt = &mesh->materials[i];
+            float* o = smats + 16 * i;
+            o[0] = p->metal, o[1] = p->rough, o[2] = p->emit[0], o[3] = p->emit[1], o[4] = p->emit[2];
+            bool mr = (p->sample & (VX__MESH_SAMPLE_METAL | VX__MESH_SAMPLE_ROUGH)) != 0, em = (p->sample & VX__MESH_SAMPLE_EMIT) != 0;
+            int32_t u[8] = {p->sample,         mr ? mt->metal_rough.image : -1, mt->metal_rough.wrap_s, mt->metal_rough.wrap_t,
+                            em ? mt->emissive_tex.image : -1, mt->emissive_tex.wrap_s, mt->emissive_tex.wrap_t, 0};
+            memcpy(o + 8, u, 32);
+            float* q = plans + 8 * i;
+            q[0] = p->metal, q[1] = p->rough, q[2] = p->emit_max, q[3] = p->trans;
+            uint32_t v[4] = {p->base, p->block, p->sample, p->special};
+            memcpy(q + 4, v, 16);
+        }
+    }
     struct {
         float lin[256], a255[256];
         uint32_t has_uv, has_color, mat_count, pad;
@@ -1134,7 +1155,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     struct {
         float thr[256];
         uint32_t guess[4097];
-        uint32_t attrs;
+        uint32_t attrs, sampled, levels, mat_count;
     } rtables;
     vx__mesh_color_tables(rtables.thr, rtables.guess, tables.lin, tables.a255);
     tables.has_uv = mesh->uv != NULL;
@@ -1142,6 +1163,9 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     tables.mat_count = MC;
     tables.pad = 0;
     rtables.attrs = attrs;
+    rtables.sampled = plan.sampled;
+    rtables.levels = plan.levels;
+    rtables.mat_count = plan.sampled ? MC : 0;
     m->stats.bin = vx_time_now() - t0;
     m->stats.pairs = P;
 
@@ -1153,11 +1177,15 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TRIMAT, trimat, (uint64_t)T * 4, 0},
                     {B_MATS, mats, (uint64_t)MC * 32, 0},
                     {B_IMAGES, images, (uint64_t)mesh->image_count * 16, 0},
-                    {B_TEXELS, NULL, tex ? (uint64_t)texel_count * 4 : 0, 0}, /* from B_TEXUP */
+                    {B_TEXELS, NULL, texels ? (uint64_t)texel_count * 4 : 0, 0}, /* from B_TEXUP */
                     {B_UV, tex ? mesh->uv : NULL, tex && mesh->uv ? (uint64_t)T * 24 : 0, 0},
                     {B_COL, tex ? mesh->color : NULL, tex && mesh->color ? (uint64_t)T * 48 : 0, 0},
                     {B_TABLES, &tables, sizeof tables, 0},
-                    {B_RTABLES, &rtables, sizeof rtables, 0}};
+                    {B_RTABLES, &rtables, sizeof rtables, 0},
+                    {B_SMATS, smats, plan.sampled ? (uint64_t)MC * 64 : 0, 0},
+                    {B_PLANS, plans, plan.sampled ? (uint64_t)MC * 32 : 0, 0},
+                    {B_UVMR, plan.sampled ? mesh->uv_mr : NULL, plan.sampled && mesh->uv_mr ? (uint64_t)T * 24 : 0, 0},
+                    {B_UVEM, plan.sampled ? mesh->uv_emissive : NULL, plan.sampled && mesh->uv_emissive ? (uint64_t)T * 24 : 0, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);
     if ((r = put_all(m, ups, nups, err))) goto done;
     m->stats.upload = vx_time_now() - t0; /* the copies themselves go with the count pass */
@@ -1166,23 +1194,24 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     t0 = vx_time_now();
     meshvox_push mp = {(uint32_t)P, 0, 0, 0, {(int32_t)grid->size[0], (int32_t)grid->size[1], (int32_t)grid->size[2], 0}};
     mp.attrs = ((attrs & VX_ATTR_RGBA8) ? 1u : 0u) | ((attrs & VX_ATTR_NORMAL) ? 2u : 0u) |
-               ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u);
-    static const int vox_ids[14] = {B_G, B_PAIRS, B_BRICKS, B_COUNTS, B_KEYS, B_RECS, B_TRIMAT,
-                                    B_MATS, B_IMAGES, B_TEXELS, B_UV, B_COL, B_TABLES, B_VALS};
-    if ((r = ensure(m, B_KEYS, 16, err)) || (r = ensure(m, B_RECS, 16, err)) || (r = ensure(m, B_VALS, 16, err)))
+               ((attrs & VX_ATTR_MATERIAL) ? 4u : 0u) | (plan.sampled ? 8u : 0u);
+    static const int vox_ids[18] = {B_G,   B_PAIRS,  B_BRICKS, B_COUNTS, B_KEYS,  B_RECS, B_TRIMAT, B_MATS, B_IMAGES,
+                                    B_TEXELS, B_UV, B_COL,    B_TABLES, B_VALS, B_SMATS, B_UVMR, B_UVEM,   B_RECX};
+    if ((r = ensure(m, B_KEYS, 16, err)) || (r = ensure(m, B_RECS, 16, err)) || (r = ensure(m, B_VALS, 16, err)) ||
+        (r = ensure(m, B_RECX, 16, err)))
         goto done;
     uint64_t slots = (uint64_t)P * 64; /* (pair, strip); two pairs a workgroup (meshvox.comp) */
     if ((r = scan_prepare(m, slots + 1, err)) || (r = rec_begin(m, err))) goto done;
     ts_begin(m, 8);
     if (tc_running) pthread_join(tc_thread, NULL), tc_running = false; /* the texels are in B_TEXUP */
-    if (tex && texel_count) {
+    if (texels && texel_count) {
         VkBufferCopy ct = {.srcOffset = 0, .dstOffset = 0, .size = (uint64_t)texel_count * 4};
         vkCmdCopyBuffer(g->cmd, m->buf[B_TEXUP].buf, m->buf[B_TEXELS].buf, 1, &ct);
     }
     put_record(m, ups, nups);
     vkCmdFillBuffer(g->cmd, m->buf[B_COUNTS].buf, 0, (slots + 2) * 4, 0);
     barrier(g);
-    if ((r = stage(m, P_COUNT, vox_ids, 14, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
+    if ((r = stage(m, P_COUNT, vox_ids, 18, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
     if ((r = scan(m, B_COUNTS, slots + 1, 0, err))) goto done;
     read_u32(m, B_COUNTS, slots, 0);
     read_u32(m, B_COUNTS, slots + 1, 1);
@@ -1208,7 +1237,8 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     m->stats.sort_passes = passes;
     uint64_t ntiles = ((uint64_t)N + 1023) / 1024;
     if ((r = ensure(m, B_KEYS, (uint64_t)N * 8, err)) || (r = ensure(m, B_VALS, (uint64_t)N * 4, err)) ||
-        (r = ensure(m, B_RECS, attrs ? (uint64_t)N * 48 : 16, err)) || (r = ensure(m, B_KEYS2, (uint64_t)N * 8, err)) ||
+        (r = ensure(m, B_RECS, attrs ? (uint64_t)N * 48 : 16, err)) ||
+        (r = ensure(m, B_RECX, plan.sampled ? (uint64_t)N * 8 : 16, err)) || (r = ensure(m, B_KEYS2, (uint64_t)N * 8, err)) ||
         (r = ensure(m, B_VALS2, (uint64_t)N * 4, err)) || (r = ensure(m, B_HIST, ntiles * 16 * 4 + 4, err)) ||
         (r = scan_prepare(m, ntiles * 16, err)) || (r = ensure(m, B_POS, ((uint64_t)N + 1) * 4, err)) ||
         (r = ensure(m, B_OKEYS, (uint64_t)N * 8, err)) || (r = ensure(m, B_ORGBA, (uint64_t)N * 4, err)) ||
@@ -1218,7 +1248,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
     if ((r = rec_begin(m, err))) goto done;
     mp.mode = 1;
     ts_begin(m, 9);
-    if ((r = stage(m, P_EMIT, vox_ids, 14, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
+    if ((r = stage(m, P_EMIT, vox_ids, 18, (P + 1) / 2, &mp, sizeof mp, err))) goto done;
     ts_end(m);
     int src = 0; /* 0: KEYS/VALS, 1: KEYS2/VALS2 */
     ts_begin(m, 10);
@@ -1226,15 +1256,15 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         if ((r = sort_pass(m, N, 4 * pass, ntiles, &src, err))) goto done;
     ts_end(m);
     {
-        int ids[9] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS, B_OKEYS, B_ORGBA, B_ONRM, B_OMAT,
-                      B_RTABLES};
+        int ids[11] = {src ? B_KEYS2 : B_KEYS, src ? B_VALS2 : B_VALS, B_RECS, B_POS,    B_OKEYS, B_ORGBA,
+                       B_ONRM,                B_OMAT,                B_RTABLES, B_PLANS, B_RECX};
         uint32_t n = N;
         ts_begin(m, 11);
         vkCmdFillBuffer(g->cmd, m->buf[B_POS].buf, 0, ((VkDeviceSize)N + 1) * 4, 0);
         barrier(g);
-        if ((r = stage(m, P_FLAG, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
+        if ((r = stage(m, P_FLAG, ids, 11, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         if ((r = scan(m, B_POS, (uint64_t)N + 1, 0, err))) goto done;
-        if ((r = stage(m, P_REDUCE, ids, 9, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
+        if ((r = stage(m, P_REDUCE, ids, 11, ((uint64_t)N + 255) / 256, &n, 4, err))) goto done;
         read_u32(m, B_POS, N, 0);
         ts_end(m);
     }
@@ -1406,6 +1436,8 @@ done:
     vx_free(a, trimat);
     vx_free(a, mats);
     vx_free(a, images);
+    vx_free(a, smats);
+    vx_free(a, plans);
     vx_free(a, cstart);
     vx_free(a, ustart);
     vx_free(a, breg);
@@ -1453,14 +1485,14 @@ vx_result vx_conv_mesh_gpu_create(struct vx_gpu* gpu, const vx_allocator* alloc,
         uint32_t mode, bindings, push;
         const char* label;
     } pipes[] = {
-        {P_COUNT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 0, 14, sizeof(meshvox_push), "meshgpu.count"},
-        {P_EMIT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 1, 14, sizeof(meshvox_push), "meshgpu.emit"},
+        {P_COUNT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 0, 18, sizeof(meshvox_push), "meshgpu.count"},
+        {P_EMIT, vx__meshvox_spv_arr, sizeof vx__meshvox_spv_arr, 1, 18, sizeof(meshvox_push), "meshgpu.emit"},
         {P_HIST, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 0, 5, sizeof(sort_push), "meshgpu.hist"},
         {P_SCATTER, vx__gpusort_spv_arr, sizeof vx__gpusort_spv_arr, 1, 5, sizeof(sort_push), "meshgpu.scatter"},
         {P_SCAN, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 0, 2, 4, "meshgpu.scan"},
         {P_ADD, vx__gpuscan_spv_arr, sizeof vx__gpuscan_spv_arr, 1, 2, 4, "meshgpu.add"},
-        {P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 9, 4, "meshgpu.flag"},
-        {P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 9, 4, "meshgpu.reduce"},
+        {P_FLAG, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 0, 11, 4, "meshgpu.flag"},
+        {P_REDUCE, vx__meshreduce_spv_arr, sizeof vx__meshreduce_spv_arr, 1, 11, 4, "meshgpu.reduce"},
         {P_IKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 0, 10, sizeof(intern_push), "meshgpu.ikey"},
         {P_INKEY, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 3, 10, sizeof(intern_push), "meshgpu.inkey"},
         {P_IFLAG, vx__meshintern_spv_arr, sizeof vx__meshintern_spv_arr, 1, 10, sizeof(intern_push), "meshgpu.iflag"},

@@ -12,9 +12,12 @@
  * own voxelizer does (vx__mesh_bin); the GPU then runs one thread per
  * (brick, triangle) pair with the CPU's clipping in the same double
  * arithmetic (shaders/meshvox.comp: counts, a prefix sum, records of each
- * (cell, triangle) piece), a stable radix sort of the records by cell
+ * (cell, triangle) piece; where a glTF material samples its metallic-
+ * roughness or emissive texture per cell, the piece's weighted metallic,
+ * roughness and emission too), a stable radix sort of the records by cell
  * (shaders/gpusort.comp), and one thread per cell summing its pieces in
- * triangle order with the CPU's float additions (shaders/meshreduce.comp),
+ * triangle order with the CPU's float additions (shaders/meshreduce.comp;
+ * the material id from those averages as the CPU's cell_material makes it),
  * then the cells' attribute tuples interned per region (shaders/meshintern.comp:
  * a radix sort by (region, tuple), one id per run), so that each region's
  * octree builder hashes its distinct tuples once (vx__svo_build_interned)
@@ -94,6 +97,10 @@ typedef struct vx_conv_mesh_gpu_stats {
     /* The GPU build was asked for but the CPU builders built the trees
      * (a hash collision found, or the node buffers too small); 0: not. */
     uint32_t build_fallback;
+    /* 1: some glTF material samples its metallic-roughness or emissive
+     * texture per cell, and the shaders sampled them (the records carry the
+     * weighted values, the reduce makes each cell's material id); 0: none. */
+    uint32_t sampled_materials;
 } vx_conv_mesh_gpu_stats;
 
 /* Who builds the octrees from the cells. */

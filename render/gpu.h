@@ -388,7 +388,9 @@ vx_result vx__scene_attr_material(const vx_svo_scene* s, const vx_allocator* all
  * channel: where a model has one (VX_ATTR_MATERIAL) and some material of the
  * scene is not plain diffuse (emission, metal, glass), the compact tables
  * could not give the plain layout's image, so this is VX_ERR_UNSUPPORTED
- * (the plain layout renders it). Else vx__scene_attr_material(s). */
+ * (the plain layout renders it; the frame renderer keeps rendering the
+ * colour model, which reads no material, and refuses radiometric frames,
+ * render/pipeline.c mat_unkeyed). Else vx__scene_attr_material(s). */
 vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                          uint16_t** out, size_t* n, vx_error* err);
 /* pipeline.c: the buffer holding the last frame's image (RGBA32F,

@@ -345,6 +345,11 @@ struct vx_frame_renderer {
     vx__buffer b[B_COUNT];
     size_t cap_px;         /* pixels the image buffers hold */
     float* scene_emit;     /* emission per attribute record from the scene's materials (lights without gi) */
+    /* the compact layout cannot key this scene's records by material id
+     * (vx__render_scene_attr_material refused): the colour model needs no
+     * materials and renders; a radiometric frame refuses (mat_error) */
+    bool mat_unkeyed;
+    vx_error mat_error;
     size_t scene_emit_count;
     size_t emit_count;     /* records in b[B_EMIT] */
     const float* emit_src; /* what b[B_EMIT] was filled from */
@@ -459,8 +464,11 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
     size_t n = 0;
     float* e = NULL;
     vx_svo_material_table t = {0};
-    vx_result r = vx__render_scene_attr_material(fr->rs, scene, &g->alloc, &pal, &n, err);
-    if (!r) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
+    vx_result r = vx__render_scene_attr_material(fr->rs, scene, &g->alloc, &pal, &n, &fr->mat_error);
+    fr->mat_unkeyed = r == VX_ERR_UNSUPPORTED && vx__render_scene_compact(fr->rs);
+    if (fr->mat_unkeyed) r = VX_OK, n = 0; /* no records' materials: no emission, no metal (the colour model) */
+    else if (r && err) *err = fr->mat_error;
+    if (!r && !fr->mat_unkeyed) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
     if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
@@ -788,6 +796,10 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                                                   : (uint32_t)desc->shadow_lights;
     if (shadows > nl) shadows = nl; /* no more slots than lights */
     bool phys = has_gi || nl > 0;
+    if (phys && fr->mat_unkeyed) { /* the radiometric model would show these records' materials as diffuse */
+        if (err) *err = fr->mat_error;
+        return fr->mat_error.code ? fr->mat_error.code : VX_ERR_UNSUPPORTED;
+    }
     bool sky = nl > 0 && !has_gi; /* the radiometric model without gi: the sky times ao (a gi pass brings the sky) */
     /* emission: the gi method's records, or without gi the scene's (the
      * radiometric model only: the colour model has none) */

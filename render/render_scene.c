@@ -2268,7 +2268,7 @@ vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo
     if (special)
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                        "the compact layout keys materials by palette index, and a model names its materials "
-                       "through a material channel (VX_ATTR_MATERIAL): use the plain layout");
+                       "through a material channel: render it in the plain layout, or without lights and gi");
     /* per palette index; the indices no record uses are 0 (none), so that a table's "some record is ..." (metal,
      * emissive) is the plain layout's. The indices in use come from the layout's build (palette_used), not from
      * s's models: a scene built from a model reader is its graph here, without the models' arrays (svo_bake

@@ -4,21 +4,28 @@
  * the flags' exclusive scan) sums the run's records in their order, which is
  * the CPU's triangle order (a stable sort of records written in (brick,
  * triangle) order), with the CPU's float additions, and finishes the cell
- * as convert/mesh_voxelize.c's finish_rgba and oct_encode do. */
+ * as convert/mesh_voxelize.c's finish_rgba and oct_encode do; with
+ * materials sampled per cell (Tables.sampled) the material id too, as its
+ * cell_material and vx__mesh_mats_id (convert/mesh_material.c) do. */
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0;
 layout(push_constant) uniform Push { uint n; } pc;
 
 layout(std430, binding = 0) readonly buffer Keys { uvec2 keys[]; };
 layout(std430, binding = 1) readonly buffer Vals { uint vals[]; };
-struct Rec { vec4 c; vec4 n; uint mat; uint pad0, pad1, pad2; };
+struct Rec { vec4 c; vec4 n; uint mat; float pm, pr, pe0; }; /* meshvox.comp's */
 layout(std430, binding = 2) readonly buffer Recs { Rec recs[]; };
 layout(std430, binding = 3) buffer Pos { uint pos[]; };
 layout(std430, binding = 4) writeonly buffer OKeys { uvec2 okeys[]; };
 layout(std430, binding = 5) writeonly buffer ORgba { uint orgba[]; };
 layout(std430, binding = 6) writeonly buffer ONrm { uint onrm[]; };
 layout(std430, binding = 7) writeonly buffer OMat { uint omat[]; };
-layout(std430, binding = 8) readonly buffer Tables { float thr[256]; uint guess[4097]; uint attrs; };
+layout(std430, binding = 8) readonly buffer Tables { float thr[256]; uint guess[4097]; uint attrs, sampled, levels, mat_count; };
+/* sampled: per glTF material its vx__mesh_mat (f: metal, rough, emit_max,
+ * trans; u: base, block, sample, special); per record its emission's G, B */
+struct Plan { vec4 f; uvec4 u; };
+layout(std430, binding = 9) readonly buffer Plans { Plan plans[]; };
+layout(std430, binding = 10) readonly buffer RecX { vec2 recx[]; };
 
 uint lin_to_srgb8(float v) {
     if (!(v > 0)) return 0u;
@@ -60,6 +67,38 @@ float fdiv(float a, float b) {
     return float(q);
 }
 
+/* mesh_material.c's level_of: v / f in [0, 1] to the nearest of levels
+ * steps (lrint: ties to even) */
+uint level_of(float v, float f, uint L) {
+    precise double q = f > 0 ? double(v) / double(f) : 0.0lf;
+    if (!(q > 0)) return 0u;
+    if (q >= 1) return L - 1u;
+    precise double s = q * double(L - 1u);
+    return uint(roundEven(s));
+}
+
+/* vx__mesh_mats_id: the id of a cell whose largest piece is of material mi */
+uint mats_id(uint mi, float metal, float rough, float emit) {
+    if (mi >= mat_count || plans[mi].u.x == 0u) return 0u;
+    vec4 f = plans[mi].f;
+    uvec4 u = plans[mi].u;
+    if (u.z == 0u) return u.w != 0u ? u.x : 0u;
+    uint L = levels, km = 0u, kr = 0u, ke = 0u;
+    uint Lr = (u.z & 2u) != 0u ? L : 1u, Le = (u.z & 4u) != 0u ? L : 1u;
+    bool lit = f.z > 0, metallic = f.x > 0;
+    if ((u.z & 1u) != 0u) {
+        km = level_of(metal, f.x, L);
+        metallic = km > 0u;
+    }
+    if ((u.z & 2u) != 0u) kr = level_of(rough, f.y, L);
+    if ((u.z & 4u) != 0u) {
+        ke = level_of(emit, f.z, L);
+        lit = ke > 0u;
+    }
+    if (!metallic && !lit && !(f.w > 0)) return 0u; /* diffuse: no record */
+    return (u.x + (km * Lr + kr) * Le + ke) & 0xFFFFu;
+}
+
 void main() {
     uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationID.x;
     if (i >= pc.n) return;
@@ -76,9 +115,19 @@ void main() {
     precise vec4 c = vec4(0);
     precise vec3 nn = vec3(0);
     precise float w = 0, mw = 0;
+    precise float pm = 0, pr = 0;
+    precise vec3 pe = vec3(0);
     uint mat = 0u;
     for (uint j = i; j < pc.n && keys[j] == k; j++) {
         Rec r = recs[vals[j]];
+        if (sampled != 0u) {
+            vec2 x = recx[vals[j]];
+            pm += r.pm;
+            pr += r.pr;
+            pe[0] += r.pe0;
+            pe[1] += x.x;
+            pe[2] += x.y;
+        }
         for (int q = 0; q < 4; q++) c[q] += r.c[q];
         for (int q = 0; q < 3; q++) nn[q] += r.n[q];
         w += r.n.w;
@@ -91,5 +140,10 @@ void main() {
     for (int q = 0; q < 4; q++) f[q] = w > 0 ? fdiv(c[q], w) : 1.0;
     orgba[o] = lin_to_srgb8(f[0]) | lin_to_srgb8(f[1]) << 8 | lin_to_srgb8(f[2]) << 16 | unorm8(f[3]) << 24;
     onrm[o] = oct_encode(double(nn.x), double(nn.y), double(nn.z));
+    if (sampled != 0u) { /* mat is the glTF index: cell_material */
+        float ww = w > 0 ? w : 1.0;
+        float e = max(pe[0], max(pe[1], pe[2]));
+        mat = mats_id(mat, fdiv(pm, ww), fdiv(pr, ww), fdiv(e, ww));
+    }
     omat[o] = mat;
 }

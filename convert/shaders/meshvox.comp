@@ -28,7 +28,8 @@ layout(local_size_x = 32) in;
 
 layout(push_constant) uniform Push {
     uint pair_count;
-    uint attrs;     /* 1 colour, 2 normals, 4 materials (anything set: attributes) */
+    uint attrs;     /* 1 colour, 2 normals, 4 materials (anything set: attributes), 8 materials
+                     * sampled per cell (with 4: records carry metallic, roughness, emission) */
     uint first;     /* pairs of this dispatch start here */
     uint mode;      /* 0 count, 1 emit: a push constant, not a specialisation, so that both
                      * passes run one compiled enumeration (they must agree cell for cell) */
@@ -40,7 +41,11 @@ layout(std430, binding = 1) readonly buffer Pairs { uvec2 pairs[]; }; /* triangl
 layout(std430, binding = 2) readonly buffer Bricks { uvec4 bricks[]; }; /* origin cell */
 layout(std430, binding = 3) buffer Counts { uint counts[]; };          /* pc.mode 0 out, pc.mode 1: offsets in */
 layout(std430, binding = 4) writeonly buffer Keys { uvec2 keys[]; };
-struct Rec { vec4 c; vec4 n; uint mat; uint pad0, pad1, pad2; };      /* n.w: the weight */
+/* n.w: the weight; mat: the MATL id, or with attrs 8 the glTF material
+ * index (meshreduce.comp makes the id from the cell's averages); pm, pr,
+ * pe0 and RecX's two floats: the weighted metallic, roughness and emission
+ * RGB (attrs 8 only: without it the record is the 48 bytes it was) */
+struct Rec { vec4 c; vec4 n; uint mat; float pm, pr, pe0; };
 layout(std430, binding = 5) writeonly buffer Recs { Rec recs[]; };
 layout(std430, binding = 6) readonly buffer TriMat { uint trimat[]; };
 struct Mat { vec4 base; int image; uint wrap_s, wrap_t, id; };
@@ -51,6 +56,15 @@ layout(std430, binding = 10) readonly buffer UV { float uv[]; };
 layout(std430, binding = 11) readonly buffer Col { float colr[]; };
 layout(std430, binding = 13) writeonly buffer Vals { uint vals[]; };   /* the records' own indices, for the sort */
 layout(std430, binding = 12) readonly buffer Tables { float srgb_to_lin[256]; float a255[256]; uint has_uv, has_color, mat_count, pad; };
+/* attrs 8: per glTF material its effective metallic, roughness and emission
+ * factors and the textures sampled per cell (setup_tri_sampling's; image -1:
+ * not sampled), per triangle the uv of those textures, per record the
+ * emission's G and B */
+struct SMat { vec4 f; vec4 g; ivec4 mr; ivec4 em; }; /* f: metal, rough, emit R, G; g.x emit B; mr: VX__MESH_SAMPLE_*, image, wraps; em: image, wraps */
+layout(std430, binding = 14) readonly buffer SMats { SMat smats[]; };
+layout(std430, binding = 15) readonly buffer UVMR { float uv_mr[]; };
+layout(std430, binding = 16) readonly buffer UVEM { float uv_em[]; };
+layout(std430, binding = 17) writeonly buffer RecX { vec2 recx[]; };
 
 #define NO_LAST 0x7fffffff
 /* The polygons, in one private array (as small as it can be: llvmpipe's
@@ -75,7 +89,13 @@ vec4 base;
 float tuv[6];
 float tcol[12];
 int img;
-uint ws, wt, tmat;
+uint ws, wt, tmat, tmi;
+/* attrs 8: the triangle's factors and the textures that vary them */
+float smetal, srough;
+vec3 semit;
+int ssamp, mr_img, em_img;
+uint mr_ws, mr_wt, em_ws, em_wt;
+float tuv_mr[6], tuv_em[6];
 
 precise dvec3 clip_point(dvec3 a_in, dvec3 b_in, int axis, double val) {
     precise dvec3 a = a_in, b = b_in;
@@ -197,11 +217,13 @@ int wrap_coord(double x, uint n_u, uint mode) {
     return int(mod_exact(x, n));
 }
 
-vec4 sample_texture(double s_in, double t_in) {
+/* Bilinear sample of image im_i at (s, t): RGB sRGB-decoded when srgb
+ * (colour, emission), else bytes / 255 (metallic-roughness is linear) */
+vec4 sample_texture(double s_in, double t_in, int im_i, uint ws, uint wt, bool srgb) {
     precise double s = s_in, t = t_in;
     if (!(abs(s) < 1e9lf)) s = 0;
     if (!(abs(t) < 1e9lf)) t = 0;
-    uvec4 im = images[img];
+    uvec4 im = images[im_i];
     precise double x = s * double(im.y) - 0.5lf, y = t * double(im.z) - 0.5lf;
     double fx = floor(x), fy = floor(y);
     precise double dxf = x - fx, dyf = y - fy;
@@ -214,12 +236,38 @@ vec4 sample_texture(double s_in, double t_in) {
         int xx = (k & 1) != 0 ? xs1 : xs0, yy = (k >> 1) != 0 ? ys1 : ys0;
         uint p = texels[im.x + uint(yy) * im.y + uint(xx)];
         float wk = k == 0 ? w0 : k == 1 ? w1 : k == 2 ? w2 : w3;
-        o[0] += wk * srgb_to_lin[p & 255u];
-        o[1] += wk * srgb_to_lin[(p >> 8) & 255u];
-        o[2] += wk * srgb_to_lin[(p >> 16) & 255u];
+        o[0] += wk * (srgb ? srgb_to_lin[p & 255u] : a255[p & 255u]);
+        o[1] += wk * (srgb ? srgb_to_lin[(p >> 8) & 255u] : a255[(p >> 8) & 255u]);
+        o[2] += wk * (srgb ? srgb_to_lin[(p >> 16) & 255u] : a255[(p >> 16) & 255u]);
         o[3] += wk * a255[p >> 24];
     }
     return o;
+}
+
+/* setup_tri_sampling: a triangle without material is metal 0, rough 1, no emission */
+void setup_tri_sampling(uint mi, uint t) {
+    smetal = 0;
+    srough = 1;
+    semit = vec3(0);
+    ssamp = 0;
+    mr_img = -1;
+    em_img = -1;
+    if (mi >= mat_count) return;
+    SMat sm = smats[mi];
+    smetal = sm.f.x;
+    srough = sm.f.y;
+    semit = vec3(sm.f.z, sm.f.w, sm.g.x);
+    ssamp = sm.mr.x;
+    mr_img = sm.mr.y;
+    mr_ws = uint(sm.mr.z);
+    mr_wt = uint(sm.mr.w);
+    em_img = sm.em.x;
+    em_ws = uint(sm.em.y);
+    em_wt = uint(sm.em.z);
+    if (mr_img >= 0)
+        for (int k = 0; k < 6; k++) tuv_mr[k] = uv_mr[6 * t + k];
+    if (em_img >= 0)
+        for (int k = 0; k < 6; k++) tuv_em[k] = uv_em[6 * t + k];
 }
 
 void setup_tri_attrs(uint t) {
@@ -245,6 +293,8 @@ void setup_tri_attrs(uint t) {
     den = dn;
     uint mi = trimat[t];
     tmat = (pc.attrs & 4u) != 0 && mi < mat_count ? mats[mi].id : 0u;
+    tmi = mi;
+    if ((pc.attrs & 8u) != 0u) setup_tri_sampling(mi, t);
     if ((pc.attrs & 1u) == 0) return;
     img = -1;
     base = vec4(1);
@@ -299,19 +349,22 @@ void emit(ivec3 c, int src, int n) {
     precise double wd = area + 1e-7lf;
     precise float wgt = float(wd);
     precise vec4 col = vec4(0);
-    if ((pc.attrs & 1u) != 0u) {
-        precise double b1 = 1.0lf / 3.0lf, b2 = 1.0lf / 3.0lf;
-        if (den > 0) {
-            precise dvec3 v2 = cen - V[0];
-            precise double d20 = 0, d21 = 0;
-            for (int k = 0; k < 3; k++) {
-                d20 += v2[k] * (V[1][k] - V[0][k]);
-                d21 += v2[k] * (V[2][k] - V[0][k]);
-            }
-            b1 = (d11 * d20 - d01 * d21) / den;
-            b2 = (d00 * d21 - d01 * d20) / den;
+    bool samp = (pc.attrs & 8u) != 0u;
+    /* the centroid's barycentrics where sampled; a degenerate triangle's
+     * are 1/3 each (hit_attr's: not 1 - 1/3 - 1/3, which is another double) */
+    precise double b0 = 1.0lf / 3.0lf, b1 = 1.0lf / 3.0lf, b2 = 1.0lf / 3.0lf;
+    if (((pc.attrs & 1u) != 0u || samp) && den > 0) {
+        precise dvec3 v2 = cen - V[0];
+        precise double d20 = 0, d21 = 0;
+        for (int k = 0; k < 3; k++) {
+            d20 += v2[k] * (V[1][k] - V[0][k]);
+            d21 += v2[k] * (V[2][k] - V[0][k]);
         }
-        precise double b0 = 1 - b1 - b2;
+        b1 = (d11 * d20 - d01 * d21) / den;
+        b2 = (d00 * d21 - d01 * d20) / den;
+        b0 = 1 - b1 - b2;
+    }
+    if ((pc.attrs & 1u) != 0u) {
         for (int k = 0; k < 4; k++) {
             precise double mix3 = b0 * double(tcol[k]) + b1 * double(tcol[4 + k]) + b2 * double(tcol[8 + k]);
             precise float m = float(mix3);
@@ -320,7 +373,7 @@ void emit(ivec3 c, int src, int n) {
         if (img >= 0) {
             precise double s = b0 * double(tuv[0]) + b1 * double(tuv[2]) + b2 * double(tuv[4]);
             precise double t = b0 * double(tuv[1]) + b1 * double(tuv[3]) + b2 * double(tuv[5]);
-            precise vec4 tx = sample_texture(s, t);
+            precise vec4 tx = sample_texture(s, t, img, ws, wt, true);
             for (int k = 0; k < 4; k++) col[k] *= tx[k];
         }
         for (int k = 0; k < 4; k++) col[k] = wgt * col[k];
@@ -329,7 +382,31 @@ void emit(ivec3 c, int src, int n) {
     for (int k = 0; k < 3; k++) nw[k] = wgt * nrm[k];
     recs[ri].c = col;
     recs[ri].n = vec4(nw, wgt);
-    recs[ri].mat = tmat;
+    recs[ri].mat = samp ? tmi : tmat;
+    if (samp) { /* metallic, roughness and emission at the same point, weighted the same */
+        precise float pm = smetal, pr = srough;
+        precise vec3 pe = semit;
+        if (mr_img >= 0) {
+            precise double s = b0 * double(tuv_mr[0]) + b1 * double(tuv_mr[2]) + b2 * double(tuv_mr[4]);
+            precise double t = b0 * double(tuv_mr[1]) + b1 * double(tuv_mr[3]) + b2 * double(tuv_mr[5]);
+            precise vec4 tx = sample_texture(s, t, mr_img, mr_ws, mr_wt, false);
+            if ((ssamp & 1) != 0) pm *= tx[2]; /* glTF: metalness in B, roughness in G */
+            if ((ssamp & 2) != 0) pr *= tx[1];
+        }
+        if (em_img >= 0) {
+            precise double s = b0 * double(tuv_em[0]) + b1 * double(tuv_em[2]) + b2 * double(tuv_em[4]);
+            precise double t = b0 * double(tuv_em[1]) + b1 * double(tuv_em[3]) + b2 * double(tuv_em[5]);
+            precise vec4 tx = sample_texture(s, t, em_img, em_ws, em_wt, true);
+            for (int k = 0; k < 3; k++) pe[k] *= tx[k];
+        }
+        precise float wm = wgt * pm, wr = wgt * pr;
+        precise vec3 we;
+        for (int k = 0; k < 3; k++) we[k] = wgt * pe[k];
+        recs[ri].pm = wm;
+        recs[ri].pr = wr;
+        recs[ri].pe0 = we[0];
+        recx[ri] = vec2(we[1], we[2]);
+    }
 }
 
 void hit(ivec3 c, int src, int n) {

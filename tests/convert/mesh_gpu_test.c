@@ -263,6 +263,14 @@ static void test_corpus(void) {
         static const uint32_t res[] = {32, 64};
         for (size_t k = 0; k < 2; k++) {
             CHECKF(same_svo(&m, res[k], 0, true, corpus_meshes[i]), "%s at %u", corpus_meshes[i], res[k]);
+            /* DamagedHelmet samples its metallic-roughness and emissive
+             * textures per cell: on the GPU, not handed to the CPU */
+            if (strstr(corpus_meshes[i], "DamagedHelmet")) {
+                vx_conv_mesh_gpu_stats st;
+                vx_conv_mesh_gpu_last_stats(mg, &st);
+                CHECKF(st.sampled_materials == 1 && st.cells > 0, "%s at %u: materials not sampled on the GPU", corpus_meshes[i],
+                       res[k]);
+            }
             /* the .svo bytes cover the cells; the lists say where they differ */
             if (res[k] == 64) CHECKF(cell_diffs(&m, res[k], corpus_meshes[i]) == 0, "%s at %u", corpus_meshes[i], res[k]);
         }
@@ -573,9 +581,10 @@ static void test_collisions(void) {
 }
 
 /* Materials that sample their metallic-roughness and emissive textures per
- * cell (tests/convert/mesh_tex_gltf.h): the GPU path gives the CPU path's
- * file (it hands such a mesh to the CPU voxelizer); uniform textures (folded into the factors, not sampled) stay on the
- * GPU with the same ids. */
+ * cell (tests/convert/mesh_tex_gltf.h): the GPU samples them (its stats say
+ * so) and gives the CPU path's file, in one process and over shares; uniform
+ * textures (folded into the factors, not sampled) give the same ids without
+ * sampling. */
 static void test_textured_materials(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
@@ -593,6 +602,11 @@ static void test_textured_materials(void) {
         vx_svo_scene a, b;
         REQUIRE(vx_conv_mesh(&d, &m, &a, NULL, &err) == VX_OK);
         REQUIRE(vx_conv_mesh(&dg, &m, &b, NULL, &err) == VX_OK);
+        vx_conv_mesh_gpu_stats st;
+        vx_conv_mesh_gpu_last_stats(mg, &st);
+        CHECKF(st.sampled_materials == (uniform ? 0u : 1u), "%s textures: sampled_materials %u", uniform ? "uniform" : "split",
+               st.sampled_materials);
+        CHECKF(st.cells > 0, "%s textures: no cells voxelized on the GPU", uniform ? "uniform" : "split");
         uint8_t *da = NULL, *db = NULL;
         size_t na = 0, nb = 0;
         CHECK(vx_svo_write(&a, NULL, &da, &na, &err) == VX_OK && vx_svo_write(&b, NULL, &db, &nb, &err) == VX_OK);
@@ -606,7 +620,9 @@ static void test_textured_materials(void) {
         vx_svo_scene_free(&a);
         vx_svo_scene_free(&b);
         /* over two shares (the GPU's own boxes: where the GPU voxelizes) */
-        if (uniform) CHECK(same_shares(&m, 16, 0, 2, "uniform textures"));
+        CHECK(same_shares(&m, 16, 0, 2, uniform ? "uniform textures" : "split textures"));
+        /* with normals at 32, the trees built on the GPU (same_svo's checks) */
+        if (!uniform) CHECK(same_svo(&m, 32, 0, true, "split textures"));
         vx_gltf_mesh_free(&m);
     }
 }
