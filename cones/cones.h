@@ -153,7 +153,8 @@ typedef enum vx_cone_output {
  * environment is exact up to its interpolation). The direct light of a
  * metal stays the direct pass's (diffuse) unless `shadows` is on, where it
  * is also diffuse: a specular highlight of the lights is not drawn. Glass
- * is shaded as diffuse. A scene without metal records has no specular path
+ * seen directly gets the direct pass's dielectric (render/pipeline.h); the
+ * cones light only its Lambert share (1 - transmission). A scene without metal records has no specular path
  * in the shader (specialised out). */
 typedef struct vx_cone_desc {
     uint32_t res;

@@ -353,10 +353,12 @@ struct vx_frame_renderer {
     size_t scene_emit_count;
     size_t emit_count;     /* records in b[B_EMIT] */
     const float* emit_src; /* what b[B_EMIT] was filled from */
-    /* metal seen directly: per attribute record (1 metal / 0, roughness, metalness, specular), then the GGX
-     * albedo table (pass_bodies.glsl MAT_BINDING); NULL when no record is metal */
+    /* metal and glass seen directly: per attribute record (1 metal / 0, roughness, metalness, specular) or
+     * glass (2, roughness, ior, transmission), then the GGX albedo table (pass_bodies.glsl MAT_BINDING); NULL
+     * when no record is metal or glass */
     float* scene_mat;
     size_t scene_mat_count; /* records */
+    bool scene_metal, scene_glass; /* some record is metal / glass that transmits */
     bool mat_valid;         /* b[B_MAT] holds scene_mat */
     bool sky_valid;        /* b[B_SKY] holds sky_key's sky (sky.glsl's parameters, the table, the texels) */
     vx_sky sky_key;
@@ -393,28 +395,33 @@ vx_result vx_frame_renderer_create(vx_render_scene* rs, const vx_svo_scene* scen
     return VX_OK;
 }
 
-/* One record's entry: (1 metal / 0, roughness, metalness, specular) of material id `id`. */
+/* One record's entry of material id `id`: (1 metal / 0, roughness, metalness, specular), or for glass that
+ * transmits (2, roughness, ior, transmission). */
 static void mat_record(const vx_svo_material_table* t, uint32_t id, float out[4]) {
     const vx_material* f = vx_svo_material_table_find(t, id);
     vx_material mt = f ? *f : vx_material_default(VX_MATERIAL_DIFFUSE);
     out[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
     out[1] = (float)mt.roughness, out[2] = (float)mt.metalness, out[3] = (float)mt.specular;
+    if (mt.type == VX_MATERIAL_GLASS && mt.transmission > 0) /* the path tracer's glass (probes/pathtrace.c bsdf_of) */
+        out[0] = 2.0f, out[2] = (float)mt.ior, out[3] = (float)fmin(mt.transmission, 1.0);
 }
 
-/* Metal seen directly: each attribute record's material for the direct pass and resolve (pass_bodies.glsl
- * MAT_BINDING), then the GGX lobe's albedo table, when some record is metal; none otherwise (the frames
- * then bind a placeholder and keep their SPIR-V path). Host-side, uploaded by the next frame that uses it.
+/* Metal and glass seen directly: each attribute record's material for the direct pass and resolve
+ * (pass_bodies.glsl MAT_BINDING), then the GGX lobe's albedo table, when some record is metal or glass that
+ * transmits; none otherwise (the frames then bind a placeholder and keep their SPIR-V path). Host-side, uploaded by the next frame that uses it.
  * ids: the records' material ids (vx__render_scene_attr_material), t the scene's materials by id. */
 static vx_result scene_materials(vx_frame_renderer* fr, const vx_svo_material_table* t, const uint16_t* ids, size_t n,
                                  vx_error* err) {
     vx_gpu* g = fr->g;
-    bool metal = false;
-    for (size_t i = 0; t->specular && i < n && !metal; i++) {
+    bool metal = false, glass = false;
+    for (size_t i = 0; t->specular && i < n && !(metal && glass); i++) {
         const vx_material* f = vx_svo_material_table_find(t, ids[i]);
-        metal = f && f->type == VX_MATERIAL_METAL;
+        metal |= f && f->type == VX_MATERIAL_METAL;
+        glass |= f && f->type == VX_MATERIAL_GLASS && f->transmission > 0;
     }
+    fr->scene_metal = metal, fr->scene_glass = glass;
     float* m = NULL;
-    if (metal) {
+    if (metal || glass) {
         if (n > (SIZE_MAX / 16) - MAT_ENV_N * MAT_ENV_N)
             return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
         if (!(m = vx_calloc(&g->alloc, n + MAT_ENV_N * MAT_ENV_N, 4 * sizeof(float))))
@@ -427,7 +434,7 @@ static vx_result scene_materials(vx_frame_renderer* fr, const vx_svo_material_ta
         }
     }
     vx_free(&g->alloc, fr->scene_mat);
-    fr->scene_mat = m, fr->scene_mat_count = metal ? n : 0;
+    fr->scene_mat = m, fr->scene_mat_count = m ? n : 0;
     fr->mat_valid = false;
     return VX_OK;
 }
@@ -800,7 +807,9 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     size_t emit_n = has_gi ? gm->emit_count : fr->scene_emit_count;
     bool emit = phys && any_emission(emit_tab, emit_n);
     /* metal seen directly: the radiometric model's direct light and sky term with the records' BRDF */
-    bool metal = phys && fr->scene_mat && (has_direct || sky);
+    bool metal = phys && fr->scene_metal && (has_direct || sky);
+    /* glass seen directly: the direct pass gives its radiance (without that pass glass is shaded as diffuse) */
+    bool glass = phys && fr->scene_glass && has_direct;
     size_t npx = (size_t)f.width * f.height;
     VkDeviceSize px = (VkDeviceSize)npx;
     /* image buffers; absent passes get a 16-byte placeholder */
@@ -839,7 +848,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     } else if (!fr->b[B_EMIT].buf && (r = ensure(fr, B_EMIT, 16, "emission", err))) {
         return r;
     }
-    if (metal && !fr->mat_valid) {
+    if ((metal || glass) && !fr->mat_valid) {
         settle(fr);
         vx__buffer_destroy(g, &fr->b[B_MAT]);
         VkDeviceSize size = (VkDeviceSize)(fr->scene_mat_count + MAT_ENV_N * MAT_ENV_N) * 16;
@@ -949,7 +958,8 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     /* the last pass, which writes the display image with dt: tonemap, else aa, else the merged kernel or resolve */
     bool d_tm = dt && run_tm, d_aa = dt && run_aa && !run_tm, d_last = dt && !run_aa && !run_tm;
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
-                          shadows << 2 | (emit ? 1u << 8 : 0u) | (metal ? 1u << 9 : 0u);
+                          shadows << 2 | (emit ? 1u << 8 : 0u) | (metal ? 1u << 9 : 0u) |
+                          (glass ? 1u << 10 : 0u) | (glass && sky ? 1u << 11 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
     spec[7] = 0;
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
@@ -961,7 +971,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     spec[6] = 0, spec[7] = 0;
     if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
-              (phys ? 16u : 0u) | (sky ? 32u : 0u) | (metal ? 64u : 0u);
+              (phys ? 16u : 0u) | (sky ? 32u : 0u) | (metal ? 64u : 0u) | (glass ? 128u : 0u);
     spec[6] = (uint32_t)desc->show;
     if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
     if (merge) {
@@ -969,7 +979,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         memcpy(ms, spec, sizeof ms);
         ms[PASS_SPECS - 1] = has_direct && sun_map.map != NULL;
         ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u) |
-                (metal ? 64u : 0u);
+                (metal ? 64u : 0u) | (glass ? 128u : 0u);
         ms[6] = has_dof && !f.ortho;
         ms[7] = light_spec;
         if ((r = get_pipeline(g, SH_FRAME, ms, d_last, &p_merged, err))) return r;

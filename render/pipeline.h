@@ -44,8 +44,25 @@
  * + the sky along the mirror direction * the specular lobe's directional
  * albedo (vx_ggx_albedo_table), times ao. The records' materials are bound
  * only when some record is metal (the shaders are specialised on it: a scene
- * without metal runs the code and gives the pixels it did before). Glass
- * seen directly is shaded as diffuse; the colour model has no metal.
+ * without metal runs the code and gives the pixels it did before). The
+ * colour model has no metal.
+ *
+ * Glass seen directly (radiometric model, the direct pass present): a pixel
+ * whose record is glass that transmits gets the path tracer's dielectric in
+ * expectation: F (its Fresnel at the view angle, its ior) times the sky
+ * along the mirror direction plus (1 - F) times the colour times the
+ * radiance the refracted ray brings: walked through the glass cells, out
+ * with weight 1 - F_out (past the critical angle reflected inside), traced
+ * to the next surface, which gets its direct light (shadowed, Lambert or
+ * metal's BRDF), emission and sky term (a miss: the sky). Rough glass takes
+ * the smooth directions; internal reflections below the critical angle are
+ * not followed; at most 4 glass bodies and 256 cells a body. The direct
+ * image holds that radiance, resolve adds it as it is; gi and ao add
+ * nothing for the transmitted share (the surface behind is not a pixel of
+ * the G-buffer: its gi and ao are not known), the Lambert share 1 -
+ * transmission is shaded as diffuse. Bound and specialised as metal (a
+ * scene without glass keeps its code); without the direct pass glass is
+ * diffuse.
  *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,
@@ -110,7 +127,7 @@ typedef enum vx_show {
     VX_SHOW_ALBEDO,   /* attribute colour (1 without attributes), 0 on a miss */
     VX_SHOW_NORMAL,   /* world normal xyz */
     VX_SHOW_DEPTH,    /* depth in every channel, +inf on a miss (float) */
-    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo; a metal pixel: its radiance) */
+    VX_SHOW_DIRECT,   /* what the direct pass delivers (before the albedo; a metal or glass pixel: its radiance) */
     VX_SHOW_GI,       /* the gi pass's radiance */
     VX_SHOW_AO,       /* unoccluded share, 1 where ao is absent */
     VX_SHOW_INSTANCE, /* a colour per instance id */

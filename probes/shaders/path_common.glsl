@@ -113,13 +113,7 @@ PT_PREC vec3 ggx_vndf(float alpha, vec3 wo, float u1, float u2) {
     vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
     return normalize(vec3(alpha * nh.xy, max(0.0, nh.z)));
 }
-PT_PREC float fresnel_dielectric(float cosi, float eta) {
-    PT_PREC float s2t = (1.0 - cosi * cosi) / (eta * eta);
-    if (s2t >= 1.0) return 1.0;
-    float ct = sqrt(1.0 - s2t);
-    float rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
+#include "dielectric.glsl" // fresnel_dielectric (shared with the pass pipeline's glass seen directly)
 
 const int B_LAMBERT = 0, B_GLOSSY = 1, B_GLASS = 2;
 struct Bsdf { int kind; vec3 alb, kd, f0; float alpha, a2, ps, eta; vec3 n, t, b; };

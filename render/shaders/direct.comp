@@ -13,7 +13,7 @@ layout(constant_id = 6) const bool PHYS = false;
 const bool DOF = false;
 const uint FLAGS = 0u, SHOW = 0u;
 #define SMAP_BINDING 20 // the sun's depth map (direct_pixel; render/pipeline.c)
-#define MAT_BINDING 23  // the records' materials where some is metal (pass_bodies.glsl METAL)
+#define MAT_BINDING 23  // the records' materials where some is metal or glass (pass_bodies.glsl METAL, GLASS)
 #include "smap_lookup.glsl"
 #include "pass_bodies.glsl"
 

@@ -29,7 +29,7 @@ layout(constant_id = 6) const bool DOF = false;
 const uint SHOW = 0u;
 const bool PHYS = (FLAGS & 16u) != 0u;
 #define SMAP_BINDING 20 // the sun's depth map (direct_pixel; render/pipeline.c)
-#define MAT_BINDING 23  // the records' materials where some is metal (pass_bodies.glsl METAL)
+#define MAT_BINDING 23  // the records' materials where some is metal or glass (pass_bodies.glsl METAL, GLASS)
 #include "smap_lookup.glsl"
 #include "pass_bodies.glsl"
 #include "display_out.glsl"

@@ -157,6 +157,36 @@ vec3 metal_brdf(Metal M, vec3 n, vec3 wi) {
     return f + (M.f0 + (1.0 - M.f0) * s5) * (d * g2 / (4.0 * no * ni));
 }
 
+// ---- glass seen directly: constants --------------------------------------------
+// GLASS: some attribute record is glass with transmission > 0 (radiometric
+// model, the direct pass present): LIGHTS bit 10 in the direct pass, FLAGS
+// bit 128 in resolve, both in the merged kernel; its record in the material
+// table (MAT_BINDING) is vec4(2, roughness, ior, transmission). GLASS_SKY
+// (LIGHTS bit 11): the frame has the sky term (resolve's HAS_SKY), which the
+// direct pass then adds at the surface seen through the glass. Without
+// GLASS no glass code runs (the SPIR-V path of a scene without glass).
+const bool GLASS = (((LIGHTS >> 10) | (FLAGS >> 7)) & 1u) != 0u;
+const bool GLASS_SKY = (LIGHTS & 2048u) != 0u;
+// The limits: glass bodies a pixel's transmitted ray enters (the first
+// included; the surface met after the last is shaded as opaque), and cells
+// (with total internal reflections) a walk crosses in one body before it is
+// given up (no light).
+const uint GLASS_BODIES = 4u, GLASS_CELLS = 256u;
+#include "dielectric.glsl" // fresnel_dielectric, the path tracer's (probes/shaders/path_common.glsl)
+
+// Whether attribute record attr is glass that transmits (the path tracer's
+// is_glass), and its record vec4(2, roughness, ior, transmission).
+bool glass_of(uint attr, out vec4 m) {
+    m = vec4(0.0);
+#ifdef MAT_BINDING
+    if (attr == NO_HIT || attr >= uint(mats.length()) - MAT_ENV_N * MAT_ENV_N) return false; // (callers test GLASS)
+    m = mats[attr];
+    return m.x == 2.0 && m.w > 0.0;
+#else
+    return false;
+#endif
+}
+
 // The light's window: (1 - (d/R)^4)^2 below R, 0 from R on; R = 0: none.
 float light_window(float dist, float R) {
     if (R <= 0.0) return 1.0;
@@ -349,16 +379,9 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw, bool mt, Metal M) {
     return e;
 }
 
-// What the direct pass delivers for a G-buffer entry: in the colour model
-// (1 - ambient) * n.l * visibility, in the radiometric one (PHYS) sun
-// irradiance * n.l * visibility plus the lights' irradiance; for a metal
-// record (METAL) the radiance that light leaves towards the eye instead
-// (each source's irradiance times the BRDF towards it: resolve adds it as it
-// is, where a diffuse pixel's irradiance is multiplied by albedo / pi).
-vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
-    if (g1.y == NO_HIT) return vec4(0.0);
-    vec3 nw = gb_normal(g1);
-    float ndl = max(dot(nw, F.light.xyz), 0.0);
+// The sun's visibility (0 or 1) from a G-buffer entry of normal nw, ndl = max(n.l, 0): a shadow ray (or the
+// sun's depth map) where ndl > 0 and there is a sun.
+float sun_visibility(uvec4 g0, uvec4 g1, vec3 nw, float ndl) {
     float vis = 0.0;
     bool sun = !PHYS || PC.f1.x > 0.0 || PC.f1.y > 0.0 || PC.f1.z > 0.0; // no sun ray without a sun
     if (ndl > 0.0 && sun) {
@@ -375,16 +398,199 @@ vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
 #endif
         vis = trace_scene(ps, F.light.xyz, 0.0, true, sh) ? 0.0 : 1.0;
     }
-    if (!PHYS) {
-        float amb = F.light.w;
-        return vec4(vec3((1.0 - amb) * ndl * vis), 1.0);
-    }
-    Metal M;
-    bool mt = METAL && metal_of(g0, g1, M);
-    vec3 e = PC.f1.xyz * ndl * vis;
+    return vis;
+}
+
+// The radiometric direct light at a G-buffer entry: the sun's irradiance *
+// n.l * visibility plus the lights'; for a metal record (mt) each source's
+// irradiance times the BRDF towards it (the radiance it reflects along M.wo).
+vec3 direct_light(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw, bool mt, Metal M) {
+    float ndl = max(dot(nw, F.light.xyz), 0.0);
+    vec3 e = PC.f1.xyz * ndl * sun_visibility(g0, g1, nw, ndl);
     if (mt) e *= metal_brdf(M, nw, F.light.xyz);
     if (PC.u1.z > 0u) e += lights_pixel(px, g0, g1, nw, mt, M);
-    return vec4(e, 1.0);
+    return e;
+}
+
+// ---- glass seen directly ------------------------------------------------------------
+// The cell of instance slot inst that holds point q (relative to the frame reference).
+uvec3 glass_cell(uint inst, vec3 q) {
+    Inst I = insts[inst];
+    vec3 m = vec3(dot(I.r0.xyz, q) + I.r0.w, dot(I.r1.xyz, q) + I.r1.w, dot(I.r2.xyz, q) + I.r2.w);
+    return uvec3(max(floor(m), vec3(0.0)));
+}
+
+// The direction refracted into the side opposite unit wo (on the side of
+// unit normal n), eta = n_other / n_this, below the critical angle (the path
+// tracer's dielectric with the macro normal).
+vec3 glass_refract(vec3 wo, vec3 n, float eta) {
+    float c = dot(wo, n), e = 1.0 / eta, k2 = 1.0 - e * e * (1.0 - c * c);
+    return normalize(-e * wo + (e * c - sqrt(max(0.0, k2))) * n);
+}
+
+// Inside a glass body at p (in instance slot inst) along unit d: cell by cell
+// to the face where the glass ends (the path tracer's glass_walk, made
+// deterministic): across a face into a glass cell the walk goes on; at an
+// outer face the ray refracts out with weight 1 - F (thr), or, past the
+// critical angle, reflects and walks on. The share F reflected back inside
+// below the critical angle is not followed (a loss of F_out * F_in,
+// 0.16% for a slab of ior 1.5 seen head on). false: an opaque voxel against
+// the glass (the path tracer ends its path there too) or GLASS_CELLS steps.
+// On true, o and d the ray that left.
+bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o) {
+    uvec3 c = glass_cell(inst, p);
+    o = p;
+    for (uint step = 0u; step < GLASS_CELLS; step++) {
+        Inst I = insts[inst];
+        vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
+        vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
+        float te = 3.0e38;
+        int ax = -1;
+        for (int a = 0; a < 3; a++) {
+            if (dm[a] == 0.0) continue;
+            float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            if (ta < te) {
+                te = ta;
+                ax = a;
+            }
+        }
+        if (ax < 0) return false;
+        te = max(te, 0.0);
+        vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
+        vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0); // the exit face's outward normal
+        vec3 q = p + d * te;
+        float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
+        vec3 qi = q + d * eps;
+        // the neighbour across the face: a ray starting inside a voxel meets it at once
+        Hit g;
+        g.t = eps;
+        g.inst = NO_HIT;
+        g.color = 0xFFFFFFFFu;
+        g.attr = NO_HIT;
+        g_iter = 0u;
+        if (trace_scene(qi, d, 0.0, false, g)) {
+            vec4 gm;
+            if (!glass_of(g.attr, gm)) return false;
+            inst = g.inst;
+            c = glass_cell(inst, qi);
+            p = qi;
+            continue;
+        }
+        float fr = fresnel_dielectric(dot(d, nf), 1.0 / ior);
+        if (fr >= 1.0) { // total internal reflection
+            d = reflect(d, nf);
+            p = q - nf * eps;
+            continue;
+        }
+        thr *= 1.0 - fr;
+        d = glass_refract(-d, -nf, 1.0 / ior);
+        o = q + nf * eps;
+        return true;
+    }
+    return false;
+}
+
+// The radiance an opaque G-buffer-like entry (s0, s1: a point met by a ray
+// through glass) sends back along unit wo: its direct light (the sun and the
+// lights, shadowed as direct_pixel's, the Lambert BRDF or metal's towards
+// wo), its emission and, with the sky term, the sky's light on it
+// (unoccluded: the ao pass knows the pixels' surfaces only).
+vec3 glass_seen_surface(uvec2 px, uvec4 s0, uvec4 s1, vec3 wo) {
+    vec3 nw = gb_normal(s1);
+    vec3 alb = HAS_COLOR ? unpack_rgb(s1.x) : vec3(1.0);
+    Metal M;
+    bool mt = METAL && metal_of(s0, s1, M);
+    if (mt) M.wo = wo;
+    vec3 e = direct_light(px, s0, s1, nw, mt, M);
+    vec3 rad = mt ? e : alb / PI * e;
+    if (EMIT_KNOWN && s1.w < uint(emit_attr.length())) rad += alb * emit_attr[s1.w];
+    if (GLASS_SKY) {
+        if (mt) rad += M.kd * frame_sky_irradiance(nw) + frame_sky(reflect(-wo, nw)) * metal_albedo(M, max(dot(nw, wo), 0.0));
+        else rad += alb * frame_sky_irradiance(nw);
+    }
+    return rad;
+}
+
+// The radiance a glass pixel (record m = vec4(2, rough, ior, transmission))
+// sends to the eye, the path tracer's dielectric in expectation with smooth
+// directions (rough glass too: the macro normal's mirror and refraction): F
+// at the view angle times the sky along the mirror direction, plus (1 - F)
+// times the colour (the path tracer's tint at entry) times what the
+// refracted ray brings: walked through the glass (glass_pass_walk), then
+// traced to the next surface, which glass_seen_surface shades, or the sky on
+// a miss; a further glass body on the way is entered the same way (its F
+// times the sky along its mirror direction, its transmission weighting what
+// goes on) up to GLASS_BODIES. Transmission t < 1: t times that plus 1 - t
+// times the Lambert radiance alb / pi E (the path tracer's choice of lobe).
+vec3 glass_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
+    vec3 p = uintBitsToFloat(g0.xyz), n = gb_normal(g1);
+    vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
+    vec3 wo = view_to_eye(p);
+    vec3 rad = vec3(0.0);
+    if (m.w < 1.0) {
+        Metal M0;
+        rad = (1.0 - m.w) * alb / PI * direct_light(px, g0, g1, n, false, M0);
+    }
+    vec3 thr = vec3(m.w);
+    float ior = m.z;
+    uint inst = g1.y;
+    for (uint b = 0u; b < GLASS_BODIES; b++) {
+        float c = dot(n, wo);
+        if (c <= 0.0) break;
+        float fr = fresnel_dielectric(c, ior);
+        rad += thr * fr * frame_sky(reflect(-wo, n));
+        if (fr >= 1.0) break;
+        thr *= (1.0 - fr) * alb;
+        vec3 d = glass_refract(wo, n, ior), o;
+        float eps = 1e-3 * insts[inst].cell + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z));
+        if (!glass_pass_walk(inst, p - n * eps, ior, d, thr, o)) break;
+        Hit h;
+        h.t = 3.0e38;
+        h.inst = NO_HIT;
+        h.color = 0xFFFFFFFFu;
+        h.attr = NO_HIT;
+        g_iter = 0u;
+        if (!trace_scene(o, d, 0.0, false, h)) {
+            rad += thr * frame_sky(d);
+            break;
+        }
+        p = o + d * h.t;
+        uvec4 s0 = uvec4(floatBitsToUint(p.x), floatBitsToUint(p.y), floatBitsToUint(p.z), 0u);
+        uvec4 s1 = uvec4(h.color, h.inst, uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u), h.attr);
+        vec4 gm;
+        if (b + 1u < GLASS_BODIES && glass_of(h.attr, gm)) {
+            // the next glass body: its record, entered along d
+            n = gb_normal(s1), wo = -d, inst = h.inst, ior = gm.z;
+            alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
+            thr *= gm.w;
+            continue;
+        }
+        rad += thr * glass_seen_surface(px, s0, s1, -d);
+        break;
+    }
+    return rad;
+}
+
+// What the direct pass delivers for a G-buffer entry: in the colour model
+// (1 - ambient) * n.l * visibility, in the radiometric one (PHYS) sun
+// irradiance * n.l * visibility plus the lights' irradiance; for a metal
+// record (METAL) the radiance that light leaves towards the eye instead
+// (each source's irradiance times the BRDF towards it: resolve adds it as it
+// is, where a diffuse pixel's irradiance is multiplied by albedo / pi); for a
+// glass record (GLASS) the radiance glass_pixel finds, also added as it is.
+vec4 direct_pixel(uvec2 px, uvec4 g0, uvec4 g1) {
+    if (g1.y == NO_HIT) return vec4(0.0);
+    vec3 nw = gb_normal(g1);
+    if (!PHYS) {
+        float ndl = max(dot(nw, F.light.xyz), 0.0);
+        float amb = F.light.w;
+        return vec4(vec3((1.0 - amb) * ndl * sun_visibility(g0, g1, nw, ndl)), 1.0);
+    }
+    vec4 gm;
+    if (GLASS && glass_of(g1.w, gm)) return vec4(glass_pixel(px, g0, g1, gm), 1.0);
+    Metal M;
+    bool mt = METAL && metal_of(g0, g1, M);
+    return vec4(direct_light(px, g0, g1, nw, mt, M), 1.0);
 }
 
 // Ambient occlusion rays first .. first+count-1 of a G-buffer entry: how many
@@ -421,8 +627,19 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
         vec3 rad = vec3(0.0);
         Metal M;
         bool mt = METAL && metal_of(g0, g1, M); // the direct pass gave its radiance
+        vec4 gm;
+        bool gl = GLASS && glass_of(g1.w, gm); // so it did for glass, the sky term included
         if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += alb * emit_attr[g1.w];
-        if (HAS_DIRECT) rad += mt ? dir.xyz : alb / PI * dir.xyz;
+        if (HAS_DIRECT) rad += mt || gl ? dir.xyz : alb / PI * dir.xyz;
+        if (gl) {
+            // glass: gi and the sky term only for its Lambert share 1 - transmission (the path tracer's
+            // choice of lobe); none for what the glass transmits: the gi and ao of the surface seen through
+            // it are not known (the direct pass gave that surface's direct light, emission and sky term)
+            float w = 1.0 - gm.w;
+            if (HAS_GI) rad += w * gi.xyz * (HAS_AO ? ao : 1.0);
+            if (HAS_SKY) rad += w * alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0);
+            return vec4(rad, 1.0);
+        }
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);
         if (HAS_SKY && mt) {
             // metal: the sky's light on the Lambert lobe (kd), and the sky along the mirror direction times the

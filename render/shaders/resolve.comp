@@ -12,11 +12,11 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 
-layout(constant_id = 5) const uint FLAGS = 0u; // 1 direct, 2 gi, 4 ao, 8 emission, 16 radiometric light, 32 sky, 64 metal
+layout(constant_id = 5) const uint FLAGS = 0u; // 1 direct, 2 gi, 4 ao, 8 emission, 16 radiometric light, 32 sky, 64 metal, 128 glass
 layout(constant_id = 6) const uint SHOW = 0u;  // vx_show
 const bool PHYS = (FLAGS & 16u) != 0u;
 const bool DOF = false;
-#define MAT_BINDING 23 // the records' materials where some is metal (pass_bodies.glsl METAL)
+#define MAT_BINDING 23 // the records' materials where some is metal or glass (pass_bodies.glsl METAL, GLASS)
 #include "pass_bodies.glsl"
 #include "display_out.glsl"
 

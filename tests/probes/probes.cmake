@@ -22,6 +22,12 @@ if(VX_WITH_VULKAN)
               ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_metal_direct PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # glass seen directly in the pass pipeline: a glass slab in front of a lit floor against the closed form
+  # (Fresnel in and out, the tint) and the CPU path tracer; a scene without glass unchanged
+  vx_add_test(test_glass_direct SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_direct.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_glass_direct PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
