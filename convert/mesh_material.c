@@ -15,15 +15,21 @@ static const vx_gltf_image* tex_image(const vx_gltf_mesh* mesh, const vx_gltf_te
 }
 
 /* Whether each channel of mask (bit c: channel c) holds one value over the
- * whole image, and that value (the first pixel's). Stops at the first pixel
- * that varies every channel asked for: a varying texture costs a few pixels,
- * not a pass over 2048^2 of them (the plan is made three times a
- * conversion; docs/PERFORMANCE.md section 3). */
-static void channel_uniform(const vx_gltf_image* im, unsigned mask, bool uniform[4], uint8_t value[4]) {
+ * whole image, and that value (the first pixel's). Stops once every channel
+ * of mask varies (any: once one does; then the others' answers are only
+ * "varies" or "not seen to vary"): a varying texture costs the pixels up to
+ * the first that differs, not a pass over 2048^2 of them (the plan is made
+ * three times a conversion; docs/PERFORMANCE.md section 3). */
+static void channel_uniform(const vx_gltf_image* im, unsigned mask, bool any, bool uniform[4], uint8_t value[4]) {
     memcpy(value, im->rgba, 4);
     unsigned varies = 0;
     size_t n = (size_t)im->width * im->height; /* the reader allocated n * 4 bytes */
-    for (size_t i = 1; i < n && (varies & mask) != mask; i++) {
+    uint32_t first;
+    memcpy(&first, im->rgba, 4);
+    for (size_t i = 1; i < n && (any ? !(varies & mask) : (varies & mask) != mask); i++) {
+        uint32_t px;
+        memcpy(&px, im->rgba + 4 * i, 4);
+        if (px == first) continue; /* the common case in a dark emissive map: 427,213 pixels of DamagedHelmet's */
         const uint8_t* p = im->rgba + 4 * i;
         for (unsigned c = 0; c < 4; c++) varies |= (unsigned)(p[c] != value[c]) << c;
     }
@@ -42,7 +48,7 @@ static void plan_one(const vx_gltf_mesh* mesh, const vx_gltf_material* g, const 
     if (mr) {
         bool uni[4];
         uint8_t val[4];
-        channel_uniform(mr, 1u << 1 | 1u << 2, uni, val);
+        channel_uniform(mr, 1u << 1 | 1u << 2, false, uni, val);
         /* a channel uniform over the image is its factor (the file is then
          * the one the equivalent factor gives) */
         if (uni[2]) o->metal *= val[2] / 255.0f;
@@ -55,7 +61,7 @@ static void plan_one(const vx_gltf_mesh* mesh, const vx_gltf_material* g, const 
         bool uni[4];
         uint8_t val[4];
         /* any of RGB varying samples the whole emission: stop at the first */
-        channel_uniform(em, 7u, uni, val);
+        channel_uniform(em, 7u, true, uni, val);
         if (uni[0] && uni[1] && uni[2]) {
             for (int k = 0; k < 3; k++) o->emit[k] *= lin[val[k]];
         } else if (o->emit[0] > 0 || o->emit[1] > 0 || o->emit[2] > 0) {
