@@ -460,7 +460,15 @@ typedef struct worker {
     job* j;
     region_buf buf;
     uint64_t* bits; /* BRICK_CELLS bits of the current brick */
-    acc* acc;       /* BRICK_CELLS when attributes */
+    /* When attributes: the brick's touched cells' sums, packed in the order
+     * the cells were first hit (acc[slot[m]] is cell m's where its bit is
+     * set): room for BRICK_CELLS, but only as many pages touched as cells a
+     * brick has (indexed by cell, 64-byte sums faulted in 16 MiB a worker:
+     * 8 k of DamagedHelmet's 44 k page faults at 256; docs/PERFORMANCE.md
+     * section 3). */
+    acc* acc;
+    uint32_t* slot;
+    uint32_t acc_count;
     uint32_t* fin_rgba;
     uint32_t* fin_nrm;
     uint16_t* fin_mat;
@@ -494,10 +502,14 @@ static void hit_geom(void* user, const int c[3], const double (*poly)[3], int n)
 static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     worker* w = (worker*)user;
     uint32_t m = mort6[c[0]][0] | mort6[c[1]][1] | mort6[c[2]][2];
-    acc* a = &w->acc[m];
+    acc* a;
     if (!(w->bits[m >> 6] & (1ull << (m & 63)))) {
         w->bits[m >> 6] |= 1ull << (m & 63);
+        w->slot[m] = w->acc_count;
+        a = &w->acc[w->acc_count++];
         memset(a, 0, sizeof *a);
+    } else {
+        a = &w->acc[w->slot[m]];
     }
     /* area and centroid of the clipped polygon (fan from p[0]) */
     double area = 0, cen[3] = {0, 0, 0};
@@ -753,6 +765,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     brick_extent(j->pairs[first] >> 32, j->grid->size, org, cmax, last);
     bool attrs = j->attrs != 0;
     memset(w->bits, 0, BRICK_CELLS / 8);
+    w->acc_count = 0;
     for (size_t p = first; p < end; p++) {
         size_t t = (size_t)(j->pairs[p] & 0xFFFFFFFFu);
         if (t == 0xFFFFFFFFu) continue; /* solid filler: a brick with no triangle */
@@ -784,7 +797,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
         for (size_t i = 0; i < BRICK_CELLS / 64; i++)
             for (uint64_t word = w->bits[i]; word; word &= word - 1) {
                 uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
-                const acc* a = &w->acc[m];
+                const acc* a = &w->acc[w->slot[m]];
                 w->fin_rgba[m] = finish_rgba(a);
                 w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
                 w->fin_mat[m] = cell_material(j, a);
@@ -802,7 +815,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 if (o->normal) o->normal[k] = w->fin_nrm[m];
                 if (o->material) o->material[k] = w->fin_mat[m];
             } else if (attrs) {
-                const acc* a = &w->acc[m];
+                const acc* a = &w->acc[w->slot[m]];
                 if (o->rgba) o->rgba[k] = finish_rgba(a);
                 if (o->normal) o->normal[k] = oct_encode(a->n[0], a->n[1], a->n[2]);
                 if (o->material) o->material[k] = cell_material(j, a);
@@ -820,6 +833,7 @@ static void worker_free(worker* w, const vx_allocator* a) {
     vx_free(a, w->buf.mat);
     vx_free(a, w->bits);
     vx_free(a, w->acc);
+    vx_free(a, w->slot);
     vx_free(a, w->fin_rgba);
     vx_free(a, w->fin_nrm);
     vx_free(a, w->fin_mat);
@@ -832,7 +846,8 @@ static bool worker_init(worker* w, job* j) {
     if (!w->bits) return false;
     if (j->attrs) {
         w->acc = (acc*)vx_alloc(j->alloc, sizeof(acc) * BRICK_CELLS);
-        if (!w->acc) return false;
+        w->slot = (uint32_t*)vx_alloc(j->alloc, sizeof(uint32_t) * BRICK_CELLS);
+        if (!w->acc || !w->slot) return false;
         if (j->vote[0]) {
             w->fin_rgba = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
             w->fin_nrm = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
