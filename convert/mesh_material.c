@@ -14,17 +14,26 @@ static const vx_gltf_image* tex_image(const vx_gltf_mesh* mesh, const vx_gltf_te
     return im->rgba && im->width && im->height ? im : NULL;
 }
 
-/* Smallest and largest byte of each channel over the image. */
-static void channel_range(const vx_gltf_image* im, uint8_t lo[4], uint8_t hi[4]) {
-    memset(lo, 255, 4);
-    memset(hi, 0, 4);
+/* Whether each channel of mask (bit c: channel c) holds one value over the
+ * whole image, and that value (the first pixel's). Stops once every channel
+ * of mask varies (any: once one does; then the others' answers are only
+ * "varies" or "not seen to vary"): a varying texture costs the pixels up to
+ * the first that differs, not a pass over 2048^2 of them (the plan is made
+ * three times a conversion; docs/PERFORMANCE.md section 3). */
+static void channel_uniform(const vx_gltf_image* im, unsigned mask, bool any, bool uniform[4], uint8_t value[4]) {
+    memcpy(value, im->rgba, 4);
+    unsigned varies = 0;
     size_t n = (size_t)im->width * im->height; /* the reader allocated n * 4 bytes */
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 4; c++) {
-            uint8_t v = im->rgba[4 * i + c];
-            lo[c] = v < lo[c] ? v : lo[c];
-            hi[c] = v > hi[c] ? v : hi[c];
-        }
+    uint32_t first;
+    memcpy(&first, im->rgba, 4);
+    for (size_t i = 1; i < n && (any ? !(varies & mask) : (varies & mask) != mask); i++) {
+        uint32_t px;
+        memcpy(&px, im->rgba + 4 * i, 4);
+        if (px == first) continue; /* the common case in a dark emissive map: 427,213 pixels of DamagedHelmet's */
+        const uint8_t* p = im->rgba + 4 * i;
+        for (unsigned c = 0; c < 4; c++) varies |= (unsigned)(p[c] != value[c]) << c;
+    }
+    for (unsigned c = 0; c < 4; c++) uniform[c] = !(varies & (1u << c));
 }
 
 /* The effective factors and sampled channels of glTF material g. */
@@ -37,21 +46,24 @@ static void plan_one(const vx_gltf_mesh* mesh, const vx_gltf_material* g, const 
     bool rough_varies = false;
     const vx_gltf_image* mr = tex_image(mesh, &g->metal_rough, mesh->uv_mr);
     if (mr) {
-        uint8_t lo[4], hi[4];
-        channel_range(mr, lo, hi);
+        bool uni[4];
+        uint8_t val[4];
+        channel_uniform(mr, 1u << 1 | 1u << 2, false, uni, val);
         /* a channel uniform over the image is its factor (the file is then
          * the one the equivalent factor gives) */
-        if (lo[2] == hi[2]) o->metal *= hi[2] / 255.0f;
+        if (uni[2]) o->metal *= val[2] / 255.0f;
         else if (o->metal > 0) o->sample |= VX__MESH_SAMPLE_METAL;
-        if (lo[1] == hi[1]) o->rough *= hi[1] / 255.0f;
+        if (uni[1]) o->rough *= val[1] / 255.0f;
         else rough_varies = o->rough > 0;
     }
     const vx_gltf_image* em = tex_image(mesh, &g->emissive_tex, mesh->uv_emissive);
     if (em) {
-        uint8_t lo[4], hi[4];
-        channel_range(em, lo, hi);
-        if (lo[0] == hi[0] && lo[1] == hi[1] && lo[2] == hi[2]) {
-            for (int k = 0; k < 3; k++) o->emit[k] *= lin[hi[k]];
+        bool uni[4];
+        uint8_t val[4];
+        /* any of RGB varying samples the whole emission: stop at the first */
+        channel_uniform(em, 7u, true, uni, val);
+        if (uni[0] && uni[1] && uni[2]) {
+            for (int k = 0; k < 3; k++) o->emit[k] *= lin[val[k]];
         } else if (o->emit[0] > 0 || o->emit[1] > 0 || o->emit[2] > 0) {
             o->sample |= VX__MESH_SAMPLE_EMIT;
         }

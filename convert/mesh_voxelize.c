@@ -277,12 +277,14 @@ static void tri_cells(const double* v, const int cmin[3], const int cmax[3], con
 
 static float srgb_to_lin[256];
 static float srgb_threshold[256]; /* linear value half-way between sRGB codes k and k+1; [255] = 2 */
+static float unit8[256];           /* k / 255.0f: the same float as the division, without one per texel */
 static uint8_t srgb_guess[4097];   /* code at the start of each 1/4096 step of linear values */
 static pthread_once_t tables_once = PTHREAD_ONCE_INIT;
 
 static double srgb_decode(double s) { return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4); }
 static void init_tables(void) {
     for (int i = 0; i < 256; i++) srgb_to_lin[i] = (float)srgb_decode(i / 255.0);
+    for (int i = 0; i < 256; i++) unit8[i] = i / 255.0f;
     for (int i = 0; i < 255; i++) srgb_threshold[i] = (float)srgb_decode((i + 0.5) / 255.0);
     srgb_threshold[255] = 2.0f;
     int c = 0;
@@ -317,6 +319,10 @@ static uint32_t unorm8(float v) {
 }
 
 static int64_t wrap_coord(int64_t x, int64_t n, int mode) {
+    /* inside the image every mode is x; the 64-bit divisions below were the
+     * most of a sample (four coordinates a sample, up to three samples a
+     * piece with per-cell materials) */
+    if (x >= 0 && x < n) return x;
     if (mode == VX_GLTF_WRAP_CLAMP) return x < 0 ? 0 : (x >= n ? n - 1 : x);
     if (mode == VX_GLTF_WRAP_MIRROR) {
         int64_t m = ((x % (2 * n)) + 2 * n) % (2 * n);
@@ -325,26 +331,39 @@ static int64_t wrap_coord(int64_t x, int64_t n, int mode) {
     return ((x % n) + n) % n;
 }
 
-/* Bilinear sample at (s, t) with the wrap modes: RGB sRGB-decoded when srgb
- * (colour), else bytes / 255 as alpha always is (glTF's metallic-roughness
- * texture is linear). */
-static void sample_texture(const vx_gltf_image* im, int ws, int wt, double s, double t, bool srgb, float out[4]) {
+/* The four texels and bilinear weights of a sample at (s, t) of a w x h
+ * image with the wrap modes: byte offsets into its RGBA. Images of one size
+ * and wraps sampled at one (s, t) share it (texel_fetch). */
+typedef struct texel_foot {
+    size_t off[4];
+    float wgt[4];
+} texel_foot;
+
+static void texel_footprint(uint32_t w, uint32_t h, int ws, int wt, double s, double t, texel_foot* f) {
     if (!(fabs(s) < 1e9)) s = 0; /* also NaN */
     if (!(fabs(t) < 1e9)) t = 0;
-    double x = s * im->width - 0.5, y = t * im->height - 0.5;
+    double x = s * w - 0.5, y = t * h - 0.5;
     double fx = floor(x), fy = floor(y);
     float ax = (float)(x - fx), ay = (float)(y - fy);
     int64_t x0 = (int64_t)fx, y0 = (int64_t)fy;
-    int64_t xs[2] = {wrap_coord(x0, im->width, ws), wrap_coord(x0 + 1, im->width, ws)};
-    int64_t ys[2] = {wrap_coord(y0, im->height, wt), wrap_coord(y0 + 1, im->height, wt)};
-    float wgt[4] = {(1 - ax) * (1 - ay), ax * (1 - ay), (1 - ax) * ay, ax * ay};
+    int64_t xs[2] = {wrap_coord(x0, w, ws), wrap_coord(x0 + 1, w, ws)};
+    int64_t ys[2] = {wrap_coord(y0, h, wt), wrap_coord(y0 + 1, h, wt)};
+    f->wgt[0] = (1 - ax) * (1 - ay), f->wgt[1] = ax * (1 - ay), f->wgt[2] = (1 - ax) * ay, f->wgt[3] = ax * ay;
+    for (int k = 0; k < 4; k++) f->off[k] = ((size_t)ys[k >> 1] * w + (size_t)xs[k & 1]) * 4;
+}
+
+/* The bilinear sample of im over footprint f: RGB sRGB-decoded when srgb
+ * (colour), else bytes / 255 as alpha always is (glTF's metallic-roughness
+ * texture is linear). */
+static void texel_fetch(const vx_gltf_image* im, const texel_foot* f, bool srgb, float out[4]) {
+    const float* rgb = srgb ? srgb_to_lin : unit8;
     for (int c = 0; c < 4; c++) out[c] = 0;
     for (int k = 0; k < 4; k++) {
-        const uint8_t* p = im->rgba + ((size_t)ys[k >> 1] * im->width + (size_t)xs[k & 1]) * 4;
-        out[0] += wgt[k] * (srgb ? srgb_to_lin[p[0]] : p[0] / 255.0f);
-        out[1] += wgt[k] * (srgb ? srgb_to_lin[p[1]] : p[1] / 255.0f);
-        out[2] += wgt[k] * (srgb ? srgb_to_lin[p[2]] : p[2] / 255.0f);
-        out[3] += wgt[k] * (p[3] / 255.0f);
+        const uint8_t* p = im->rgba + f->off[k];
+        out[0] += f->wgt[k] * rgb[p[0]];
+        out[1] += f->wgt[k] * rgb[p[1]];
+        out[2] += f->wgt[k] * rgb[p[2]];
+        out[3] += f->wgt[k] * unit8[p[3]];
     }
 }
 
@@ -441,7 +460,15 @@ typedef struct worker {
     job* j;
     region_buf buf;
     uint64_t* bits; /* BRICK_CELLS bits of the current brick */
-    acc* acc;       /* BRICK_CELLS when attributes */
+    /* When attributes: the brick's touched cells' sums, packed in the order
+     * the cells were first hit (acc[slot[m]] is cell m's where its bit is
+     * set): room for BRICK_CELLS, but only as many pages touched as cells a
+     * brick has (indexed by cell, 64-byte sums faulted in 16 MiB a worker:
+     * 8 k of DamagedHelmet's 44 k page faults at 256; docs/PERFORMANCE.md
+     * section 3). */
+    acc* acc;
+    uint32_t* slot;
+    uint32_t acc_count;
     uint32_t* fin_rgba;
     uint32_t* fin_nrm;
     uint16_t* fin_mat;
@@ -460,6 +487,7 @@ typedef struct worker {
     float metal, rough, emit[3];
     const vx_gltf_image *mr_img, *em_img;
     int mr_ws, mr_wt, em_ws, em_wt;
+    bool mr_shares, em_shares; /* sampled over the colour's footprint (hit_attr) */
     float uv_mr[6], uv_em[6];
 } worker;
 
@@ -474,10 +502,14 @@ static void hit_geom(void* user, const int c[3], const double (*poly)[3], int n)
 static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     worker* w = (worker*)user;
     uint32_t m = mort6[c[0]][0] | mort6[c[1]][1] | mort6[c[2]][2];
-    acc* a = &w->acc[m];
+    acc* a;
     if (!(w->bits[m >> 6] & (1ull << (m & 63)))) {
         w->bits[m >> 6] |= 1ull << (m & 63);
+        w->slot[m] = w->acc_count;
+        a = &w->acc[w->acc_count++];
         memset(a, 0, sizeof *a);
+    } else {
+        a = &w->acc[w->slot[m]];
     }
     /* area and centroid of the clipped polygon (fan from p[0]) */
     double area = 0, cen[3] = {0, 0, 0};
@@ -517,14 +549,19 @@ static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
         b2 = (w->d00 * d21 - w->d01 * d20) / w->den;
         b0 = 1 - b1 - b2;
     }
+    /* the colour's footprint, shared by the metallic-roughness and emissive
+     * textures where they are sampled at the same uv with the same size and
+     * wraps (setup_tri_sampling: DamagedHelmet's three 2048^2 images) */
+    texel_foot fc, fo;
     if (w->j->color) {
         float col[4];
         for (int k = 0; k < 4; k++)
             col[k] = w->base[k] * (float)(b0 * w->col[k] + b1 * w->col[4 + k] + b2 * w->col[8 + k]);
         if (w->img) {
             float t[4];
-            sample_texture(w->img, w->ws, w->wt, b0 * w->uv[0] + b1 * w->uv[2] + b2 * w->uv[4],
-                           b0 * w->uv[1] + b1 * w->uv[3] + b2 * w->uv[5], true, t);
+            texel_footprint(w->img->width, w->img->height, w->ws, w->wt, b0 * w->uv[0] + b1 * w->uv[2] + b2 * w->uv[4],
+                            b0 * w->uv[1] + b1 * w->uv[3] + b2 * w->uv[5], &fc);
+            texel_fetch(w->img, &fc, true, t);
             for (int k = 0; k < 4; k++) col[k] *= t[k];
         }
         for (int k = 0; k < 4; k++) a->c[k] += wgt * col[k];
@@ -532,14 +569,26 @@ static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     if (w->j->sampling) { /* metallic, roughness and emission at the same point, weighted the same */
         float pm = w->metal, pr = w->rough, pe[3] = {w->emit[0], w->emit[1], w->emit[2]}, t[4];
         if (w->mr_img) {
-            sample_texture(w->mr_img, w->mr_ws, w->mr_wt, b0 * w->uv_mr[0] + b1 * w->uv_mr[2] + b2 * w->uv_mr[4],
-                           b0 * w->uv_mr[1] + b1 * w->uv_mr[3] + b2 * w->uv_mr[5], false, t);
+            const texel_foot* f = &fc;
+            if (!w->mr_shares) {
+                texel_footprint(w->mr_img->width, w->mr_img->height, w->mr_ws, w->mr_wt,
+                                b0 * w->uv_mr[0] + b1 * w->uv_mr[2] + b2 * w->uv_mr[4],
+                                b0 * w->uv_mr[1] + b1 * w->uv_mr[3] + b2 * w->uv_mr[5], &fo);
+                f = &fo;
+            }
+            texel_fetch(w->mr_img, f, false, t);
             if (w->samp & VX__MESH_SAMPLE_METAL) pm *= t[2]; /* glTF: metalness in B, roughness in G */
             if (w->samp & VX__MESH_SAMPLE_ROUGH) pr *= t[1];
         }
         if (w->em_img) {
-            sample_texture(w->em_img, w->em_ws, w->em_wt, b0 * w->uv_em[0] + b1 * w->uv_em[2] + b2 * w->uv_em[4],
-                           b0 * w->uv_em[1] + b1 * w->uv_em[3] + b2 * w->uv_em[5], true, t);
+            const texel_foot* f = &fc;
+            if (!w->em_shares) {
+                texel_footprint(w->em_img->width, w->em_img->height, w->em_ws, w->em_wt,
+                                b0 * w->uv_em[0] + b1 * w->uv_em[2] + b2 * w->uv_em[4],
+                                b0 * w->uv_em[1] + b1 * w->uv_em[3] + b2 * w->uv_em[5], &fo);
+                f = &fo;
+            }
+            texel_fetch(w->em_img, f, true, t);
             for (int k = 0; k < 3; k++) pe[k] *= t[k];
         }
         a->pm += wgt * pm;
@@ -552,11 +601,19 @@ static void hit_attr(void* user, const int c[3], const double (*p)[3], int n) {
     if (wgt > a->mw) a->mw = wgt, a->mat = w->mat, a->mi = w->mi;
 }
 
+/* Whether texture b is sampled over texture a's footprints: the same size,
+ * wraps and corner uvs (bit for bit, so the same (s, t) everywhere). */
+static bool same_footprint(const vx_gltf_image* a, int aws, int awt, const float auv[6], const vx_gltf_image* b, int bws,
+                           int bwt, const float buv[6]) {
+    return a->width == b->width && a->height == b->height && aws == bws && awt == bwt && memcmp(auv, buv, 6 * sizeof *auv) == 0;
+}
+
 /* The triangle's metallic, roughness and emission factors and the
  * textures that vary them (vx__mesh_mats decides which do). */
 static void setup_tri_sampling(worker* w, uint32_t mi, size_t t) {
     const vx_gltf_mesh* mesh = w->j->mesh;
     w->mr_img = w->em_img = NULL;
+    w->mr_shares = w->em_shares = false;
     w->samp = 0;
     w->metal = 0, w->rough = 1;
     w->emit[0] = w->emit[1] = w->emit[2] = 0;
@@ -613,6 +670,10 @@ static void setup_tri_attrs(worker* w, size_t t) {
     if (w->img) memcpy(w->uv, mesh->uv + 6 * t, sizeof w->uv);
     if (mesh->color) memcpy(w->col, mesh->color + 12 * t, sizeof w->col);
     else for (int k = 0; k < 12; k++) w->col[k] = 1.f;
+    if (w->j->sampling && w->img) {
+        w->mr_shares = w->mr_img && same_footprint(w->img, w->ws, w->wt, w->uv, w->mr_img, w->mr_ws, w->mr_wt, w->uv_mr);
+        w->em_shares = w->em_img && same_footprint(w->img, w->ws, w->wt, w->uv, w->em_img, w->em_ws, w->em_wt, w->uv_em);
+    }
 }
 
 static bool majority(uint64_t* const vote[3], const uint32_t n[3], uint32_t x, uint32_t y, uint32_t z) {
@@ -704,6 +765,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
     brick_extent(j->pairs[first] >> 32, j->grid->size, org, cmax, last);
     bool attrs = j->attrs != 0;
     memset(w->bits, 0, BRICK_CELLS / 8);
+    w->acc_count = 0;
     for (size_t p = first; p < end; p++) {
         size_t t = (size_t)(j->pairs[p] & 0xFFFFFFFFu);
         if (t == 0xFFFFFFFFu) continue; /* solid filler: a brick with no triangle */
@@ -735,7 +797,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
         for (size_t i = 0; i < BRICK_CELLS / 64; i++)
             for (uint64_t word = w->bits[i]; word; word &= word - 1) {
                 uint32_t m = (uint32_t)(i * 64 + (size_t)__builtin_ctzll(word));
-                const acc* a = &w->acc[m];
+                const acc* a = &w->acc[w->slot[m]];
                 w->fin_rgba[m] = finish_rgba(a);
                 w->fin_nrm[m] = oct_encode(a->n[0], a->n[1], a->n[2]);
                 w->fin_mat[m] = cell_material(j, a);
@@ -753,7 +815,7 @@ static vx_result do_brick(worker* w, size_t first, size_t end, brick_out* o) {
                 if (o->normal) o->normal[k] = w->fin_nrm[m];
                 if (o->material) o->material[k] = w->fin_mat[m];
             } else if (attrs) {
-                const acc* a = &w->acc[m];
+                const acc* a = &w->acc[w->slot[m]];
                 if (o->rgba) o->rgba[k] = finish_rgba(a);
                 if (o->normal) o->normal[k] = oct_encode(a->n[0], a->n[1], a->n[2]);
                 if (o->material) o->material[k] = cell_material(j, a);
@@ -771,6 +833,7 @@ static void worker_free(worker* w, const vx_allocator* a) {
     vx_free(a, w->buf.mat);
     vx_free(a, w->bits);
     vx_free(a, w->acc);
+    vx_free(a, w->slot);
     vx_free(a, w->fin_rgba);
     vx_free(a, w->fin_nrm);
     vx_free(a, w->fin_mat);
@@ -783,7 +846,8 @@ static bool worker_init(worker* w, job* j) {
     if (!w->bits) return false;
     if (j->attrs) {
         w->acc = (acc*)vx_alloc(j->alloc, sizeof(acc) * BRICK_CELLS);
-        if (!w->acc) return false;
+        w->slot = (uint32_t*)vx_alloc(j->alloc, sizeof(uint32_t) * BRICK_CELLS);
+        if (!w->acc || !w->slot) return false;
         if (j->vote[0]) {
             w->fin_rgba = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);
             w->fin_nrm = (uint32_t*)vx_alloc(j->alloc, 4 * BRICK_CELLS);

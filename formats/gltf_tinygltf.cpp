@@ -6,6 +6,9 @@
 
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
+#ifdef VX_GLTF_STB
+#include <stb/stb_image.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -623,6 +626,32 @@ vx_result decode_image(Ctx& c, int img_idx, vx_gltf_image* out) {
     if ((uint64_t)w * h > maxpix)
         return fail(c, VX_ERR_LIMIT, "image %d: %ux%u pixels exceeds the limit of %llu", img_idx, w, h,
                     (unsigned long long)maxpix);
+#ifdef VX_GLTF_STB
+    // stb_image straight into our block: tinygltf's LoadImageData makes the
+    // same calls (16 bits per channel when the file has them, else 8; four
+    // channels) and then zero-fills and copies the pixels into a vector of
+    // its own, 16 MiB of fresh pages per 2048^2 image (docs/PERFORMANCE.md
+    // section 3, per-cell materials)
+    int iw = 0, ih = 0, comp = 0;
+    bool b16 = stbi_is_16_bit_from_memory(bytes, (int)n) != 0;
+    void* dec = b16 ? (void*)stbi_load_16_from_memory(bytes, (int)n, &iw, &ih, &comp, 4) : nullptr;
+    if (!dec) b16 = false, dec = stbi_load_from_memory(bytes, (int)n, &iw, &ih, &comp, 4);
+    if (!dec || iw <= 0 || ih <= 0 || (uint32_t)iw != w || (uint32_t)ih != h) {
+        stbi_image_free(dec);
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.image_undecodable", "image %d: cannot decode, texture ignored",
+               img_idx);
+        return VX_OK;
+    }
+    size_t px = (size_t)w * h;
+    uint8_t* rgba = (uint8_t*)vx_alloc(c.desc->alloc, px * 4);
+    if (!rgba) {
+        stbi_image_free(dec);
+        return fail(c, VX_ERR_NOMEM, "image %d: %zu bytes", img_idx, px * 4);
+    }
+    if (!b16) memcpy(rgba, dec, px * 4);
+    else for (size_t i = 0; i < px * 4; i++) rgba[i] = (uint8_t)(((const uint16_t*)dec)[i] >> 8); // the high byte
+    stbi_image_free(dec);
+#else // without stb's header (libstb-dev): through tinygltf, one copy more
     tinygltf::Image dec;
     std::string e, wn;
     if (!tinygltf::LoadImageData(&dec, img_idx, &e, &wn, 0, 0, bytes, (int)n, nullptr) || dec.width <= 0 ||
@@ -637,6 +666,7 @@ vx_result decode_image(Ctx& c, int img_idx, vx_gltf_image* out) {
     if (!rgba) return fail(c, VX_ERR_NOMEM, "image %d: %zu bytes", img_idx, px * 4);
     if (bpc == 1) memcpy(rgba, dec.image.data(), px * 4);
     else for (size_t i = 0; i < px * 4; i++) rgba[i] = dec.image[2 * i + 1]; // little-endian 16-bit: high byte
+#endif
     out->width = w;
     out->height = h;
     out->rgba = rgba;

@@ -11,7 +11,7 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools \
     libglfw3-dev xvfb xauth \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \
-    libtinygltf-dev nlohmann-json3-dev \
+    libtinygltf-dev libstb-dev nlohmann-json3-dev \
     libopenimageio-dev \
     libopenmpi-dev openmpi-bin \
     python3-matplotlib \

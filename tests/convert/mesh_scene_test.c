@@ -341,12 +341,12 @@ static bool ids_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t a
  * against a brute-force expectation: the texels sampled bilinearly at the
  * centroids of the cell's pieces (the whole cell off the diagonal, its two
  * halves on it), averaged by area, quantized to 6 levels of the factor. */
-static void test_textured_materials(void) {
+static void textured_materials(const char* mat, const char* label) {
     uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
     texg_split(mr, em);
     vx_gltf_mesh m;
     vx_error err = {0};
-    vx_result r = texg_read(kTexgSplitMat, mr, em, &m, &err);
+    vx_result r = texg_read(mat, mr, em, &m, &err);
     CHECKF(r == VX_OK, "%s", err.msg);
     if (r) return;
     vx_svo_scene s;
@@ -401,13 +401,28 @@ static void test_textured_materials(void) {
                 wrong++;
             }
         }
-    fprintf(stderr, "  %zu metal, %zu emissive, %zu diffuse cells, %zu combinations, %zu records, %zu ties skipped\n", metal,
-            lit, diffuse, levels_seen, (size_t)s.material_count, ties);
+    fprintf(stderr, "  %s: %zu metal, %zu emissive, %zu diffuse cells, %zu combinations, %zu records, %zu ties skipped\n",
+            label, metal, lit, diffuse, levels_seen, (size_t)s.material_count, ties);
     CHECK(wrong == 0);
     CHECK(metal >= 64 && lit >= 32 && diffuse >= 32 && levels_seen >= 4 && ties < 16);
     CHECK(s.material_count == levels_seen); /* one record per combination the cells name */
     vx_svo_scene_free(&s);
     vx_gltf_mesh_free(&m);
+}
+
+/* Once as generated, once with the metallic-roughness image as the base
+ * colour texture too (the same image, sampler and TEXCOORD_0): the
+ * voxelizer then samples metallic-roughness over the colour's bilinear
+ * footprint (hit_attr's shared texel_foot) while the emission (TEXCOORD_1)
+ * takes its own; the records must be the brute force's either way. */
+static void test_textured_materials(void) {
+    textured_materials(kTexgSplitMat, "split textures");
+    static const char* with_color =
+        "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0},\"metallicFactor\":0.8,\"roughnessFactor\":0.5,"
+        "\"metallicRoughnessTexture\":{\"index\":0}},\"emissiveFactor\":[1,1,1],"
+        "\"emissiveTexture\":{\"index\":1,\"texCoord\":1},"
+        "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":2}}}";
+    textured_materials(with_color, "split textures, metallic-roughness also the base colour");
 }
 
 /* Uniform textures (every texel the same) give the file of the factors they
