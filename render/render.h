@@ -468,6 +468,11 @@ typedef struct vx_render_layout_info {
      * one; vx_render_frame traces it); 0 for the plain or paged layout */
     uint32_t attr_parts;
     uint64_t geom_bytes;     /* of compact_bytes, the geometry (the rest: attributes) */
+    /* of bytes, the compact layout's material ids: built only where a model
+     * names its materials through a material channel and some material of
+     * the scene is not plain diffuse (the passes' lit frames need each
+     * record's material id then); 0 otherwise and for the plain layout */
+    uint64_t material_bytes;
     double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
     double attr_seconds;     /* of which its attributes (on one thread per CPU) */
     double geom_seconds;     /* of which its geometry DAG, on geom_threads threads */
