@@ -426,8 +426,15 @@ vx_result vx_compact_render_cpu(const vx_compact_scene* c, const vx_svo_scene* s
  * included), the colour decoded at the hit; lod and beam are ignored. A
  * coloured model gets a start table (compact_gpu.c: its level-K cubes'
  * nodes and cells before, so that the colour's descent starts at level K),
- * at most an eighth of the layout's bytes beyond 32 KB. rs and c are borrowed for the object's
- * lifetime (c only during create). */
+ * at most an eighth of the layout's bytes beyond 32 KB. Where a model of s
+ * names its materials through a material channel and some material of s is
+ * not plain diffuse (what the passes' lit frames read per record), each such
+ * model's material ids are coded as its colours are (one per cell in the
+ * same Morton order, so the attribute index the walk sums finds both; RGBA
+ * width, the model's block) after the start tables, and the passes' hits
+ * give the material id (render/compact_gpu.c; none without such a channel,
+ * and none where s's models have no arrays, a reader's graph). rs and c are
+ * borrowed for the object's lifetime (c only during create). */
 typedef struct vx_compact_gpu vx_compact_gpu;
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
                                 vx_compact_gpu** out, vx_error* err);
@@ -437,7 +444,7 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
 /* Benchmarks: repeat timed dispatches in one submission, *seconds the median. */
 vx_result vx_compact_gpu_time(vx_compact_gpu* cg, const vx_render_desc* desc, uint32_t repeat, double* seconds,
                               vx_error* err);
-/* Bytes of the GPU buffers of the layout (geometry, attributes and start tables, models, palette). */
+/* Bytes of the GPU buffers of the layout (geometry, attributes and start tables, material ids, models, palette). */
 uint64_t vx_compact_gpu_bytes(const vx_compact_gpu* cg);
 /* Internal (benchmarks): the bytes of those that are start tables (render/compact_gpu.c). */
 uint64_t vx__compact_gpu_table_bytes(const vx_compact_gpu* cg);

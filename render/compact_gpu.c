@@ -76,6 +76,13 @@ struct vx_compact_gpu {
     uint32_t start_min; /* the fewest pushes a start skips (vx__compact_gpu_start_min; 0: START_MIN) */
     /* the whole layout's geometry words (the first of geom's) and slots, for a read-back (vx__compact_gpu_geometry) */
     uint32_t geom_words, slot_count, brick_count;
+    /* the models' material ids (material_regions below): mat_used a bit per
+     * id some record of the scene has (NULL: none built), mat_max the
+     * largest; mat_missing: they were needed and could not be read */
+    uint32_t* mat_used;
+    uint32_t mat_max;
+    bool mat_missing;
+    uint64_t mat_bytes;
 };
 
 /* A start below the root skips at least this many pushes: on the H200 one
@@ -123,6 +130,7 @@ void vx_compact_gpu_destroy(vx_compact_gpu* cg) {
     for (int i = 0; i < VX_COMPACT_ATTR_PARTS - 1; i++) vx__buffer_destroy(cg->gpu, &cg->attr_hi[i]);
     paging_free(cg->gpu, cg->pg);
     vx_free(&cg->gpu->alloc, cg->cm);
+    vx_free(&cg->gpu->alloc, cg->mat_used);
     for (uint32_t i = 0; cg->paths && i < cg->path_count; i++) vx_free(&cg->gpu->alloc, (void*)cg->paths[i].top);
     vx_free(&cg->gpu->alloc, cg->paths);
     vx_free(&cg->gpu->alloc, cg);
@@ -367,6 +375,132 @@ static bool records_on(uint32_t deep) { return deep == 1; }
  * else 4096 (docs/PERFORMANCE.md issue 18, branch ck11) */
 #define TAB_FLOOR(records) ((records) ? (1u << 18) : 4096u)
 
+/* ---- material ids -------------------------------------------------------------------
+ * The compact records hold a palette index or a colour; a model that names its
+ * materials through a material channel (VX_ATTR_MATERIAL) needs its records'
+ * ids beside them where they matter (vx__scene_material_ids_matter): each
+ * such model's ids, one per cell in the same Morton order (so the attribute
+ * index the walk sums finds both), coded as its colours are
+ * (vx__compact_encode, RGBA width, the model's block: a region of one
+ * material costs a header word per VX_COMPACT_GROUP blocks), placed after the
+ * start tables in the attribute words; the passes' CModel of such a model
+ * gets flag 8 and the region's word in pool_base (the whole layout has no
+ * pool: compact_attr.glsl ca_table_index). The passes' Hit.attr is then the
+ * material id of every record (a palette model's palette index, else 0,
+ * where a model has no channel: vx_svo_attr_material's rule), and their
+ * tables are per material id (vx__compact_gpu_materials). */
+#define CM_MATERIAL 8u /* CModel flag: material ids at pool_base (the passes' records) */
+
+typedef struct mat_cells {
+    const vx_svo_model* m;
+    uint32_t* vals;
+    uint32_t n, cap;
+} mat_cells;
+
+static bool mat_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    (void)x, (void)y, (void)z;
+    mat_cells* q = user;
+    if (q->n >= q->cap || attr >= q->m->attr_count) return false;
+    q->vals[q->n++] = vx_svo_attr_material(q->m, attr);
+    return true;
+}
+
+/* Whether model sm's arrays are at hand (a scene from a model reader is its graph without them). */
+static bool model_arrays(const vx_svo_model* sm) {
+    return sm->root == VX_SVO_ROOT_EMPTY || (sm->attr_count && (sm->root == VX_SVO_ROOT_LEAF || sm->nodes));
+}
+
+/* Which models get material ids (want[i]) and the ids in use (cg->mat_used,
+ * mat_max), or cg->mat_missing where some model with the channel has no
+ * arrays (then none). */
+static vx_result material_plan(vx_compact_gpu* cg, const vx_svo_scene* s, const vx_compact_scene* c,
+                               const cmodel_gpu* cm, bool* want, vx_error* err) {
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* sm = &s->models[i];
+        want[i] = (sm->attrs & VX_ATTR_MATERIAL) && (cm[i].flags & 1u) && c->models[i].voxels;
+        if (want[i] && (!model_arrays(sm) || !sm->material)) cg->mat_missing = true;
+    }
+    if (cg->mat_missing) {
+        memset(want, 0, s->model_count * sizeof *want);
+        return VX_OK;
+    }
+    if (!(cg->mat_used = vx_calloc(&cg->gpu->alloc, 65536 / 32, sizeof *cg->mat_used)))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    /* every record's id, as vx__scene_attr_material lists them for the plain layout */
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* sm = &s->models[i];
+        if (!model_arrays(sm)) { /* no channel: its palette indices as the layout's build found them */
+            for (uint32_t k = 0; k < 8; k++) cg->mat_used[k] |= c->palette_used[k];
+            continue;
+        }
+        for (uint32_t a = 0; a < sm->attr_count; a++) {
+            uint32_t id = vx_svo_attr_material(sm, a) & 0xFFFFu;
+            cg->mat_used[id >> 5] |= 1u << (id & 31);
+        }
+    }
+    cg->mat_used[0] |= 1u; /* id 0: what a record without a palette index or channel has */
+    for (uint32_t id = 0; id < 65536; id++)
+        if (cg->mat_used[id >> 5] & (1u << (id & 31))) cg->mat_max = id;
+    return VX_OK;
+}
+
+/* The material id regions of the models want[] names, concatenated into
+ * *words (*nwords of them) from attribute word `first`; base[i] each one's
+ * first word. */
+static vx_result material_regions(const vx_svo_scene* s, const vx_compact_scene* c, const bool* want, uint64_t first,
+                                  const vx_allocator* a, uint32_t* base, uint32_t** words, uint64_t* nwords,
+                                  vx_error* err) {
+    *words = NULL, *nwords = 0;
+    size_t cap = 0;
+    vx_result r = VX_OK;
+    for (uint32_t i = 0; i < s->model_count && !r; i++) {
+        if (!want[i]) continue;
+        const vx_compact_model* m = &c->models[i];
+        mat_cells q = {.m = &s->models[i], .cap = m->voxels};
+        uint32_t* w = NULL, nw = 0;
+        if (!(q.vals = vx_alloc(a, (size_t)m->voxels * 4))) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u material ids", m->voxels);
+            break;
+        }
+        r = vx_svo_decode_model(q.m, mat_cell, &q, err);
+        if (!r && q.n != m->voxels)
+            r = vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "model %u: %u material ids for %u cells", i, q.n,
+                        m->voxels);
+        if (!r) r = vx__compact_encode(a, m->block, VX_COMPACT_ATTR_RGBA, q.vals, q.n, NULL, &w, &nw, err);
+        vx_free(a, q.vals);
+        if (!r && first + *nwords + nw > 0xFFFFFFFFull)
+            r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "compact layout: more than 2^32 attribute words with the material ids");
+        if (!r && !vx_grow(a, (void**)words, &cap, (size_t)(*nwords + nw), 4))
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u material id words", nw);
+        if (!r) {
+            base[i] = (uint32_t)(first + *nwords);
+            memcpy(*words + *nwords, w, (size_t)nw * 4);
+            *nwords += nw;
+        }
+        vx_free(a, w);
+    }
+    if (r) {
+        vx_free(a, *words);
+        *words = NULL, *nwords = 0;
+    }
+    return r;
+}
+
+vx_result vx__compact_gpu_materials(const vx_compact_gpu* cg, const vx_allocator* alloc, uint16_t** out, size_t* n,
+                                    bool* missing, vx_error* err) {
+    *out = NULL, *n = 0;
+    if (missing) *missing = cg && cg->mat_missing;
+    if (!cg || !cg->mat_used) return VX_OK;
+    size_t k = cg->mat_max < 256 ? 256 : (size_t)cg->mat_max + 1;
+    uint16_t* p = vx_calloc(alloc, k, sizeof *p);
+    if (!p) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    for (size_t i = 0; i < k; i++) p[i] = cg->mat_used[i >> 5] & (1u << (i & 31)) ? (uint16_t)i : 0;
+    *out = p, *n = k;
+    return VX_OK;
+}
+
+uint64_t vx__compact_gpu_material_bytes(const vx_compact_gpu* cg) { return cg ? cg->mat_bytes : 0; }
+
 vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, const vx_compact_scene* c,
                                 vx_compact_gpu** out, vx_error* err) {
     if (!rs || !s || !c || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -397,6 +531,11 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
                              .kind = m->attr_kind, .rank_base = 2 * c->slot_count - c->brick_count,
                              .rebase = rebase};
     }
+    /* the models' material ids where the scene needs them (above) */
+    bool* want = vx_calloc(&g->alloc, mcount, sizeof *want);
+    uint32_t* mbase = vx_calloc(&g->alloc, mcount, sizeof *mbase);
+    vx_result r = want && mbase ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r && vx__scene_material_ids_matter(s)) r = material_plan(cg, s, c, cm, want, err);
     /* the start tables after the attribute words: a scene budget of one
      * entry (2 words) per 16 words of the layout, at least TAB_FLOOR (32 KB,
      * 2 MB with the records), shared by the coloured models (the table of
@@ -416,8 +555,8 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     }
     /* the tables after the attribute words in one buffer (the passes' binding 2),
      * uploaded apart so that the host holds no second copy of the words */
-    uint32_t* tw = tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
-    vx_result r = tw || !tab_words ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    uint32_t* tw = !r && tab_words ? vx_alloc(&g->alloc, (size_t)tab_words * 4) : NULL;
+    if (!r && !tw && tab_words) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
     if (!r && tw) {
         for (size_t w = 0; w < tab_words; w++) tw[w] = w % 2 ? 0u : TAB_EMPTY;
         for (uint32_t i = 0; i < s->model_count; i++)
@@ -432,14 +571,16 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
          * H200's albedo rays/s on the helmet and the terrain (2-8% of their
          * entries uniform), and gave 7-13% on eph_menger (all of them;
          * docs/PERFORMANCE.md issue 18, twelfth step) */
+        /* (not in a model with material ids: a uniform entry gives the colour
+         * instead of the cell's attribute index, which its id needs) */
         uint64_t filled = 0, marked = 0;
         for (uint32_t i = 0; i < s->model_count; i++)
-            if (cm[i].tab_k)
+            if (cm[i].tab_k && !want[i])
                 marked += tab_uniform(c, i, tw + (cm[i].tab_word - c->attr_words), cm[i].tab_k,
                                       c->models[i].depth - cm[i].tab_k, false, &filled);
         bool mark = marked > 0 && 4 * marked >= filled;
         for (uint32_t i = 0; i < s->model_count && mark; i++)
-            if (cm[i].tab_k)
+            if (cm[i].tab_k && !want[i])
                 cg->uniform_entries += tab_uniform(c, i, tw + (cm[i].tab_word - c->attr_words), cm[i].tab_k,
                                                    c->models[i].depth - cm[i].tab_k, true, &filled);
         for (size_t w = 0; w < tab_words; w += 2)
@@ -459,7 +600,11 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         cm[i].value = c->models[i].attr_kind == VX_COMPACT_ATTR_PALETTE ? c->palette[v] : v;
         cg->uniform_models++;
     }
-    uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words;
+    uint32_t* mw = NULL;
+    uint64_t mat_words = 0;
+    if (!r && cg->mat_used)
+        r = material_regions(s, c, want, (uint64_t)c->attr_words + tab_words, &g->alloc, mbase, &mw, &mat_words, err);
+    uint64_t range = vx__render_scene_buffer_range(rs), aw = (uint64_t)c->attr_words + tab_words + mat_words;
     if (!r && (uint64_t)c->geom_words * 4 > range)
         r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
                     "compact layout: %llu geometry bytes exceed the device's storage buffer range (%llu bytes)",
@@ -503,7 +648,9 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (!r && c->attr) r = upload_attr(cg, 0, c->attr, c->attr_words, err);
     if (!r && c->attr_region) r = upload_regions(cg, c, &g->alloc, err);
     if (!r) r = upload_attr(cg, c->attr_words, tw, tab_words, err);
+    if (!r && mat_words) r = upload_attr(cg, (uint64_t)c->attr_words + tab_words, mw, mat_words, err);
     vx_free(&g->alloc, tw);
+    vx_free(&g->alloc, mw);
     if (!r) r = upload(g, &cg->models, cm, mcount * sizeof *cm, "compact models", err);
     if (!r) r = upload(g, &cg->palette, c->palette, sizeof c->palette, "compact palette", err);
     /* the passes' binding 3 (trace_common.glsl CModels): the palette first, so that
@@ -513,9 +660,16 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
     if (!r) {
         memcpy(pm, c->palette, sizeof c->palette);
         memcpy(pm + sizeof c->palette, cm, mcount * sizeof *cm);
+        for (uint32_t i = 0; i < s->model_count; i++)
+            if (want[i]) { /* (trace_compact.comp's records keep pool_base 0: it reads no material) */
+                cmodel_gpu* p = (cmodel_gpu*)(pm + sizeof c->palette) + i;
+                p->flags |= CM_MATERIAL, p->pool_base = mbase[i];
+            }
         r = upload(g, &cg->pass_models, pm, sizeof c->palette + mcount * sizeof *cm, "compact pass models", err);
     }
     vx_free(&g->alloc, pm);
+    vx_free(&g->alloc, want);
+    vx_free(&g->alloc, mbase);
     cg->cm = cm, cg->cm_count = (uint32_t)mcount;
     cg->geom_words = c->geom_words, cg->slot_count = c->slot_count, cg->brick_count = c->brick_count;
     if (!r) path_lists(cg, cm, c->models, s->model_count, c->geom, c->slot_count);
@@ -524,8 +678,9 @@ vx_result vx_compact_gpu_create(vx_render_scene* rs, const vx_svo_scene* s, cons
         return r;
     }
     cg->table_bytes = tab_words * 4;
+    cg->mat_bytes = mat_words * 4;
     cg->bytes = (uint64_t)c->geom_words * 4 + cg->record_bytes + ((uint64_t)c->attr_words + tab_words) * 4 + mcount * sizeof(cmodel_gpu) +
-                2 * sizeof c->palette + mcount * sizeof(cmodel_gpu);
+                2 * sizeof c->palette + mcount * sizeof(cmodel_gpu) + cg->mat_bytes;
     *out = cg;
     return VX_OK;
 }

@@ -378,19 +378,25 @@ vx_result vx__render_scene_bind_cmd(vx_render_scene* rs, const vx__frame* f, voi
  * with vx_free(alloc, ...). */
 vx_result vx__scene_attr_material(const vx_svo_scene* s, const vx_allocator* alloc, uint16_t** out, size_t* n,
                                   vx_error* err);
-/* The same for the tables a pass indexes by the hit's Hit.attr: a compact
- * scene's kernels give the palette index there (0 for RGBA records, as
- * vx__scene_attr_material's entries of them without a material channel), so
- * its tables are per palette index: *out 256 entries, entry i = i where some
- * record has palette index i, else 0; *n 256 (the indices from the layout's
- * build, vx_compact_scene.palette_used: s may be a reader's graph without
- * the models' arrays). The compact layout does not carry the material
- * channel: where a model has one (VX_ATTR_MATERIAL) and some material of the
- * scene is not plain diffuse (emission, metal, glass), the compact tables
- * could not give the plain layout's image, so this is VX_ERR_UNSUPPORTED
- * (the plain layout renders it; the frame renderer keeps rendering the
- * colour model, which reads no material, and refuses radiometric frames,
- * render/pipeline.c mat_unkeyed). Else vx__scene_attr_material(s). */
+/* The same for the tables a pass indexes by the hit's Hit.attr. A compact
+ * scene's kernels give there (compact_attr.glsl ca_table_index):
+ * - where the layout was built with the models' material ids (a model has
+ *   a material channel and some material of the scene is not plain
+ *   diffuse: render_internal.h vx__compact_gpu_materials), the record's
+ *   material id, so the tables are per id: entry i = i where some record of
+ *   the scene has id i, else 0; *n the largest id + 1, at least 256;
+ * - else the palette index (0 for RGBA records, as vx__scene_attr_material's
+ *   entries of them without a material channel), so the tables are per
+ *   palette index: *out 256 entries, entry i = i where some record has
+ *   palette index i, else 0; *n 256 (the indices from the layout's build,
+ *   vx_compact_scene.palette_used: s may be a reader's graph without the
+ *   models' arrays). Where such a layout has no ids and s needs them (built
+ *   from a model reader, or s's materials made non-diffuse after the
+ *   layout was built) the tables could not give the plain layout's image:
+ *   VX_ERR_UNSUPPORTED (the frame renderer keeps rendering the colour
+ *   model, which reads no material, and refuses radiometric frames,
+ *   render/pipeline.c mat_unkeyed).
+ * The plain layout: vx__scene_attr_material(s). */
 vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
                                          uint16_t** out, size_t* n, vx_error* err);
 /* pipeline.c: the buffer holding the last frame's image (RGBA32F,

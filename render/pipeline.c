@@ -346,8 +346,9 @@ struct vx_frame_renderer {
     size_t cap_px;         /* pixels the image buffers hold */
     float* scene_emit;     /* emission per attribute record from the scene's materials (lights without gi) */
     /* the compact layout cannot key this scene's records by material id
-     * (vx__render_scene_attr_material refused): the colour model needs no
-     * materials and renders; a radiometric frame refuses (mat_error) */
+     * (vx__render_scene_attr_material refused: a layout built from a model
+     * reader has no material ids): the colour model needs no materials and
+     * renders; a radiometric frame refuses (mat_error) */
     bool mat_unkeyed;
     vx_error mat_error;
     size_t scene_emit_count;

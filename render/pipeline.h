@@ -131,7 +131,8 @@ typedef enum vx_show {
     VX_SHOW_GI,       /* the gi pass's radiance */
     VX_SHOW_AO,       /* unoccluded share, 1 where ao is absent */
     VX_SHOW_INSTANCE, /* a colour per instance id */
-    VX_SHOW_MATERIAL, /* attribute record index (float), -1 on a miss */
+    VX_SHOW_MATERIAL, /* attribute record index (float), -1 on a miss; the compact layout: the record's
+                         material id where it carries them (layout_info.material_bytes), else its palette index */
     VX_SHOW_COUNT
 } vx_show;
 const char* vx_show_name(vx_show s);

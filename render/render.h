@@ -384,10 +384,14 @@ enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves
  * (vx_render_scene_update_model, LOD, models past VX_RENDER_PRECISE_DEPTH;
- * a paged one also the passes that bind the scene; the passes and GI
- * methods of a scene whose models carry a material channel naming
- * materials other than plain diffuse: the compact records keep no material
- * id, docs/FORMAT.md 4.1) with VX_ERR_UNSUPPORTED;
+ * a paged one also the passes that bind the scene) with
+ * VX_ERR_UNSUPPORTED. Where the models carry a material channel naming
+ * materials other than plain diffuse, the compact layout keeps each
+ * record's material id beside its colour (layout_info.material_bytes), so
+ * the passes and GI methods render as the plain layout does; a compact
+ * layout built from a model reader (vx_render_scene_create_compact, the
+ * models' arrays not in hand) has none and refuses those passes and GI
+ * methods of such a scene (docs/FORMAT.md 4.1);
  * AUTO falls back to the plain layout where the compact one cannot render
  * the scene. */
 vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* scene, const vx_render_scene_desc* desc,
@@ -468,6 +472,11 @@ typedef struct vx_render_layout_info {
      * one; vx_render_frame traces it); 0 for the plain or paged layout */
     uint32_t attr_parts;
     uint64_t geom_bytes;     /* of compact_bytes, the geometry (the rest: attributes) */
+    /* of bytes, the compact layout's material ids: built only where a model
+     * names its materials through a material channel and some material of
+     * the scene is not plain diffuse (the passes' lit frames need each
+     * record's material id then); 0 otherwise and for the plain layout */
+    uint64_t material_bytes;
     double build_seconds;    /* the compact layout's build on the host (vx_compact_build) */
     double attr_seconds;     /* of which its attributes (on one thread per CPU) */
     double geom_seconds;     /* of which its geometry DAG, on geom_threads threads */

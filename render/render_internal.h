@@ -255,6 +255,26 @@ bool vx__render_scene_path_on(const vx_render_scene* rs);
  * follows its pages and parts). */
 struct vx_compact_gpu;
 bool vx__compact_gpu_bind(struct vx_compact_gpu* cg, vx__buffer* bufs[7]);
+/* Whether scene s needs each record's material id on the GPU to render as the
+ * plain layout does: some model names its materials through a material
+ * channel (VX_ATTR_MATERIAL) and some material of the scene is not plain
+ * diffuse (emission, metal, glass). Else the palette index (or 0) keys the
+ * same materials (render_scene.c). */
+bool vx__scene_material_ids_matter(const vx_svo_scene* s);
+/* compact_gpu.c: where the whole layout was built with the models' material
+ * ids (vx__scene_material_ids_matter at vx_compact_gpu_create: each model with
+ * a material channel has its ids encoded beside its colours, CModel flag 8 in
+ * the passes' records, and the passes' Hit.attr is the material id), *out
+ * the per-"record" table of vx__render_scene_attr_material indexed by that
+ * Hit.attr: entry i = i where some record of the scene has material id i,
+ * else 0, *n the largest such id + 1 (at least 256). Else *out NULL, *n 0
+ * (the layout keys records by palette index). *missing: the ids were needed
+ * but some model with the channel had no arrays to read them from (a scene
+ * from a model reader, svo_bake --load models), so none were built. */
+vx_result vx__compact_gpu_materials(const struct vx_compact_gpu* cg, const vx_allocator* alloc, uint16_t** out,
+                                    size_t* n, bool* missing, vx_error* err);
+/* Bytes of the material ids on the GPU (0: none built). */
+uint64_t vx__compact_gpu_material_bytes(const struct vx_compact_gpu* cg);
 /* The bytes one storage buffer binding may hold for rs: its desc's
  * max_buffer_range where set below the device's maxStorageBufferRange. */
 uint64_t vx__render_scene_buffer_range(const vx_render_scene* rs);

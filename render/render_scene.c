@@ -981,6 +981,7 @@ static vx_result upload_compact(vx_render_scene* rs, const vx_svo_scene* s, vx_c
     if (rs->layout.compact_bytes > budget && lp < max_depth && !(r = vx_compact_join_attrs(c, err)))
         r = create_paged(rs, s, c, lp, budget, &whole, err);
     if (!r && whole) r = vx_compact_gpu_create(rs, s, c, &rs->compact, err);
+    if (!r && whole) rs->layout.material_bytes = vx__compact_gpu_material_bytes(rs->compact);
     rs->layout.upload_seconds = vx_time_now() - t1;
     if (!whole) rs->layout.brick_dict = false; /* pages keep the bricks in their blocks */
     vx_compact_free(c);
@@ -2254,21 +2255,32 @@ uint32_t vx__render_scene_compact_form(const vx_render_scene* rs) {
     return !vx__render_scene_compact(rs) ? 0u : rs->layout.brick_dict ? 2u : 1u;
 }
 
-vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
-                                         uint16_t** out, size_t* n, vx_error* err) {
-    if (!vx__render_scene_compact(rs)) return vx__scene_attr_material(s, alloc, out, n, err);
-    /* the compact records hold a palette index or a colour, never the material channel: refuse where that
-     * channel would name a material other than plain diffuse (the plain layout's image would differ) */
+bool vx__scene_material_ids_matter(const vx_svo_scene* s) {
     bool channel = false, special = false;
-    for (uint32_t i = 0; i < s->model_count && !channel; i++) channel = (s->models[i].attrs & VX_ATTR_MATERIAL) != 0;
+    for (uint32_t i = 0; s && i < s->model_count && !channel; i++) channel = (s->models[i].attrs & VX_ATTR_MATERIAL) != 0;
     for (uint32_t i = 0; channel && i < s->material_count && !special; i++) {
         vx_material m = vx_svo_material_resolve(&s->materials[i]);
         special = m.emission > 0 || m.type == VX_MATERIAL_METAL || m.type == VX_MATERIAL_GLASS;
     }
-    if (special)
+    return special;
+}
+
+vx_result vx__render_scene_attr_material(const vx_render_scene* rs, const vx_svo_scene* s, const vx_allocator* alloc,
+                                         uint16_t** out, size_t* n, vx_error* err) {
+    if (!vx__render_scene_compact(rs)) return vx__scene_attr_material(s, alloc, out, n, err);
+    /* a layout built with the models' material ids: the passes' Hit.attr is the material id (compact_gpu.c) */
+    bool missing = false;
+    vx_result r = vx__compact_gpu_materials(rs->compact, alloc, out, n, &missing, err);
+    if (r || *out) return r;
+    /* else the records are keyed by palette index: refuse where a material channel would name a material other
+     * than plain diffuse (the plain layout's image would differ) and the layout has no ids for it */
+    if (vx__scene_material_ids_matter(s))
         return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                       "the compact layout keys materials by palette index, and a model names its materials "
-                       "through a material channel: render it in the plain layout, or without lights and gi");
+                       "the compact layout has no material ids for the models' material channel (%s): render it in "
+                       "the plain layout, or without lights and gi",
+                       missing           ? "built from a model reader, without the models' arrays"
+                       : rs->layout.pages ? "the paged layout carries none"
+                                          : "the scene's materials were all diffuse when the layout was built");
     /* per palette index; the indices no record uses are 0 (none), so that a table's "some record is ..." (metal,
      * emissive) is the plain layout's. The indices in use come from the layout's build (palette_used), not from
      * s's models: a scene built from a model reader is its graph here, without the models' arrays (svo_bake

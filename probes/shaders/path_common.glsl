@@ -242,12 +242,12 @@ bool is_glass(uint attr) {
 // trace_common.glsl: a leaf child at any depth fills its cube).
 uint model_cell_attr(uint mi, uvec3 c) {
     if (COMPACT) {
-        // the palette index (trace_common.glsl's Hit.attr of a compact scene)
+        // the material id or palette index (trace_common.glsl's Hit.attr of a compact scene)
         CModel cm = cmodels[mi];
         if (!HAS_COLOR || (cm.flags & 1u) == 0u || !cell_set(cm, c)) return NO_HIT;
         uint ab;
         uint i = cell_index(cm, c, ab);
-        return cm.kind == 1u ? decode_value(cm, ab, i) & 0xFFu : 0u;
+        return ca_table_index(cm, i, cm.kind == 1u ? decode_value(cm, ab, i) : 0u);
     }
     Model m = models[mi];
     if (m.root == ROOT_EMPTY || !HAS_COLOR || (m.flags & 1u) == 0u) return NO_HIT;

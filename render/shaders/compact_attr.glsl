@@ -33,6 +33,11 @@
 // value: the colour of every cell where flags has 4 (a model of one value), else 0
 // rec3: the whole layout: level-3 slot s's record (vx__compact_level3_records)
 // is slot rec3 + s of the geometry, 0 none (cell_index_path)
+// flags 8 (CA_MATERIAL, the passes' records of the whole layout only, which
+// has no pool): the model's material ids, coded as its colours (RGBA width,
+// its block) in the attribute words from pool_base (render/compact_gpu.c,
+// where a material channel names materials other than diffuse;
+// ca_table_index)
 struct CModel { uint root, depth, flags, box, attr_base, block_log2, kind, rank_base, rebase, page_up, pool_base, unit_log2, tab_word, tab_k, value, rec3; };
 #else
 // bit 0 of each byte of w: the byte is not zero; packed into 4 bits
@@ -369,6 +374,21 @@ uint decode_value(CModel m, uint attr_base, uint i) {
         v = attr_value(q, k, width);
     }
     return v;
+}
+// The index into the passes' per-record tables of attribute index i whose
+// stored value (decode_value) is v: the material id where the model has its
+// ids (CA_MATERIAL), else a palette model's palette index, else 0 (svo/svo.h
+// vx_svo_attr_material's rule; the tables, render_scene.c
+// vx__render_scene_attr_material, are per id then, else per palette index).
+// attr_base: cell_index's (a model with ids has no uniform table entries).
+const uint CA_MATERIAL = 8u;
+uint ca_table_index(CModel m, uint i, uint v) {
+    if ((m.flags & CA_MATERIAL) != 0u) {
+        CModel q = m;
+        q.kind = 2u;
+        return decode_value(q, m.pool_base, i);
+    }
+    return m.kind == 1u ? v & 0xFFu : 0u;
 }
 // The colour of attribute index i (vx_compact_rgba).
 uint decode_color(CModel m, uint attr_base, uint i) {

@@ -32,8 +32,10 @@ layout(constant_id = 9) const bool FAR = true;
 // 1-3 are then its geometry slots, attribute words and palette + CModel
 // records (compact_gpu.c), the walk reads slots (trace_model's node load and
 // push), and a hit's colour is decoded from its cell's attribute index;
-// Hit.attr is then the palette index (the per-record tables are per palette
-// index, vx__render_scene_attr_palette). Float variant only.
+// Hit.attr is then the material id where the layout carries the models'
+// ids (CModel flag 8), else the palette index (the per-record tables are per
+// id or palette index, vx__render_scene_attr_material; compact_attr.glsl
+// ca_table_index). Float variant only.
 // COMPACT_FORM (vx__render_scene_compact_form): 0 plain, 1 compact, 2
 // compact with the brick dictionary (else the index words' path is dead).
 #ifdef PRECISE
@@ -1227,11 +1229,10 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
         uint ci = cell_index(cm, h.cell, ab);
         uint v = decode_value(cm, ab, ci);
         // the record's index into the per-record tables (emission, materials):
-        // a compact scene's tables are per palette index (0: none, as an RGBA
-        // model's records in vx__scene_attr_palette), render_scene.c
-        // vx__render_scene_attr_palette
+        // a compact scene's tables are per material id or palette index
+        // (render_scene.c vx__render_scene_attr_material)
         h.color = cm.kind == 1u ? cpalette[v & 0xFFu] : v;
-        h.attr = cm.kind == 1u ? v & 0xFFu : 0u;
+        h.attr = ca_table_index(cm, ci, v);
     }
 #endif
     return true;

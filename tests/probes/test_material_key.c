@@ -11,9 +11,9 @@
  * light: the emission), gi=cones and gi=photons. That the RGBA scene's materials are
  * seen at all is checked against the RGBA scene without its MATL records
  * (the images must differ): keyed by palette index, as before the fix, both
- * render diffuse and dark alike. The compact layout, which keeps no material
- * channel, must refuse the RGBA scene's passes rather than render it
- * diffuse. */
+ * render diffuse and dark alike. The compact layout, which carries the
+ * records' material ids where the RGBA scene's channel names metal, glass and
+ * emission, must give each frame of the plain layout. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -249,56 +249,95 @@ static void test_passes(void) {
     rooms_free(&R);
 }
 
-/* The colour model (no lights, no gi: albedo x (ambient + n.l)) reads no material. */
-static bool colour_frame(vx_frame_renderer* fr, vx_render_image* out, vx_result* why) {
-    vx_pass_list L;
+/* ---- the compact layout ------------------------------------------------------------------ */
+
+/* A frame of each kind the compact layout's passes render (the colour model, the direct pass with a light,
+ * gi=cones, gi=photons; the GPU path tracer) of scene s in render scene rs into im[0..KINDS). */
+enum { C_COLOUR, C_DIRECT, C_CONES, C_PHOTONS, C_PATH, C_KINDS };
+static const char* const c_name[C_KINDS] = {"colour model", "gbuffer,direct (lit)", "gbuffer,direct,gi=cones",
+                                            "gbuffer,direct,gi=photons", "GPU path tracer"};
+
+static void all_frames(vx_render_scene* rs, const vx_svo_scene* s, const char* what, vx_render_image im[C_KINDS]) {
     vx_error err = {0};
-    vx_frame_desc d = vx_frame_desc_defaults();
-    d.base = (vx_render_desc){.width = 32, .height = 24};
-    vx_frame_result res;
-    vx_result r = vx_pass_list_parse("gbuffer,direct", &L, &err);
-    d.passes = &L;
-    if (!r) r = vx_frame_render(fr, &d, &res, &err);
-    if (why) *why = r;
-    if (!r) *out = res.image;
-    return r == VX_OK;
+    vx_frame_renderer* fr = NULL;
+    vx_result r = vx_frame_renderer_create(rs, s, &fr, &err);
+    CHECKF(r == VX_OK, "%s: frame renderer: %s", what, err.msg);
+    if (!r) {
+        vx_pass_list L;
+        vx_frame_desc d = vx_frame_desc_defaults();
+        d.base = (vx_render_desc){.width = 32, .height = 24};
+        vx_frame_result res;
+        vx_result cr = vx_pass_list_parse("gbuffer,direct", &L, &err);
+        d.passes = &L;
+        if (!cr) cr = vx_frame_render(fr, &d, &res, &err);
+        CHECKF(cr == VX_OK, "%s: %s: %s", what, c_name[C_COLOUR], err.msg);
+        if (!cr) im[C_COLOUR] = res.image;
+        CHECKF(frame(fr, "gbuffer,direct", NULL, &im[C_DIRECT]), "%s: %s", what, c_name[C_DIRECT]);
+        vx_gi_method gm;
+        vx_cone_gi* cg = NULL;
+        if (vx_cone_gi_create(rs, s, &(vx_cone_desc){.res = 32}, &gm, &cg, &err) == VX_OK)
+            CHECKF(frame(fr, c_name[C_CONES], &gm, &im[C_CONES]), "%s: %s", what, c_name[C_CONES]);
+        else CHECKF(false, "%s: gi=cones: %s", what, err.msg);
+        vx_cone_gi_destroy(cg);
+        vx_photon_gi* pg = NULL;
+        vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+        if (vx_photon_gi_create(rs, s, NULL, &phd, &gm, &pg, &err) == VX_OK)
+            CHECKF(frame(fr, c_name[C_PHOTONS], &gm, &im[C_PHOTONS]), "%s: %s", what, c_name[C_PHOTONS]);
+        else CHECKF(false, "%s: gi=photons: %s", what, err.msg);
+        vx_photon_gi_destroy(pg);
+    }
+    vx_frame_renderer_destroy(fr);
+    double sky[3] = {0.1, 0.1, 0.1};
+    vx_probe_set ps = light_only(0, sky, 3);
+    vx_render_desc base = {.width = 24, .height = 18};
+    vx_probe_render_desc pd = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 8, .seed = 3};
+    CHECKF(vx_probe_render_gpu(rs, s, &ps, &pd, &im[C_PATH], &err) == VX_OK, "%s: GPU path tracer: %s", what,
+           err.msg);
 }
 
-/* The compact layout keeps a palette index or a colour per record, not the material channel. Over the RGBA scene
- * with MATL records: the colour model renders as the plain layout does, a radiometric frame (a light) refuses
- * (VX_ERR_UNSUPPORTED) rather than show the materials diffuse; the scene without MATL records (every id diffuse)
- * renders both, as the plain layout does. */
-static void test_compact_refuses(void) {
+/* The compact layout carries each record's material id where a model names non-diffuse materials through its
+ * material channel (render/compact_gpu.c): over the three rooms, every frame of the compact layout (the colour
+ * model, the lit direct pass, gi=cones, gi=photons, the GPU path tracer) is the plain layout's, float for
+ * float; the ids are built for the RGBA room with MATL records only (the palette room keys its materials by
+ * palette index, the room without MATL records has no material to name: no bytes, no buffer). The RGBA room's
+ * compact frames must also differ from those of its twin without MATL records (its materials seen). */
+static void test_compact_materials(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     rooms R;
     rooms_make(&R);
     vx_render_scene_desc cd = {.layout = VX_RENDER_LAYOUT_COMPACT, .memory_budget = 1ull << 40};
-    for (int i = 1; i < 3; i++) {
+    vx_render_image im[2][3][C_KINDS] = {{{{0}}}}; /* [compact, plain][room][kind] */
+    for (int i = 0; i < 3; i++) {
         vx_error err = {0};
         vx_render_scene *rs = NULL, *ps = NULL;
-        vx_frame_renderer *fr = NULL, *pf = NULL;
         REQUIRE(vx_render_scene_create_ex(gpu, &R.s[i], &cd, &rs, &err) == VX_OK);
-        vx_result r = vx_frame_renderer_create(rs, &R.s[i], &fr, &err);
-        CHECKF(r == VX_OK, "%s: compact frame renderer: %s", room_name[i], err.msg);
         REQUIRE(vx_render_scene_create(gpu, &R.s[i], &ps, &err) == VX_OK);
-        REQUIRE(vx_frame_renderer_create(ps, &R.s[i], &pf, &err) == VX_OK);
-        vx_render_image a = {0}, b = {0}, c = {0};
-        if (!r) {
-            vx_result why = VX_OK;
-            CHECKF(colour_frame(fr, &a, &why), "%s: compact colour frame: %s", room_name[i], vx_result_str(why));
-            CHECK(colour_frame(pf, &b, NULL));
-            size_t bytes = (size_t)a.width * a.height * 4 * sizeof(float);
-            CHECKF(a.pixels && b.pixels && a.width == b.width && !memcmp(a.pixels, b.pixels, bytes),
-                   "%s: the compact colour frame differs from the plain layout's", room_name[i]);
-            bool lit = frame(fr, "gbuffer,direct", NULL, &c);
-            printf("  compact %-16s colour model: same as plain; with a light: %s\n", room_name[i],
-                   lit ? "rendered" : "refused");
-            CHECKF(i == 1 ? !lit : lit, "%s: compact lit frame %s", room_name[i], lit ? "rendered" : "refused");
-        }
-        vx_render_image_free(&a), vx_render_image_free(&b), vx_render_image_free(&c);
-        vx_frame_renderer_destroy(fr), vx_frame_renderer_destroy(pf);
+        vx_render_layout_info li;
+        vx_render_scene_layout(rs, &li);
+        printf("  compact %-16s material ids: %llu bytes (%llu cells; layout %llu bytes)\n", room_name[i],
+               (unsigned long long)li.material_bytes, (unsigned long long)li.voxels, (unsigned long long)li.bytes);
+        CHECKF(li.layout == VX_RENDER_LAYOUT_COMPACT, "%s: not the compact layout", room_name[i]);
+        CHECKF(i == 1 ? li.material_bytes > 0 : li.material_bytes == 0, "%s: %llu bytes of material ids",
+               room_name[i], (unsigned long long)li.material_bytes);
+        all_frames(rs, &R.s[i], room_name[i], im[0][i]);
+        all_frames(ps, &R.s[i], room_name[i], im[1][i]);
         vx_render_scene_destroy(rs), vx_render_scene_destroy(ps);
     }
+    for (int k = 0; k < C_KINDS; k++) {
+        size_t d[3], unlit = differ(&im[0][1][k], &im[0][2][k]);
+        for (int i = 0; i < 3; i++) d[i] = differ(&im[1][i][k], &im[0][i][k]);
+        printf("  %-28s compact vs plain: %zu %zu %zu floats differ (palette, rgba+material, no MATL); "
+               "compact rgba+material vs no MATL: %zu\n", c_name[k], d[0], d[1], d[2], unlit);
+        for (int i = 0; i < 3; i++)
+            CHECKF(d[i] == 0, "%s, %s: the compact layout's frame differs from the plain layout's in %zu floats",
+                   room_name[i], c_name[k], d[i]);
+        if (k != C_COLOUR) /* (the colour model reads no material) */
+            CHECKF(unlit > 0, "%s: the compact RGBA room's materials are not seen", c_name[k]);
+    }
+    for (int l = 0; l < 2; l++)
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < C_KINDS; k++) vx_render_image_free(&im[l][i][k]);
+    CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
     rooms_free(&R);
 }
 
@@ -311,7 +350,7 @@ int main(void) {
     RUN(test_pathtrace_cpu);
     RUN(test_pathtrace_gpu);
     RUN(test_passes);
-    RUN(test_compact_refuses);
+    RUN(test_compact_materials);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

@@ -1175,6 +1175,10 @@ int main(int argc, char** argv) {
                        "attributes %.3f s), tables and upload %.3f s\n",
                        li.geom_bytes / 1e6, (li.compact_bytes - li.geom_bytes) / 1e6, li.build_seconds, li.geom_seconds,
                        li.geom_threads, li.attr_seconds, li.upload_seconds);
+            if (li.material_bytes)
+                printf("compact: material ids %.3f MB (%.3f bytes per voxel; a model names non-diffuse materials through "
+                       "its material channel)\n",
+                       li.material_bytes / 1e6, li.voxels ? (double)li.material_bytes / (double)li.voxels : 0.0);
             if (li.attr_parts > 1) printf("note: the compact attributes are in %u storage buffers (past one buffer's range)\n", li.attr_parts);
         }
         char why[256];
