@@ -244,12 +244,32 @@ static bool dielectric(const double n[3], const double wo_w[3], double eta, doub
 /* Inside a glass voxel (cell `cell` of instance `inst`) at p, going along d:
  * walks through adjacent glass voxels to the face where the glass ends and
  * applies the interface there (internal reflections continue the walk).
- * false: absorbed (the walk limit). On true, o/d the ray that left. */
+ * Each step leaves the box of the octree leaf that holds the current cell:
+ * a uniform glass block (collapsed) at once, else the one cell, so a thick
+ * uniform body costs a handful of steps. The exits are measured along the
+ * straight stretch from its start p (t: how far the walk is along it), so
+ * where a stretch leaves the glass does not depend on the boxes it took on
+ * the way (the GPU walks give the same bits in either scene layout, one of
+ * which knows no collapsed leaves: path_common.glsl). false: absorbed (the
+ * walk limit, render/trace.h vx__glass_walk_steps). On true, o/d the ray
+ * that left. */
 static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3], double csize, double ior, double alpha,
                        double p[3], double d[3], vx__rng* rng, double thr[3], double o[3]) {
     uint32_t c[3] = {cell[0], cell[1], cell[2]};
-    for (int step = 0; step < 512; step++) {
+    const vx_svo_scene* S = L->scene;
+    uint32_t limit = vx__glass_walk_steps(S->models[S->instances[inst].model].depth);
+    double t = 0; /* along d from p */
+    for (uint32_t step = 0; step < limit; step++) {
         const double* M = L->inst_inv + 12 * (size_t)inst;
+        const vx_svo_model* mod = &S->models[S->instances[inst].model];
+        /* the leaf's box: [lo, hi) on each axis, within the model's size */
+        uint32_t lv = vx_svo_model_cell_leaf(mod, c[0], c[1], c[2]);
+        double lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            uint32_t b = lv == UINT32_MAX ? c[a] : c[a] & ~((1u << lv) - 1u);
+            uint32_t e = lv == UINT32_MAX ? c[a] + 1 : b + (1u << lv);
+            lo[a] = b, hi[a] = e < mod->size[a] ? e : mod->size[a];
+        }
         double om[3], dm[3];
         for (int r = 0; r < 3; r++) {
             om[r] = M[4 * r] * p[0] + M[4 * r + 1] * p[1] + M[4 * r + 2] * p[2] + M[4 * r + 3];
@@ -259,11 +279,11 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
         int ax = -1;
         for (int a = 0; a < 3; a++) {
             if (dm[a] == 0) continue;
-            double ta = ((dm[a] > 0 ? c[a] + 1.0 : (double)c[a]) - om[a]) / dm[a];
+            double ta = ((dm[a] > 0 ? hi[a] : lo[a]) - om[a]) / dm[a];
             if (ta < te) te = ta, ax = a;
         }
         if (ax < 0 || !isfinite(te)) return false;
-        te = fmax(te, 0);
+        te = fmax(te, t);
         double q[3], nf[3], eps = 1e-4 * csize;
         for (int k = 0; k < 3; k++) q[k] = p[k] + d[k] * te, nf[k] = (dm[ax] > 0 ? 1 : -1) * M[4 * ax + k];
         norm3(nf);
@@ -274,7 +294,7 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
             const vx_material* gm = vx__light_material(L, g.material);
             if (gm->type == VX_MATERIAL_GLASS && gm->transmission > 0) {
                 inst = g.instance, c[0] = g.cell[0], c[1] = g.cell[1], c[2] = g.cell[2];
-                memcpy(p, qi, 3 * sizeof(double));
+                t = te + eps;
                 continue;
             }
             return false; /* an opaque voxel against the glass: the path ends at the shared face */
@@ -289,7 +309,9 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
             for (int k = 0; k < 3; k++) o[k] = q[k] + nf[k] * eps;
             return true;
         }
+        /* reflected inside: a new stretch from just inside the face */
         for (int k = 0; k < 3; k++) p[k] = q[k] - nf[k] * eps;
+        t = 0;
     }
     return false;
 }

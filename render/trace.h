@@ -9,6 +9,26 @@
 
 #include "render/render.h"
 
+/* ---- the glass walks' step limit, one rule for every light transport path -------- */
+
+/* A walk through glass (probes/pathtrace.c glass_walk, the GPU path tracer's
+ * and the photons' probes/shaders/path_common.glsl glass_walk, the passes'
+ * render/shaders/pass_bodies.glsl glass_pass_walk) steps from box to box: a
+ * uniform glass leaf of the octree (a collapsed block) at once, else one
+ * cell. It gives up (the light is absorbed: the path ends, the pass pixel
+ * gets nothing through this body) after this many steps, counted from the
+ * model of the instance where the walk starts (2^depth cells a side): 12
+ * sides (a straight crossing of the model cube passes at most 3 sides of
+ * cells; four of them, i.e. a few internal reflections), at least 512 (the
+ * path tracer's limit before, so small models keep their paths). The
+ * shaders write the same expression. */
+#define VX__GLASS_WALK_MIN 512u
+#define VX__GLASS_WALK_SIDES 12u
+static inline uint32_t vx__glass_walk_steps(uint32_t depth) {
+    uint32_t side = depth < 21 ? 1u << depth : 1u << 21;
+    return side * VX__GLASS_WALK_SIDES > VX__GLASS_WALK_MIN ? side * VX__GLASS_WALK_SIDES : VX__GLASS_WALK_MIN;
+}
+
 /* ---- camera and frame set-up, shared by the GPU and the CPU paths ----------------- */
 
 /* Rays are generated relative to a reference point R near the scene (so the

@@ -584,6 +584,13 @@ vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* u
  * false outside the model's size. (The emissive lights' and the photons'
  * exposed faces: a face emits when the cell beyond it is empty.) */
 bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z);
+/* The level of the leaf of a valid model that holds cell (x, y, z): 0 a
+ * single cell, k a uniform block of 2^k cells a side (one attribute record)
+ * at the cell's coordinates rounded down to a multiple of 2^k; UINT32_MAX
+ * where the cell is empty or outside the model's size. One descent, as
+ * vx_svo_model_cell_set. (The glass walks step over a uniform glass leaf at
+ * once: probes/pathtrace.c glass_walk.) */
+uint32_t vx_svo_model_cell_leaf(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z);
 /* The box of a valid model's set cells, lo inclusive, hi exclusive (all 0
  * for an empty model): a walk along each face from the root, about the
  * nodes that straddle the face (the renderer's instance boxes, issue 18). */

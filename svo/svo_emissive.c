@@ -33,6 +33,23 @@ bool vx_svo_model_cell_set(const vx_svo_model* m, uint32_t x, uint32_t y, uint32
     return true; /* not reached for a valid tree: level 1 children are leaves */
 }
 
+uint32_t vx_svo_model_cell_leaf(const vx_svo_model* m, uint32_t x, uint32_t y, uint32_t z) {
+    if (x >= m->size[0] || y >= m->size[1] || z >= m->size[2] || m->root == VX_SVO_ROOT_EMPTY) return UINT32_MAX;
+    if (m->root == VX_SVO_ROOT_LEAF) return m->depth;
+    uint32_t i = m->root;
+    for (uint32_t l = m->depth; l-- > 0;) {
+        if (i >= m->node_count) return UINT32_MAX; /* not a valid tree: no crash */
+        uint32_t d = m->nodes[i];
+        uint32_t o = ((x >> l) & 1u) | ((y >> l) & 1u) << 1 | ((z >> l) & 1u) << 2;
+        uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+        if (!(valid >> o & 1u)) return UINT32_MAX;
+        if (leaf >> o & 1u) return l;
+        uint32_t p = vx_svo_desc_ptr(d), block = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+        i = block + vx__popc8(valid & ~leaf & ((1u << o) - 1u));
+    }
+    return 0; /* not reached for a valid tree: level 1 children are leaves */
+}
+
 /* The extreme cell coordinate along axis of the subtree at node (a cube of
  * 2^level cells from base on that axis): the least cell start below best
  * (hi false) or the greatest cell end above best (hi true). The children on

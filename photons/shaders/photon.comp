@@ -90,8 +90,8 @@ layout(std430, binding = 17) readonly buffer Env { float env[]; };
 // has glass, as many words after them whether it is glass
 layout(std430, binding = 18) readonly buffer Occ { uint occ[]; };
 // The glass walk's next cell (path_common.glsl glass_walk): a bit where the model has them
-bool photon_glass_cell(uint mi, uvec3 c);
-#define GLASS_CELL(mi, c) photon_glass_cell(mi, c)
+bool photon_glass_cell(uint mi, uvec3 c, out uint level);
+#define GLASS_CELL(mi, c, level) photon_glass_cell(mi, c, level)
 
 #include "path_common.glsl"
 #define SKY_TEXEL(i) env[i]
@@ -439,9 +439,11 @@ float disk_square(vec2 c, vec2 q, float r) {
 // Whether cell q of model mi is set: a bit where the model has its occupancy bits (one load), else a walk
 // down its octree (model_cell_attr: some 6 dependent loads at 64^3; kernel_factors makes about 66 lookups
 // a pixel at the seed's Cornell setting, which cost 1 of its 7.2 ms as walks)
-bool photon_glass_cell(uint mi, uvec3 c) {
+// (and its leaf's level: 0 from the bits, which keep cells)
+bool photon_glass_cell(uint mi, uvec3 c, out uint level) {
+    level = 0u;
     uint base = occ[mi];
-    if (base == 0xFFFFFFFFu) return is_glass(model_cell_attr(mi, c));
+    if (base == 0xFFFFFFFFu) return is_glass(model_cell_leaf(mi, c, level));
     uint s = 1u << model_at(mi).depth, i = c.x + s * (c.y + s * c.z);
     return ((occ[base + (s * s * s + 31u) / 32u + (i >> 5u)] >> (i & 31u)) & 1u) != 0u;
 }

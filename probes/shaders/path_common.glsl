@@ -237,76 +237,66 @@ bool is_glass(uint attr) {
     return MATS && attr != NO_HIT && mats[2u * attr].x == 2.0 && mats[2u * attr + 1u].y > 0.0;
 }
 
+#include "cell_leaf.glsl" // model_cell_leaf, glass_walk_steps
 // The attribute (index into colors[]) of cell c of model mi, c inside its cube: NO_HIT where the cell is
-// empty or the model has no attributes. A walk down the octree, as trace_model descends (render/shaders/
-// trace_common.glsl: a leaf child at any depth fills its cube).
+// empty or the model has no attributes (cell_leaf.glsl model_cell_leaf).
 uint model_cell_attr(uint mi, uvec3 c) {
-    if (COMPACT) {
-        // the material id or palette index (trace_common.glsl's Hit.attr of a compact scene)
-        CModel cm = cmodels[mi];
-        if (!HAS_COLOR || (cm.flags & 1u) == 0u || !cell_set(cm, c)) return NO_HIT;
-        uint ab;
-        uint i = cell_index(cm, c, ab);
-        return ca_table_index(cm, i, cm.kind == 1u ? decode_value(cm, ab, i) : 0u);
-    }
-    Model m = models[mi];
-    if (m.root == ROOT_EMPTY || !HAS_COLOR || (m.flags & 1u) == 0u) return NO_HIT;
-    if (m.root == ROOT_LEAF) return m.color_off + m.root_attr;
-    uint nbase = m.node_off, parent = nbase + m.root;
-    for (int l = int(m.depth) - 1; l >= 0; l--) {
-        uint desc = nodes[parent];
-        uint cs = ((c.x >> uint(l)) & 1u) | (((c.y >> uint(l)) & 1u) << 1) | (((c.z >> uint(l)) & 1u) << 2);
-        uint cbit = 1u << cs;
-        if (!desc_valid(desc, cbit)) return NO_HIT;
-        if (!desc_inner(desc, cbit)) {
-            // a leaf (descriptors in the GPU form, trace_common.glsl)
-            uint valid = (desc >> 8) & 0xFFu;
-            uint blk = parent - (desc >> 17);
-            if ((desc & 0x10000u) != 0u) blk = nbase + nodes[blk];
-            return m.color_off + nodes[blk + desc_inner_count(desc)] + uint(bitCount(valid & (cbit - 1u)));
-        }
-        parent = child_node(parent, desc, cbit, nbase);
-    }
-    return NO_HIT;
+    uint level;
+    return model_cell_leaf(mi, c, level);
 }
 
 // Inside a glass voxel (cell of instance inst) at p along d: to the face where the glass ends
-// (probes/pathtrace.c glass_walk). false: absorbed. On true, o and d the ray that left. The next cell
-// is looked up in the instance's own model first: a glass cell there is what the short ray below
+// (probes/pathtrace.c glass_walk). false: absorbed (glass_walk_steps of the model where it starts). On
+// true, o and d the ray that left. Each step leaves the box of the octree leaf that holds the current cell
+// (a uniform glass block at once, cell_leaf.glsl; else the cell), its exit measured along the straight
+// stretch from its start p (t: how far the walk is along it), so the exit from the glass does not depend
+// on the boxes taken on the way: the compact layout, which walks cell by cell, gives the same bits. The
+// next cell is looked up in the instance's own model first: a glass cell there is what the short ray below
 // would meet, at a fraction of its cost (no BVH, no ray set-up; a photon crosses some 20 cells of a
 // sphere); the ray decides the rest (empty cells, other instances, the model's edge).
-// (GLASS_CELL: whether cell c of model mi is glass; a shader that keeps the cells as bits defines its own)
+// (GLASS_CELL(mi, c, level): whether cell c of model mi is glass, and its leaf's level (0 where not
+// known); a shader that keeps the cells as bits defines its own)
 #ifndef GLASS_CELL
-#define GLASS_CELL(mi, c) is_glass(model_cell_attr(mi, c))
+bool glass_cell_leaf(uint mi, uvec3 c, out uint level) { return is_glass(model_cell_leaf(mi, c, level)); }
+#define GLASS_CELL(mi, c, level) glass_cell_leaf(mi, c, level)
 #endif
 bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d, PT_PREC inout vec3 thr,
                 PT_PREC out vec3 o) {
     uvec3 c = cell;
+    uint lv;
+    if (!GLASS_CELL(insts[inst].model, c, lv)) lv = 0u;
     o = p;
-    for (int step = 0; step < 512; step++) {
+    PT_PREC float t = 0.0;
+    uint limit = glass_walk_steps(insts[inst].model);
+    for (uint step = 0u; step < limit; step++) {
         Inst I = insts[inst];
+        // the leaf's box [lo, hi), within the model's cube
+        float side = exp2(float(model_at(I.model).depth));
+        vec3 lo = vec3(c & ~uvec3((1u << lv) - 1u)), hi = min(lo + exp2(float(lv)), vec3(side));
         PT_PREC vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
         PT_PREC vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
         PT_PREC float te = BIG;
         int ax = -1;
         for (int a = 0; a < 3; a++) {
             if (dm[a] == 0.0) continue;
-            PT_PREC float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            PT_PREC float ta = ((dm[a] > 0.0 ? hi[a] : lo[a]) - om[a]) / dm[a];
             if (ta < te) { te = ta; ax = a; }
         }
         if (ax < 0) return false;
-        te = max(te, 0.0);
+        te = max(te, t);
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         PT_PREC vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
         PT_PREC vec3 q = p + d * te;
         PT_PREC float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
         PT_PREC vec3 qi = q + d * eps;
         PT_PREC vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
-        float side = exp2(float(model_at(I.model).depth));
-        if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(side))) && uvec3(mq) != c &&
-            GLASS_CELL(I.model, uvec3(mq))) {
+        uint nl;
+        // a cell outside the box (else the ray decides: no step back into it)
+        if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(side))) &&
+            !(all(greaterThanEqual(mq, lo)) && all(lessThan(mq, hi))) && GLASS_CELL(I.model, uvec3(mq), nl)) {
             c = uvec3(mq);
-            p = qi;
+            lv = nl;
+            t = te + eps;
             continue;
         }
         Hit g;
@@ -314,7 +304,8 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
             if (!is_glass(g.attr)) return false; // an opaque voxel against the glass (probes/pathtrace.c)
             inst = g.inst;
             c = g.cell;
-            p = qi;
+            if (!GLASS_CELL(insts[inst].model, c, lv)) lv = 0u;
+            t = te + eps;
             continue;
         }
         vec3 wi;
@@ -332,7 +323,9 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
             o = q + nf * eps;
             return true;
         }
+        // reflected inside: a new stretch from just inside the face
         p = q - nf * eps;
+        t = 0.0;
     }
     return false;
 }

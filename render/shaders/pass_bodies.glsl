@@ -167,12 +167,13 @@ vec3 metal_brdf(Metal M, vec3 n, vec3 wi) {
 // GLASS no glass code runs (the SPIR-V path of a scene without glass).
 const bool GLASS = (((LIGHTS >> 10) | (FLAGS >> 7)) & 1u) != 0u;
 const bool GLASS_SKY = (LIGHTS & 2048u) != 0u;
-// The limits: glass bodies a pixel's transmitted ray enters (the first
-// included; the surface met after the last is shaded as opaque), and cells
-// (with total internal reflections) a walk crosses in one body before it is
-// given up (no light).
-const uint GLASS_BODIES = 4u, GLASS_CELLS = 256u;
+// The limit on glass bodies a pixel's transmitted ray enters (the first
+// included; the surface met after the last is shaded as opaque). The steps a
+// walk takes in one body (with total internal reflections) before it is
+// given up (no light): cell_leaf.glsl glass_walk_steps, the path tracer's.
+const uint GLASS_BODIES = 4u;
 #include "dielectric.glsl" // fresnel_dielectric, the path tracer's (probes/shaders/path_common.glsl)
+#include "cell_leaf.glsl"  // model_cell_leaf, glass_walk_steps (the path tracer's)
 
 // Whether attribute record attr is glass that transmits (the path tracer's
 // is_glass), and its record vec4(2, roughness, ior, transmission).
@@ -428,34 +429,46 @@ vec3 glass_refract(vec3 wo, vec3 n, float eta) {
     return normalize(-e * wo + (e * c - sqrt(max(0.0, k2))) * n);
 }
 
-// Inside a glass body at p (in instance slot inst) along unit d: cell by cell
+// Inside a glass body at p (in instance slot inst) along unit d: box by box
 // to the face where the glass ends (the path tracer's glass_walk, made
-// deterministic): across a face into a glass cell the walk goes on; at an
-// outer face the ray refracts out with weight 1 - F (thr), or, past the
-// critical angle, reflects and walks on. The share F reflected back inside
+// deterministic): a box is the octree leaf that holds the current cell (a
+// uniform glass block at once, cell_leaf.glsl; else the cell); across a
+// face into a glass cell the walk goes on; at an outer face the ray
+// refracts out with weight 1 - F (thr), or, past the critical angle,
+// reflects and walks on. Exits are measured along the straight stretch from
+// its start p (t: how far the walk is along it), so the exit from the glass
+// does not depend on the boxes taken on the way (the compact layout walks
+// cell by cell and gives the same bits). The share F reflected back inside
 // below the critical angle is not followed (a loss of F_out * F_in,
 // 0.16% for a slab of ior 1.5 seen head on). false: an opaque voxel against
-// the glass (the path tracer ends its path there too) or GLASS_CELLS steps.
-// On true, o and d the ray that left.
+// the glass (the path tracer ends its path there too) or glass_walk_steps
+// steps. On true, o and d the ray that left.
 bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o) {
     uvec3 c = glass_cell(inst, p);
+    uint lv;
+    if (model_cell_leaf(insts[inst].model, c, lv) == NO_HIT) lv = 0u;
     o = p;
-    for (uint step = 0u; step < GLASS_CELLS; step++) {
+    float t = 0.0;
+    uint limit = glass_walk_steps(insts[inst].model);
+    for (uint step = 0u; step < limit; step++) {
         Inst I = insts[inst];
+        // the leaf's box [lo, hi), within the model's cube
+        vec3 lo = vec3(c & ~uvec3((1u << lv) - 1u));
+        vec3 hi = min(lo + exp2(float(lv)), vec3(exp2(float(model_at(I.model).depth))));
         vec3 om = vec3(dot(I.r0.xyz, p) + I.r0.w, dot(I.r1.xyz, p) + I.r1.w, dot(I.r2.xyz, p) + I.r2.w);
         vec3 dm = vec3(dot(I.r0.xyz, d), dot(I.r1.xyz, d), dot(I.r2.xyz, d));
         float te = 3.0e38;
         int ax = -1;
         for (int a = 0; a < 3; a++) {
             if (dm[a] == 0.0) continue;
-            float ta = ((dm[a] > 0.0 ? float(c[a]) + 1.0 : float(c[a])) - om[a]) / dm[a];
+            float ta = ((dm[a] > 0.0 ? hi[a] : lo[a]) - om[a]) / dm[a];
             if (ta < te) {
                 te = ta;
                 ax = a;
             }
         }
         if (ax < 0) return false;
-        te = max(te, 0.0);
+        te = max(te, t);
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0); // the exit face's outward normal
         vec3 q = p + d * te;
@@ -473,13 +486,15 @@ bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
             if (!glass_of(g.attr, gm)) return false;
             inst = g.inst;
             c = glass_cell(inst, qi);
-            p = qi;
+            if (model_cell_leaf(insts[inst].model, c, lv) == NO_HIT) lv = 0u;
+            t = te + eps;
             continue;
         }
         float fr = fresnel_dielectric(dot(d, nf), 1.0 / ior);
-        if (fr >= 1.0) { // total internal reflection
+        if (fr >= 1.0) { // total internal reflection: a new stretch from just inside the face
             d = reflect(d, nf);
             p = q - nf * eps;
+            t = 0.0;
             continue;
         }
         thr *= 1.0 - fr;

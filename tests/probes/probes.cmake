@@ -28,6 +28,12 @@ if(VX_WITH_VULKAN)
               ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_direct PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # glass thicker than the walks' old limits (a uniform slab of 600 cells, one of 300 alternating cells):
+  # the passes, the CPU and the GPU path tracers against the closed form (render/trace.h vx__glass_walk_steps)
+  vx_add_test(test_glass_thick SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_thick.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_glass_thick PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
