@@ -183,12 +183,13 @@ static bool pathtrace(const vx_svo_scene* s, uint32_t thick, vx_render_scene* gp
 }
 
 /* The slab of `thick` cells against the closed form: the passes per pixel,
- * the CPU and the GPU path tracers by the mean ratio over the same pixels
- * (at spp 16 and some 300 pixels of p = (1 - F)^2 ~ 0.92 the ratio's
- * standard error is some 0.4%: the GPU within 2%; the CPU path tracer reads
- * 2-3% low on both slabs (0.973, 0.981; 0.981 on the 300-cell slab before
- * the walks changed too, so not the walk's limit or boxes: an open
- * question, docs/TESTING.md), so within 4%). */
+ * the CPU and the GPU path tracers by the mean ratio over the same pixels,
+ * 64 spp each. The ratio's spread is larger than the coins' binomial 0.4%
+ * at 16 spp: the pixels' floor irradiance varies some tenfold under the
+ * near point light, so few pixels weigh most. Measured on the 600-cell
+ * slab at 16 spp over seeds 1-6: CPU 0.973-1.016, GPU 0.991-1.013; at 64
+ * spp CPU 0.994-1.006 (mean 1.0001), at 256 spp 1.0003: no bias, so both
+ * within 2% at 64 spp (5 of the CPU's standard deviations). */
 static void check_slab(uint32_t thick, bool alternate) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
@@ -197,11 +198,11 @@ static void check_slab(uint32_t thick, bool alternate) {
             s.models[0].node_count, (unsigned long long)s.models[0].voxel_count);
     vx_render_image im = {0}, cpu = {0}, gpt = {0};
     REQUIRE(frame(&s, thick, &im));
-    REQUIRE(pathtrace(&s, thick, NULL, 16, &cpu));
+    REQUIRE(pathtrace(&s, thick, NULL, 64, &cpu));
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    REQUIRE(pathtrace(&s, thick, rs, 16, &gpt));
+    REQUIRE(pathtrace(&s, thick, rs, 64, &gpt));
     vx_render_scene_destroy(rs);
     double worst = 0, sum = 0, sum_cpu = 0, sum_gpu = 0;
     size_t n = 0;
@@ -220,7 +221,7 @@ static void check_slab(uint32_t thick, bool alternate) {
             "CPU path tracer %.4f, GPU path tracer %.4f\n", n, worst, sum_cpu / sum, sum_gpu / sum);
     CHECK(n > 250);
     CHECKF(worst < 5e-3, "passes: worst relative error %.2e", worst);
-    CHECKF(fabs(sum_cpu / sum - 1) < 0.04, "CPU path tracer: mean ratio %.4f", sum_cpu / sum);
+    CHECKF(fabs(sum_cpu / sum - 1) < 0.02, "CPU path tracer: mean ratio %.4f", sum_cpu / sum);
     CHECKF(fabs(sum_gpu / sum - 1) < 0.02, "GPU path tracer: mean ratio %.4f", sum_gpu / sum);
     vx_render_image_free(&im), vx_render_image_free(&cpu), vx_render_image_free(&gpt);
     vx_svo_scene_free(&s);
