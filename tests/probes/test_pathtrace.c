@@ -557,11 +557,18 @@ static void test_converges_to_itself(void) {
 
 /* The pass pipeline with lights and gi=pathtrace: direct pass + gi pass
  * estimate what the path tracer renders whole (pixel centres: spp 1 both);
- * a frame whose lights are not the method's is refused. */
-static void test_pipeline_lights_with_pathtrace_gi(void) {
+ * a frame whose lights are not the method's is refused. metal: the floor
+ * (palette 3) a rough metal, so the direct pass shades it with the metal
+ * BRDF and the gi pass must continue its paths by that lobe too (the light
+ * the walls and the lamp send to the floor and the floor on to the eye). */
+static void pipeline_lights_with_pathtrace_gi(bool metal) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
     room_scene(&s);
+    if (metal) {
+        const char* kv[] = {"_type", "_metal", "_metal", "0.8", "_rough", "0.35", "_spec", "0.5"};
+        add_material(&s, 3, kv, 4);
+    }
     vx_error err = {0};
     vx_render_scene* rs = NULL;
     REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
@@ -603,8 +610,8 @@ static void test_pipeline_lights_with_pathtrace_gi(void) {
         se0 += (ref2.pixels[i] - ref.pixels[i]) * (ref2.pixels[i] - ref.pixels[i]);
     }
     double ratio = mean_rgb(&res.image) / mean_rgb(&ref);
-    fprintf(stderr, "  pipeline direct + gi=pathtrace vs the path tracer: mean %.4f, RMSE %.4f vs noise %.4f\n", ratio,
-            sqrt(se / n), sqrt(se0 / n));
+    fprintf(stderr, "  pipeline direct + gi=pathtrace vs the path tracer%s: mean %.4f, RMSE %.4f vs noise %.4f\n",
+            metal ? " (metal floor)" : "", ratio, sqrt(se / n), sqrt(se0 / n));
     CHECK(fabs(ratio - 1) < 0.02);
     CHECK(sqrt(se / n) < 1.3 * sqrt(se0 / n));
     vx_light other[3];
@@ -619,6 +626,9 @@ static void test_pipeline_lights_with_pathtrace_gi(void) {
     vx_render_scene_destroy(rs);
     vx_svo_scene_free(&s);
 }
+
+static void test_pipeline_lights_with_pathtrace_gi(void) { pipeline_lights_with_pathtrace_gi(false); }
+static void test_pipeline_metal_with_pathtrace_gi(void) { pipeline_lights_with_pathtrace_gi(true); }
 
 /* Lamps of emissive voxels as lights (vx_svo_emissive_lights, svo_render
  * --voxel-lights): the pass pipeline (direct pass with the clusters' sphere
@@ -718,6 +728,7 @@ int main(void) {
     RUN(test_all_materials_gpu_vs_cpu);
     RUN(test_converges_to_itself);
     RUN(test_pipeline_lights_with_pathtrace_gi);
+    RUN(test_pipeline_metal_with_pathtrace_gi);
     RUN(test_pipeline_lamp_pixels);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
