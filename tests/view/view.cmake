@@ -22,7 +22,7 @@ if(TARGET svo_view)
   add_test(NAME test_view_gi COMMAND test_view $<TARGET_FILE:svo_view> ${CMAKE_BINARY_DIR}/bin/svo_render
            ${CMAKE_CURRENT_BINARY_DIR}/view_gi_out gi)
   set_tests_properties(test_view_gi PROPERTIES TIMEOUT 600 ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
-  vx_test_cost(test_view_gi 110)
+  vx_test_cost(test_view_gi 200)
   # Under the sanitizers: the material edits' and the GI options' scripts (svo_view's frames against svo_render's
   # for pathtrace, cones and photons: 105 s of lavapipe in Release, about 200 under ASan) and the GI mode switch are
   # the release run's, and so is the photons' frame against svo_render's (68 s under ASan, stop 60); svo_view's GI
