@@ -20,6 +20,7 @@
 
 #include "probes/probes.h"
 #include "render/pipeline.h"
+#include "tests/probes/closed_form.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
 
@@ -90,17 +91,6 @@ static bool frame(const vx_svo_scene* s, const char* passes, bool separate, vx_r
     return r == VX_OK;
 }
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/* Unpolarised Fresnel reflectance (cosi > 0, eta = n_t / n_i), written here from the formula. */
-static double fresnel(double cosi, double eta) {
-    double s2t = (1 - cosi * cosi) / (eta * eta);
-    if (s2t >= 1) return 1;
-    double ct = sqrt(1 - s2t);
-    double rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 /* Pixel (px, py)'s centre ray (render/render.h's pinhole). Through the slab:
  * whether it enters by the front face y = Y0 and leaves by the back face
  * y = Y1 (both 0.2 from the face's edges) to land on the floor (top z = 1)
@@ -111,19 +101,8 @@ static double fresnel(double cosi, double eta) {
 static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], double* F) {
     vx_render_desc b = camera();
     const double* e = b.camera.eye;
-    double f[3], r[3], u[3], up[3] = {0, 0, 1};
-    for (int k = 0; k < 3; k++) f[k] = b.camera.target[k] - e[k];
-    double lf = sqrt(dot3(f, f));
-    for (int k = 0; k < 3; k++) f[k] /= lf;
-    r[0] = f[1] * up[2] - f[2] * up[1], r[1] = f[2] * up[0] - f[0] * up[2], r[2] = f[0] * up[1] - f[1] * up[0];
-    double lr = sqrt(dot3(r, r));
-    for (int k = 0; k < 3; k++) r[k] /= lr;
-    u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
-    double hh = tan(0.5 * b.camera.fov * PI / 180), hw = hh * (double)b.width / b.height;
-    double su = ((px + 0.5) / b.width) * 2 - 1, sv = 1 - ((py + 0.5) / b.height) * 2, d[3];
-    for (int k = 0; k < 3; k++) d[k] = f[k] + su * hw * r[k] + sv * hh * u[k];
-    double ld = sqrt(dot3(d, d));
-    for (int k = 0; k < 3; k++) d[k] /= ld;
+    double d[3];
+    cf_pixel_ray(&b, px, py, d);
     double o[3] = {e[0], e[1], e[2]}, thr = 1;
     *F = 0;
     if (!(d[2] < 0) || !(d[1] > 0)) return false;
@@ -138,7 +117,7 @@ static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], 
         double t1 = (Y1 - a[1]) / di[1], q[3];
         for (int k = 0; k < 3; k++) q[k] = a[k] + t1 * di[k];
         if (!(q[0] > X0 + 0.2 && q[0] < X1 - 0.2 && q[2] > 1.2 && q[2] < Z1 - 0.2)) return false;
-        double fi = fresnel(c, eta), fo = fresnel(di[1], 1 / eta); /* out: cos inside = di.y */
+        double fi = cf_fresnel(c, eta), fo = cf_fresnel(di[1], 1 / eta); /* out: cos inside = di.y */
         *F = fi;
         thr = (1 - fi) * (1 - fo);
         memcpy(o, q, sizeof o);
@@ -150,7 +129,7 @@ static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], 
     if (!(p[0] > 0.25 && p[0] < N - 0.25 && p[1] > Y1 + 0.25 && p[1] < N - 0.25)) return false;
     double wi[3];
     for (int k = 0; k < 3; k++) wi[k] = LIGHT_POS[k] - p[k];
-    double di2 = dot3(wi, wi), dist = sqrt(di2), q = (dist / 1000) * (dist / 1000);
+    double di2 = cf_dot3(wi, wi), dist = sqrt(di2), q = (dist / 1000) * (dist / 1000);
     double E = LIGHT_I * (wi[2] / dist) / di2 * (1 - q * q) * (1 - q * q);
     for (int k = 0; k < 3; k++) {
         double fl = ((FLOOR_RGBA >> (8 * k)) & 255) / 255.0, tint = through ? ((GLASS_RGBA >> (8 * k)) & 255) / 255.0 : 1;

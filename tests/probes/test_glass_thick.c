@@ -25,6 +25,7 @@
 
 #include "probes/probes.h"
 #include "render/pipeline.h"
+#include "tests/probes/closed_form.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/test.h"
 
@@ -102,17 +103,6 @@ static bool frame(const vx_svo_scene* s, uint32_t thick, vx_render_image* out) {
     return r == VX_OK;
 }
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/* Unpolarised Fresnel reflectance (cosi > 0, eta = n_t / n_i), written here from the formula. */
-static double fresnel(double cosi, double eta) {
-    double s2t = (1 - cosi * cosi) / (eta * eta);
-    if (s2t >= 1) return 1;
-    double ct = sqrt(1 - s2t);
-    double rs = (cosi - eta * ct) / (cosi + eta * ct), rp = (eta * cosi - ct) / (eta * cosi + ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 static bool inside(double v, double lo, double hi, double margin) { return v > lo + margin && v < hi - margin; }
 
 /* Pixel (px, py)'s centre ray (render/render.h's pinhole): whether it enters
@@ -124,19 +114,8 @@ static bool inside(double v, double lo, double hi, double margin) { return v > l
 static bool pixel_expect(uint32_t thick, bool alternate, uint32_t px, uint32_t py, double out[3]) {
     vx_render_desc b = camera(thick);
     const double* e = b.camera.eye;
-    double f[3], r[3], u[3], up[3] = {b.camera.up[0], b.camera.up[1], b.camera.up[2]};
-    for (int k = 0; k < 3; k++) f[k] = b.camera.target[k] - e[k];
-    double lf = sqrt(dot3(f, f));
-    for (int k = 0; k < 3; k++) f[k] /= lf;
-    r[0] = f[1] * up[2] - f[2] * up[1], r[1] = f[2] * up[0] - f[0] * up[2], r[2] = f[0] * up[1] - f[1] * up[0];
-    double lr = sqrt(dot3(r, r));
-    for (int k = 0; k < 3; k++) r[k] /= lr;
-    u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
-    double hh = tan(0.5 * b.camera.fov * PI / 180), hw = hh * (double)b.width / b.height;
-    double su = ((px + 0.5) / b.width) * 2 - 1, sv = 1 - ((py + 0.5) / b.height) * 2, d[3];
-    for (int k = 0; k < 3; k++) d[k] = f[k] + su * hw * r[k] + sv * hh * u[k];
-    double ld = sqrt(dot3(d, d));
-    for (int k = 0; k < 3; k++) d[k] /= ld;
+    double d[3];
+    cf_pixel_ray(&b, px, py, d);
     if (!(d[2] < 0)) return false;
     double top = G + (double)thick, t0 = (top - e[2]) / d[2], a[3];
     for (int k = 0; k < 3; k++) a[k] = e[k] + t0 * d[k];
@@ -151,13 +130,13 @@ static bool pixel_expect(uint32_t thick, bool alternate, uint32_t px, uint32_t p
     double t1 = (G - a[2]) / di[2], q[3];
     for (int k = 0; k < 3; k++) q[k] = a[k] + t1 * di[k];
     if (!inside(q[0], X0, X1, 0.5) || !inside(q[1], X0, X1, 0.5)) return false;
-    double thr = (1 - fresnel(c, IOR)) * (1 - fresnel(-di[2], 1 / IOR));
+    double thr = (1 - cf_fresnel(c, IOR)) * (1 - cf_fresnel(-di[2], 1 / IOR));
     double t = (1 - q[2]) / d[2], p[3];
     for (int k = 0; k < 3; k++) p[k] = q[k] + t * d[k];
     if (!inside(p[0], 0, S, 0.25) || !inside(p[1], 0, S, 0.25)) return false;
     double wi[3];
     for (int k = 0; k < 3; k++) wi[k] = LIGHT_POS[k] - p[k];
-    double di2 = dot3(wi, wi), dist = sqrt(di2), qq = (dist / 1000) * (dist / 1000);
+    double di2 = cf_dot3(wi, wi), dist = sqrt(di2), qq = (dist / 1000) * (dist / 1000);
     double E = LIGHT_I * (wi[2] / dist) / di2 * (1 - qq * qq) * (1 - qq * qq);
     for (int k = 0; k < 3; k++) {
         double fl = ((FLOOR_RGBA >> (8 * k)) & 255) / 255.0, tn = ((tint >> (8 * k)) & 255) / 255.0;
