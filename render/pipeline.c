@@ -945,7 +945,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     uint32_t spec[PASS_SPECS] = {0};
     memcpy(spec, tspec, sizeof tspec);
     vx__render_scene_trace_ids(fr->rs, spec);
-    vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
+    vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve = NULL, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
     /* gbuffer, direct and resolve merge into one dispatch when nothing needs
      * their images in between (no ao, no gi, no intermediate shown) */
     uint32_t ao_n = desc->ao_rays ? desc->ao_rays : 4;
@@ -964,17 +964,20 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     vx__pipeline* p_cull[5] = {NULL};
     spec[7] = 0;
     spec[5] = has_dof && !f.ortho, spec[6] = 0;
+    /* The G-buffer's pipeline also gives the frame's descriptor set its layout, so it is made for a merged frame
+     * too; the direct, AO and resolve kernels only where they run on their own: a merged frame dispatches the frame
+     * kernel alone, and on lavapipe the direct kernel's compile was half of a default svo_render (1.8 of 3.7 s). */
     if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
     spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
     spec[PASS_SPECS - 1] = sun_map.map != NULL; /* SMAP: the direct pass and the merged kernel only */
-    if (has_direct && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
+    if (has_direct && !merge && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
     spec[PASS_SPECS - 1] = 0;
     spec[6] = 0, spec[7] = 0;
-    if (has_ao && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
+    if (has_ao && !merge && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
               (phys ? 16u : 0u) | (sky ? 32u : 0u) | (metal ? 64u : 0u) | (glass ? 128u : 0u);
     spec[6] = (uint32_t)desc->show;
-    if ((r = get_pipeline(g, SH_RESOLVE, spec, d_last && !merge, &p_resolve, err))) return r;
+    if (!merge && (r = get_pipeline(g, SH_RESOLVE, spec, d_last, &p_resolve, err))) return r;
     if (merge) {
         uint32_t ms[PASS_SPECS];
         memcpy(ms, spec, sizeof ms);
