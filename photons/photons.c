@@ -10,6 +10,7 @@
 #include "render/gpu.h"
 
 #include "photon.comp.h" /* shaders/photon.comp, embedded at build time */
+#include "photon_small.comp.h" /* the same without the trace and the camera's paths (-DPHOTON_SMALL) */
 
 static const double pi = 3.14159265358979323846;
 
@@ -452,8 +453,13 @@ static vx_result step(vx_photon_gi* pg, pass_rec* q, int st, uint64_t items, int
      * tile times its parts; the other steps' 64 */
     uint32_t wg = st == STEP_TRACE ? pg->d.workgroup : (st == STEP_DENSITY ? 64 * pg->density_parts : 64);
     pg->spec[VX__SPEC_COUNT] = (uint32_t)st, pg->spec[VX__SPEC_COUNT + 2] = wg;
-    vx_gpu_compute_pipeline_desc pd = {.spirv = vx__photon_spv_arr, .spirv_size = sizeof vx__photon_spv_arr,
-                                       .binding_count = NBIND, .spec_count = VX__SPEC_TRACE_IDS, .label = "photon"};
+    /* the trace and the camera's paths from the whole module, the other steps from the one without them (the
+     * same code for those steps; a driver translates the whole module for every pipeline: photon.comp) */
+    bool whole = st == STEP_TRACE || st == STEP_GATHER;
+    vx_gpu_compute_pipeline_desc pd = {.spirv = whole ? vx__photon_spv_arr : vx__photon_small_spv_arr,
+                                       .spirv_size = whole ? sizeof vx__photon_spv_arr : sizeof vx__photon_small_spv_arr,
+                                       .binding_count = NBIND, .spec_count = VX__SPEC_TRACE_IDS,
+                                       .label = whole ? "photon" : "photon (small step)"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < NBIND; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, pg->spec, sizeof pg->spec);

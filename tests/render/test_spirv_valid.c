@@ -268,9 +268,11 @@ static const spec_row spec_rows[] = {
      * vx_photon_desc.workgroup, default 32; the density step's 64 x 1, 4 or 8 lanes; else 64; 256 is left out: it
      * sizes the same arrays as 512, above 64 where the density step's big boxes start, and photon.comp is the
      * costliest module here); photons' zero-length density array (docs/PERFORMANCE.md) was invalid at STEP 7 with
-     * 64 lanes and at every other step */
+     * 64 lanes and at every other step; photon_small.comp.h (the same without the trace and the camera's paths)
+     * is made for steps 0, 2-4, 6, 7 and 9 (photons.c step) */
     {"photon.comp.h", "STEP", 9, {0, 1, 2, 3, 4, 5, 6, 7, 9}},
-    {"photon.comp.h", "#7", 3, {32, 64, 512}},
+    {"photon_small.comp.h", "STEP", 7, {0, 2, 3, 4, 6, 7, 9}},
+    {"photon.comp.h photon_small.comp.h", "#7", 3, {32, 64, 512}},
     /* bench/tree64.c's kernel variants; test_pipeline_cache's values; this test's control (test_control) */
     {"tree64.comp.h", "SKIP", 2, {0, 1}},
     {"cache_value.comp.h", "VALUE", 3, {0, 1, 3000}},
