@@ -174,22 +174,3 @@ out:
     vx_free(NULL, d);
     return r;
 }
-
-#ifndef VX_IMAGE_OIIO
-/* formats/image.h without OpenImageIO: these formats only */
-vx_result vx_image_write(const char* path, const vx_image_desc* img, vx_error* err) {
-    if (path && !vx__image_pnm_kind(path))
-        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                       "%s: built without OpenImageIO: images are written as .pfm (float), .ppm or .pgm (8 bits)",
-                       path);
-    return vx__image_pnm_write(path, img, err);
-}
-
-vx_result vx_image_read(const char* path, vx_image_type type, uint32_t max_dim, uint32_t* width, uint32_t* height,
-                        uint32_t* channels, void** out_pixels, vx_error* err) {
-    if (path && !vx__image_pnm_kind(path))
-        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
-                       "%s: built without OpenImageIO: images are read from .pfm, .ppm or .pgm", path);
-    return vx__image_pnm_read(path, type, max_dim, width, height, channels, out_pixels, err);
-}
-#endif

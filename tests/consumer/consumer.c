@@ -9,8 +9,11 @@
  * against the distinct cells of the .vox model it came from, decodes every
  * model, writes the scene to WORKDIR and reads it back. IN.glb and IN.vdb,
  * where given and this libvoxkit has the readers, are converted too (the C++
- * shims through the shared library). Prints one line per input and exits 0
- * when every check holds.
+ * shims through the shared library). Where the library has formats/image.h,
+ * a PNG and an EXR are written to WORKDIR and read back, the same values:
+ * OpenImageIO is a module that libvoxkit loads from voxkit/ beside itself
+ * (formats/image.c), which only an installed library's run can show. Prints
+ * one line per input and exits 0 when every check holds.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -30,6 +33,10 @@
 #if __has_include(<voxkit/convert/volume.h>)
 #include <voxkit/convert/volume.h>
 #define HAVE_VDB 1
+#endif
+#if __has_include(<voxkit/formats/image.h>)
+#include <voxkit/formats/image.h>
+#define HAVE_IMAGE 1
 #endif
 #endif
 
@@ -162,6 +169,40 @@ static void check_vox(const char* in, const char* workdir) {
     vx_vox_scene_free(&vox);
 }
 
+#ifdef HAVE_IMAGE
+/* A 5x3 image of `type` (RGB) written to WORKDIR/image.EXT and read back: the same values. */
+static void check_image(const char* workdir, const char* ext, vx_image_type type) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/image.%s", workdir, ext);
+    enum { W = 5, H = 3, C = 3 };
+    uint8_t u8[W * H * C];
+    float f32[W * H * C];
+    for (int i = 0; i < W * H * C; i++) u8[i] = (uint8_t)(i * 17 + 3), f32[i] = 0.25f * (float)i - 1.5f;
+    vx_error err = {0};
+    vx_image_desc d = {.width = W, .height = H, .channels = C, .type = type};
+    d.pixels = type == VX_IMAGE_F32 ? (const void*)f32 : (const void*)u8;
+    if (vx_image_write(path, &d, &err) != VX_OK) {
+        if (strstr(err.msg, "built without OpenImageIO")) {
+            printf("%s: this libvoxkit has no OpenImageIO, skipped\n", path);
+        } else {
+            EXPECT(0, "%s: %s", path, err.msg);
+        }
+        return;
+    }
+    uint32_t w = 0, h = 0, c = 0;
+    void* px = NULL;
+    if (vx_image_read(path, type, 0, &w, &h, &c, &px, &err) != VX_OK) {
+        EXPECT(0, "%s: read back: %s", path, err.msg);
+        return;
+    }
+    EXPECT(w == W && h == H && c == C, "%s: read back %ux%ux%u", path, w, h, c);
+    size_t bytes = (size_t)W * H * C * (type == VX_IMAGE_F32 ? sizeof(float) : 1);
+    if (w == W && h == H && c == C) EXPECT(memcmp(px, d.pixels, bytes) == 0, "%s: other values read back", path);
+    printf("%s: written and read back through the library\n", path);
+    vx_free(NULL, px);
+}
+#endif
+
 int main(int argc, char** argv) {
     if (argc < 2) {
         fprintf(stderr, "usage: consumer WORKDIR [IN.vox [IN.glb [IN.vdb]]]\n");
@@ -217,6 +258,10 @@ int main(int argc, char** argv) {
     }
 #else
     if (vdb) printf("%s: this libvoxkit has no OpenVDB reader, skipped\n", vdb);
+#endif
+#ifdef HAVE_IMAGE
+    check_image(workdir, "png", VX_IMAGE_U8);
+    check_image(workdir, "exr", VX_IMAGE_F32);
 #endif
     if (failures) fprintf(stderr, "consumer: %d checks failed\n", failures);
     return failures ? 1 : 0;

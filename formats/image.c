@@ -1,0 +1,104 @@
+/* formats/image.c - formats/image.h: .pfm, .ppm and .pgm by voxkit's own code
+ * (image_pnm.c), every other format through OpenImageIO in its own module,
+ * libvoxkit_oiio.so (image_oiio.cpp), loaded at the first such image.
+ *
+ * Why a module: OpenImageIO brings some 250 shared libraries (OpenCV, FFmpeg,
+ * GDAL, ...); linked into the tools they cost every svo_render, svo_bake and
+ * svo_view process 0.35 s of dynamic loading before main on a 2-core machine,
+ * whether it wrote a PNG or nothing (--help), and libvoxkit's users the same at
+ * load. Loaded with dlopen, only a process that reads or writes such an image
+ * pays it.
+ *
+ * Where the module is: beside the code that calls it, found with dladdr: the
+ * library (libvoxkit.so in <libdir>, the build tree's top folder) has it in
+ * voxkit/ below its folder; a tool (<bindir>, the build tree's bin/) in the
+ * library folder's voxkit/ (VX_IMAGE_MODULE_FROM_BIN), or the build tree's
+ * ../voxkit; last, the installed <libdir>/voxkit (VX_IMAGE_MODULE_DIR), for a
+ * tool copied elsewhere. Nothing is kept between calls: dlopen of a loaded
+ * module returns it again (RTLD_NODELETE keeps it loaded). */
+#define _GNU_SOURCE
+#include "formats/image.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "formats/image_pnm.h"
+
+#ifdef VX_IMAGE_OIIO
+#include <dlfcn.h>
+#include <limits.h>
+
+/* The module's entry points (image_oiio.cpp): the same arguments as formats/image.h's, checked here. */
+typedef vx_result (*oiio_write_fn)(const char* path, const vx_image_desc* img, vx_error* err);
+typedef vx_result (*oiio_read_fn)(const char* path, vx_image_type type, uint32_t max_dim, uint32_t* width,
+                                  uint32_t* height, uint32_t* channels, void** out_pixels, vx_error* err);
+
+/* The module's symbol `name` into *out; else the reason, for `path` (the image). */
+static vx_result module_symbol(const char* name, const char* path, void** out, vx_error* err) {
+    Dl_info info;
+    char self[PATH_MAX] = ".", why[160] = "not found";
+    /* the object holding this code: libvoxkit.so or the executable */
+    if (dladdr((const void*)module_symbol, &info) && info.dli_fname && strlen(info.dli_fname) < sizeof self) {
+        snprintf(self, sizeof self, "%s", info.dli_fname);
+        char* slash = strrchr(self, '/');
+        if (slash) *slash = 0;
+        else snprintf(self, sizeof self, ".");
+    }
+    const char* rel[] = {"voxkit", VX_IMAGE_MODULE_FROM_BIN, "../voxkit"};
+    enum { NREL = sizeof rel / sizeof rel[0] };
+    for (size_t i = 0; i <= NREL; i++) {
+        char file[PATH_MAX];
+        int n = i < NREL ? snprintf(file, sizeof file, "%s/%s/libvoxkit_oiio.so", self, rel[i])
+                         : snprintf(file, sizeof file, "%s/libvoxkit_oiio.so", VX_IMAGE_MODULE_DIR);
+        if (n < 0 || (size_t)n >= sizeof file) continue;
+        void* h = dlopen(file, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+        if (!h) {
+            /* the first failure other than a missing file says most (a library the module needs, say) */
+            const char* e = dlerror();
+            if (!strcmp(why, "not found") && e && !strstr(e, "No such file")) snprintf(why, sizeof why, "%s", e);
+            continue;
+        }
+        if ((*out = dlsym(h, name))) return VX_OK;
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s: %s has no %s", path, file, name);
+    }
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                   "%s: no OpenImageIO module (libvoxkit_oiio.so beside %s or in %s: %s); .pfm/.ppm/.pgm need none",
+                   path, self, VX_IMAGE_MODULE_DIR, why);
+}
+#endif
+
+vx_result vx_image_write(const char* path, const vx_image_desc* img, vx_error* err) {
+    if (!path || !img || !img->pixels) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (img->width == 0 || img->height == 0 || img->width > 65536 || img->height > 65536 || img->channels < 1 ||
+        img->channels > 4)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: bad image shape %ux%ux%u", path, img->width,
+                       img->height, img->channels);
+    /* PFM/PPM/PGM by our own code in every build (the same bytes with and without OpenImageIO; Debian's has no
+     * PFM writer) */
+    if (vx__image_pnm_kind(path)) return vx__image_pnm_write(path, img, err);
+#ifdef VX_IMAGE_OIIO
+    void* f = NULL;
+    vx_result r = module_symbol("vx__image_oiio_write", path, &f, err);
+    return r ? r : ((oiio_write_fn)f)(path, img, err);
+#else
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                   "%s: built without OpenImageIO: images are written as .pfm (float), .ppm or .pgm (8 bits)", path);
+#endif
+}
+
+vx_result vx_image_read(const char* path, vx_image_type type, uint32_t max_dim, uint32_t* width, uint32_t* height,
+                        uint32_t* channels, void** out_pixels, vx_error* err) {
+    if (!path || !width || !height || !channels || !out_pixels)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    if (!max_dim) max_dim = 16384;
+    if (vx__image_pnm_kind(path))
+        return vx__image_pnm_read(path, type, max_dim, width, height, channels, out_pixels, err);
+#ifdef VX_IMAGE_OIIO
+    void* f = NULL;
+    vx_result r = module_symbol("vx__image_oiio_read", path, &f, err);
+    return r ? r : ((oiio_read_fn)f)(path, type, max_dim, width, height, channels, out_pixels, err);
+#else
+    return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                   "%s: built without OpenImageIO: images are read from .pfm, .ppm or .pgm", path);
+#endif
+}
