@@ -12,7 +12,7 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libglfw3-dev xvfb xauth \
     libopenvdb-dev libboost-dev libtbb-dev libimath-dev libopenvdb-tools \
     libtinygltf-dev libstb-dev nlohmann-json3-dev \
-    libopenimageio-dev \
+    libopenimageio-dev libpng-dev \
     libopenmpi-dev openmpi-bin \
     python3-matplotlib \
     libimgui-dev blender
