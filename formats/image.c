@@ -27,12 +27,10 @@
 
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "formats/image_pnm.h"
 
 #ifdef VX_IMAGE_PNG
-#include <errno.h>
 #include <png.h>
 
 /* A name ending in .png (either case). */
@@ -42,33 +40,28 @@ static bool is_png(const char* path) {
     return dot && (!slash || dot > slash) && (!strcmp(dot, ".png") || !strcmp(dot, ".PNG"));
 }
 
-/* An 8-bit PNG through a temporary file beside it, renamed over path when complete. */
+/* An 8-bit PNG, encoded in memory and written with vx_file_write_atomic (a failure leaves nothing). */
 static vx_result png_write(const char* path, const vx_image_desc* img, vx_error* err) {
     static const png_uint_32 formats[5] = {0, PNG_FORMAT_GRAY, PNG_FORMAT_GA, PNG_FORMAT_RGB, PNG_FORMAT_RGBA};
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid()) >= (int)sizeof tmp)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: path too long", path);
-    FILE* f = fopen(tmp, "wb");
-    if (!f) return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: %s", path, strerror(errno));
     png_image pi;
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
     pi.width = img->width, pi.height = img->height, pi.format = formats[img->channels];
-    int ok = png_image_write_to_stdio(&pi, f, 0, img->pixels, (png_int_32)(img->width * img->channels), NULL);
-    char why[sizeof pi.message + 1];
-    snprintf(why, sizeof why, "%s", ok ? "" : pi.message);
+    png_int_32 stride = (png_int_32)(img->width * img->channels); /* at most 65536 * 4 */
+    png_alloc_size_t size = 0;
+    void* mem = NULL;
+    /* the first call sizes the encoding, the second writes it */
+    int ok = png_image_write_to_memory(&pi, NULL, &size, 0, img->pixels, stride, NULL);
+    if (ok && !(mem = vx_alloc(NULL, size))) {
+        png_image_free(&pi);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "%s: out of memory", path);
+    }
+    if (ok) ok = png_image_write_to_memory(&pi, mem, &size, 0, img->pixels, stride, NULL);
+    vx_result r = ok ? vx_file_write_atomic(path, NULL, mem, size, err)
+                     : vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: %s", path, pi.message);
     png_image_free(&pi);
-    bool closed = fclose(f) == 0;
-    if (!ok || !closed) {
-        remove(tmp);
-        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: %s", path, ok ? "write failed (disk full?)" : why);
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "%s: rename failed: %s", path, strerror(e));
-    }
-    return VX_OK;
+    vx_free(NULL, mem);
+    return r;
 }
 #endif
 
@@ -116,11 +109,8 @@ static vx_result module_symbol(const char* name, const char* path, void** out, v
 #endif
 
 vx_result vx_image_write(const char* path, const vx_image_desc* img, vx_error* err) {
-    if (!path || !img || !img->pixels) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
-    if (img->width == 0 || img->height == 0 || img->width > 65536 || img->height > 65536 || img->channels < 1 ||
-        img->channels > 4)
-        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: bad image shape %ux%ux%u", path, img->width,
-                       img->height, img->channels);
+    vx_result r = vx__image_desc_check(path, img, err);
+    if (r) return r;
     /* PFM/PPM/PGM by our own code in every build (the same bytes with and without OpenImageIO; Debian's has no
      * PFM writer) */
     if (vx__image_pnm_kind(path)) return vx__image_pnm_write(path, img, err);
@@ -129,7 +119,7 @@ vx_result vx_image_write(const char* path, const vx_image_desc* img, vx_error* e
 #endif
 #ifdef VX_IMAGE_OIIO
     void* f = NULL;
-    vx_result r = module_symbol("vx__image_oiio_write", path, &f, err);
+    r = module_symbol("vx__image_oiio_write", path, &f, err);
     return r ? r : ((oiio_write_fn)f)(path, img, err);
 #else
     return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,

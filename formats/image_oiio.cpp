@@ -27,8 +27,8 @@ static std::string tmp_name(const std::string& path) {
     return stem + ".tmp" + std::to_string((unsigned long)std::hash<std::string>{}(path) % 100000) + ext;
 }
 
-// The module's two entry points (formats/image.c VX__IMAGE_OIIO_WRITE/_READ: their names and types); the
-// arguments are checked and the .pfm/.ppm/.pgm files handled there.
+// The module's two entry points, looked up by these names with dlsym (formats/image.c module_symbol, whose
+// oiio_write_fn / oiio_read_fn are their types); the arguments are checked and .pfm/.ppm/.pgm/.png handled there.
 extern "C" __attribute__((visibility("default"))) vx_result vx__image_oiio_write(const char* path,
                                                                                   const vx_image_desc* img,
                                                                                   vx_error* err) {

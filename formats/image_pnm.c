@@ -24,12 +24,18 @@ char vx__image_pnm_kind(const char* path) {
     return 0;
 }
 
-vx_result vx__image_pnm_write(const char* path, const vx_image_desc* img, vx_error* err) {
+vx_result vx__image_desc_check(const char* path, const vx_image_desc* img, vx_error* err) {
     if (!path || !img || !img->pixels) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (img->width == 0 || img->height == 0 || img->width > 65536 || img->height > 65536 || img->channels < 1 ||
         img->channels > 4)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "%s: bad image shape %ux%ux%u", path, img->width,
                        img->height, img->channels);
+    return VX_OK;
+}
+
+vx_result vx__image_pnm_write(const char* path, const vx_image_desc* img, vx_error* err) {
+    vx_result bad = vx__image_desc_check(path, img, err);
+    if (bad) return bad;
     char kind = vx__image_pnm_kind(path);
     if (!kind) return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "%s: not a .pfm, .ppm or .pgm name", path);
     bool f32 = img->type == VX_IMAGE_F32;

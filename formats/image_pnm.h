@@ -5,6 +5,8 @@
 
 #include "formats/image.h"
 
+/* Arguments of a write: NULLs, sides 1..65536, 1..4 channels (every back end's rule) */
+vx_result vx__image_desc_check(const char* path, const vx_image_desc* img, vx_error* err);
 /* 'f' .pfm, 'g' .pgm, 'p' .ppm (either case), 0 any other name */
 char vx__image_pnm_kind(const char* path);
 vx_result vx__image_pnm_write(const char* path, const vx_image_desc* img, vx_error* err);
