@@ -110,6 +110,11 @@ struct vx_gpu {
      * constant VX__SPEC_NODES_FILE (gpu_pipeline.c; trace_common.glsl's NODES_FILE), and render_scene.c uploads
      * the nodes in it. */
     bool nodes_file;
+    /* Each pipeline's module specialised on the host before the driver sees it (render/spirv_opt.h: lavapipe makes
+     * the merged frame kernel in 0.05 s instead of 2.5 s): decided once when the device is made, true on CPU
+     * devices where the build has the specialiser; VX_GPU_SPECIALISE=0|1 overrides (1: on any device with the
+     * specialiser; test_pipeline_cache compares the two on every kernel). */
+    bool specialise;
     uint32_t validation_errors;
     /* a display that holds recorded frames to submit several at once
      * (vx_display_set_queue): submits them; called before any other

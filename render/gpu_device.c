@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "render/render_internal.h"
+#include "render/spirv_opt.h"
 
 const char* vx__vk_str(VkResult r) {
     switch (r) {
@@ -377,6 +378,14 @@ static vx_result gpu_prepare(vx_gpu* g, const vx_gpu_desc* desc, vx_error* err) 
         g->nodes_file = false;
     else
         g->nodes_file = g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    /* specialisation on the host (gpu.h's specialise) */
+    const char* spec = getenv("VX_GPU_SPECIALISE");
+    if (spec && strcmp(spec, "0") == 0)
+        g->specialise = false;
+    else if (spec && strcmp(spec, "1") == 0)
+        g->specialise = vx__spirv_can_specialise();
+    else
+        g->specialise = vx__spirv_can_specialise() && g->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     vx__gpu_log_memory_types(g);
     if (!g->external && (r = create_device(g, err))) return r;
     t[3] = vx_time_now();

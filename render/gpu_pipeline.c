@@ -5,9 +5,11 @@
 #include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "render/render_internal.h"
+#include "render/spirv_opt.h"
 
 #include "trace.comp.h"
 #include "beam.comp.h"
@@ -101,9 +103,19 @@ static void log_stats(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, VkPipeli
     }
 }
 
+/* How a pipeline was made, for its log line: vkCreateComputePipelines' time, and where the module was specialised
+ * on the host (vx_gpu.specialise) that step's time and the module's size after it, or its error (the module as
+ * built was then given to the driver). */
+typedef struct made_info {
+    double seconds;
+    double host_seconds;
+    size_t host_bytes;
+    char host_error[sizeof((vx_error){0}.msg)];
+} made_info;
+
 /* Makes p (no logging: it may run on a thread of vx__pipeline_ahead; logged() logs it on the vx_gpu's own
- * thread); *seconds: vkCreateComputePipelines' time. */
-static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, double* seconds,
+ * thread). */
+static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, vx__pipeline* p, made_info* made,
                                  vx_error* err) {
     VkDescriptorSetLayoutBinding b[VX_GPU_MAX_BINDINGS];
     p->binding_count = d->binding_count;
@@ -124,23 +136,46 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                      .pushConstantRangeCount = d->push_constant_size ? 1u : 0u,
                                      .pPushConstantRanges = &pc};
     VX__VK(vkCreatePipelineLayout(g->device, &pl, NULL, &p->layout), "vkCreatePipelineLayout");
-    VkShaderModuleCreateInfo sm = {.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                                   .codeSize = d->spirv_size,
-                                   .pCode = d->spirv};
-    VkShaderModule mod;
-    VX__VK(vkCreateShaderModule(g->device, &sm, NULL, &mod), "vkCreateShaderModule");
     /* the desc's constants (ids 0..spec_count-1), then the device's node form (VX__SPEC_NODES_FILE), which
      * modules that do not declare it ignore */
     enum { NSPEC = sizeof d->spec / sizeof d->spec[0] };
     VkSpecializationMapEntry me[NSPEC + 1];
-    uint32_t sv[NSPEC + 1];
+    uint32_t ids[NSPEC + 1], sv[NSPEC + 1];
     uint32_t ns = d->spec_count < NSPEC ? d->spec_count : NSPEC;
     for (uint32_t i = 0; i < ns; i++) {
         me[i] = (VkSpecializationMapEntry){.constantID = i, .offset = 4 * i, .size = 4};
+        ids[i] = i;
         sv[i] = d->spec[i];
     }
     me[ns] = (VkSpecializationMapEntry){.constantID = VX__SPEC_NODES_FILE, .offset = 4 * ns, .size = sizeof(VkBool32)};
+    ids[ns] = VX__SPEC_NODES_FILE;
     sv[ns] = g->nodes_file ? VK_TRUE : VK_FALSE;
+    /* specialised on the host (render/spirv_opt.h says why); the constants then stay in the pipeline's info,
+     * where the driver ignores ids the module no longer declares. A module the optimizer refuses goes to the
+     * driver as built (logged() says so): slower to make, the same kernel. */
+    const uint32_t* code = d->spirv;
+    size_t code_size = d->spirv_size;
+    uint32_t* host = NULL;
+    if (g->specialise) {
+        double t = vx_time_now();
+        size_t words = 0;
+        vx_error e = {0};
+        if (vx__spirv_specialise(d->spirv, d->spirv_size / 4, ids, sv, ns + 1, &host, &words, &e) == VX_OK) {
+            code = host;
+            code_size = 4 * words;
+            made->host_bytes = code_size;
+        } else {
+            snprintf(made->host_error, sizeof made->host_error, "%s", e.msg);
+        }
+        made->host_seconds = vx_time_now() - t;
+    }
+    VkShaderModuleCreateInfo sm = {.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+                                   .codeSize = code_size,
+                                   .pCode = code};
+    VkShaderModule mod;
+    VkResult mr = vkCreateShaderModule(g->device, &sm, NULL, &mod);
+    free(host);
+    if (mr != VK_SUCCESS) return vx__vk_fail(err, mr, "vkCreateShaderModule");
     VkSpecializationInfo si = {.mapEntryCount = ns + 1, .pMapEntries = me, .dataSize = 4u * (ns + 1), .pData = sv};
     bool stats = !g->external && vx__gpu_shader_stats_wanted(g->phys);
     VkComputePipelineCreateInfo ci = {.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
@@ -153,7 +188,7 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
                                       .layout = p->layout};
     double t0 = vx_time_now();
     VkResult r = vkCreateComputePipelines(g->device, VK_NULL_HANDLE, 1, &ci, NULL, &p->pipe);
-    *seconds = vx_time_now() - t0;
+    made->seconds = vx_time_now() - t0;
     vkDestroyShaderModule(g->device, mod, NULL);
     if (r != VK_SUCCESS) return vx__vk_fail(err, r, "vkCreateComputePipelines");
     vx__gpu_name(g, VK_OBJECT_TYPE_PIPELINE, (uint64_t)p->pipe, d->label);
@@ -162,9 +197,16 @@ static vx_result create_pipeline(vx_gpu* g, const vx_gpu_compute_pipeline_desc* 
 
 /* The log of a pipeline made: the driver's compile (on a machine whose shader cache is empty) or its cache's
  * hit, and with VX_GPU_SHADER_STATS its statistics. */
-static void logged(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, const vx__pipeline* p, double seconds, bool ahead) {
-    vx_log(g->logger, VX_LOG_INFO, "gpu.pipeline", "%s (%zu bytes of SPIR-V, %u constants) made in %.4f s%s",
-           d->label ? d->label : "?", d->spirv_size, d->spec_count, seconds, ahead ? " ahead" : "");
+static void logged(vx_gpu* g, const vx_gpu_compute_pipeline_desc* d, const vx__pipeline* p, const made_info* made,
+                   bool ahead) {
+    char host[sizeof((vx_error){0}.msg) + 64] = "";
+    if (made->host_error[0])
+        snprintf(host, sizeof host, "; not specialised on the host: %s", made->host_error);
+    else if (made->host_bytes)
+        snprintf(host, sizeof host, "; specialised on the host in %.4f s to %zu bytes", made->host_seconds,
+                 made->host_bytes);
+    vx_log(g->logger, VX_LOG_INFO, "gpu.pipeline", "%s (%zu bytes of SPIR-V, %u constants) made in %.4f s%s%s",
+           d->label ? d->label : "?", d->spirv_size, d->spec_count, made->seconds, ahead ? " ahead" : "", host);
     if (!g->external && vx__gpu_shader_stats_wanted(g->phys)) log_stats(g, d, p->pipe);
 }
 
@@ -185,15 +227,15 @@ typedef struct vx__pipeline_pending {
     vx__pipeline p;
     vx_result r;
     vx_error err;
-    double seconds;
-    atomic_bool done; /* p, r, err and seconds are written (vx__pipeline_state) */
+    made_info made;
+    atomic_bool done; /* p, r, err and made are written (vx__pipeline_state) */
     pthread_t thread;
 } vx__pipeline_pending;
 
 static void* ahead_main(void* arg) {
     vx__pipeline_pending* q = arg;
     /* vkCreate* of one device may run on several threads at once (no external synchronisation asked) */
-    q->r = create_pipeline(q->g, &q->d, &q->p, &q->seconds, &q->err);
+    q->r = create_pipeline(q->g, &q->d, &q->p, &q->made, &q->err);
     atomic_store_explicit(&q->done, true, memory_order_release);
     return NULL;
 }
@@ -286,16 +328,16 @@ vx_result vx__pipeline_get(vx_gpu* g, uint64_t key, const vx_gpu_compute_pipelin
     memset(p, 0, sizeof *p);
     if (q) { /* made ahead */
         *p = q->p;
-        logged(g, &q->d, p, q->seconds, true);
+        logged(g, &q->d, p, &q->made, true);
         vx_free(&g->alloc, q);
     } else {
-        double seconds = 0;
-        vx_result r = create_pipeline(g, d, p, &seconds, err);
+        made_info made = {0};
+        vx_result r = create_pipeline(g, d, p, &made, err);
         if (r) {
             destroy_pipeline(g, p);
             return r;
         }
-        logged(g, d, p, seconds, false);
+        logged(g, d, p, &made, false);
     }
     p->key = key;
     last->count++;

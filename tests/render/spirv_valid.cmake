@@ -15,7 +15,7 @@ if(VX_WITH_VULKAN)
   vx_spirv_header(${CMAKE_CURRENT_BINARY_DIR}/spec_control.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/spec_control.comp
                   vx_test_spec_control_spv)
   vx_add_test(test_spirv_valid SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_spirv_valid.c
-              ${CMAKE_CURRENT_BINARY_DIR}/spec_control.comp.h)
+              ${CMAKE_CURRENT_BINARY_DIR}/spec_control.comp.h LIBS vx_render)
   target_include_directories(test_spirv_valid PRIVATE ${CMAKE_CURRENT_BINARY_DIR})
   set_tests_properties(test_spirv_valid PROPERTIES TIMEOUT 120 ENVIRONMENT "VX_TEST_SKIP=test_specialised")
   add_test(NAME test_spirv_specialised COMMAND test_spirv_valid)

@@ -11,7 +11,12 @@
  * used to evict its oldest entry past 128 and move the others, so that the
  * pipelines held by a frame, a GI method or a recorded command buffer were
  * destroyed or became other pipelines (wrong images, validation errors).
+ * The fresh devices make their pipelines from the modules as built
+ * (VX_GPU_SPECIALISE=0), the shared one from modules specialised on the host
+ * (render/spirv_opt.h, VX_GPU_SPECIALISE=1, lavapipe's default): the same bits
+ * again, every module the frames use accepted by the specialiser.
  * On lavapipe; skips without a device. */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +28,7 @@
 #include "render/display.h"
 #include "render/pipeline.h"
 #include "render/gpu.h" /* vx__pipeline_get, vx__pipeline_ahead, vx__dispatch */
+#include "render/spirv_opt.h" /* vx__spirv_can_specialise */
 #include "tests/gpu_test.h"
 #include "tests/probes/probe_scenes.h"
 #include "tests/render/scenes.h"
@@ -260,8 +266,26 @@ static const struct {
 } pairs[] = {{1, VX_RENDER_LAYOUT_PLAIN}, {0, VX_RENDER_LAYOUT_COMPACT}};
 enum { NPAIRS = sizeof pairs / sizeof pairs[0] };
 
+/* The shared device's pipelines ("gpu.pipeline" lines): how many were specialised on the host, how many the
+ * specialiser refused (made from the module as built); validation messages counted as lg's. */
+typedef struct host_log {
+    int validation, specialised, refused;
+    char first_refusal[256];
+} host_log;
+
+static void host_cb(void* user, vx_log_level level, const char* id, const char* msg) {
+    host_log* h = user;
+    vx_test_validation_log(&h->validation, level, id, msg);
+    if (strcmp(id, "gpu.pipeline") != 0) return;
+    if (strstr(msg, "; specialised on the host in ")) h->specialised++;
+    if (strstr(msg, "; not specialised on the host")) {
+        if (!h->refused++) snprintf(h->first_refusal, sizeof h->first_refusal, "%s", msg);
+    }
+}
+
 static void test_frames_one_device(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
+    bool host = vx__spirv_can_specialise();
     static const char* const names[] = {"generated", "room"};
     vx_svo_scene s[2];
     make_scenes(s);
@@ -273,7 +297,10 @@ static void test_frames_one_device(void) {
         const char* name = names[pairs[i].scene];
         const char* layout = vx_render_layout_name(pairs[i].layout);
         vx_gpu* g = NULL;
+        setenv("VX_GPU_SPECIALISE", "0", 1); /* the modules as built, constants given to the driver */
         REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+        unsetenv("VX_GPU_SPECIALISE");
+        CHECK(!g->specialise);
         vx_render_image img[NJOBS];
         CHECKF(frames_of(g, &s[pairs[i].scene], pairs[i].layout, img), "%s %s: fresh device", name, layout);
         for (int k = 0; k < NJOBS; k++)
@@ -284,9 +311,14 @@ static void test_frames_one_device(void) {
         CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
         vx_gpu_destroy(g);
     }
-    /* one device for all, its cache holding 100 pipelines already */
+    /* one device for all, its cache holding 100 pipelines already, its modules specialised on the host */
     vx_gpu* g = NULL;
-    REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &lg}, true, &g));
+    host_log hl = {0};
+    vx_logger hlg = {.func = host_cb, .user_data = &hl};
+    setenv("VX_GPU_SPECIALISE", "1", 1);
+    REQUIRE(!vx_test_gpu_open((vx_gpu_desc){.logger = &hlg}, true, &g));
+    unsetenv("VX_GPU_SPECIALISE");
+    CHECK(g->specialise == host);
     CHECK(fill_cache(g, 0, 100));
     for (int i = 0; i < NPAIRS; i++) {
         const char* name = names[pairs[i].scene];
@@ -310,6 +342,13 @@ static void test_frames_one_device(void) {
         free_images(got);
     }
     CHECKF(vx_gpu_validation_errors(g) == 0, "%u validation errors", vx_gpu_validation_errors(g));
+    printf("  shared device: %u pipelines, %d specialised on the host, %d refused by the specialiser\n",
+           g->pipeline_count, hl.specialised, hl.refused);
+    if (host) {
+        CHECKF(hl.refused == 0, "the specialiser refused a module: %s", hl.first_refusal);
+        CHECKF(hl.specialised >= (int)g->pipeline_count, "%d of %u pipelines specialised on the host", hl.specialised,
+               g->pipeline_count);
+    }
     vx_gpu_destroy(g);
     vx_svo_scene_free(&s[0]);
     vx_svo_scene_free(&s[1]);

@@ -22,7 +22,10 @@
  * test_specialised (ctest's test_spirv_specialised) specialises each module
  * with spirv-opt under the combinations the toolkit uses (spec_rows) and
  * validates each result, and test_control shows that check failing where it
- * must. */
+ * must. Where the build has the toolkit's own specialiser (render/spirv_opt.h,
+ * which lavapipe devices use: the constants frozen and the code they switch
+ * off removed on the host), each combination's module from it is validated
+ * too, and must declare no specialisation constant left. */
 #define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
 #include <stdint.h>
 #include <stdio.h>
@@ -31,6 +34,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "render/spirv_opt.h"
 #include "tests/test.h"
 
 #include "spirv_modules.h" /* VX_SPIRV_VAL, VX_SPIRV_OPT, VX_SPIRV_ENV, VX_SPIRV_MODULES (tests/render/spirv_valid.cmake) */
@@ -456,13 +460,61 @@ static size_t pair_rows(const spec_const* c, int nc, uint32_t** rows_out) {
     return nr;
 }
 
+/* Whether the words of a module declare a specialisation constant (an OpDecorate ... SpecId). */
+static int has_spec_id(const uint32_t* w, size_t nw) {
+    for (size_t i = 5; i < nw;) {
+        uint32_t len = w[i] >> 16, op = w[i] & 0xFFFFu;
+        if (len == 0 || i + len > nw) return 1; /* malformed: counted as a failure */
+        if (op == 71 /* OpDecorate */ && len >= 3 && w[i + 2] == 1 /* SpecId */) return 1;
+        i += len;
+    }
+    return 0;
+}
+
+/* The toolkit's own specialisation (render/spirv_opt.h) of the module spv with the values of row into
+ * tmpdir/host_SLOT.spv: 1 when written (and it declares no constant left), else 0 with the reason in msg. */
+static int host_specialise(const char* spv, const char* tmpdir, int slot, const spec_const* c, int nc,
+                           const uint32_t* row, char* msg, size_t msg_size) {
+    size_t len = 0;
+    char* bytes = read_all(spv, &len);
+    uint32_t ids[64], vals[64];
+    int ok = bytes && len % 4 == 0 && len >= 20 && nc <= 64;
+    if (!ok) snprintf(msg, msg_size, "%s: cannot read the module", spv);
+    for (int k = 0; ok && k < nc; k++) ids[k] = c[k].id, vals[k] = c[k].v[row[k]];
+    uint32_t* words = NULL;
+    uint32_t* out = NULL;
+    size_t nout = 0;
+    vx_error err = {0};
+    if (ok && !(words = malloc(len))) ok = 0, snprintf(msg, msg_size, "out of memory");
+    if (ok) memcpy(words, bytes, len);
+    if (ok && vx__spirv_specialise(words, len / 4, ids, vals, (uint32_t)nc, &out, &nout, &err))
+        ok = 0, snprintf(msg, msg_size, "vx__spirv_specialise: %s", err.msg);
+    if (ok && has_spec_id(out, nout)) ok = 0, snprintf(msg, msg_size, "a specialisation constant is left");
+    if (ok) {
+        char file[4200];
+        snprintf(file, sizeof file, "%s/host_%d.spv", tmpdir, slot);
+        FILE* f = fopen(file, "wb");
+        ok = f && fwrite(out, 4, nout, f) == nout;
+        if (f && fclose(f)) ok = 0;
+        if (!ok) snprintf(msg, msg_size, "cannot write host_%d.spv in the test folder", slot);
+    }
+    free(out);
+    free(words);
+    free(bytes);
+    return ok;
+}
+
 /* Starts specialising the module spv with the values of row and validating the result (finish_tool reads the
  * outcome: 1 when valid, else 0 with the tools' output): spirv-opt sets the constants' defaults, freezes them into
  * constants and folds what depends on them (as a driver's specialisation does) into tmpdir/special_SLOT.spv, which
- * spirv-val checks. NULL when the command cannot start. */
+ * spirv-val checks; where host (host_specialise wrote tmpdir/host_SLOT.spv) spirv-val checks that one too. NULL when
+ * the command cannot start. */
 static FILE* specialise_start(const char* spv, const char* tmpdir, int slot, const spec_const* c, int nc,
-                              const uint32_t* row) {
-    char vals[2048] = "", cmd[8192];
+                              const uint32_t* row, int host) {
+    char vals[2048] = "", cmd[8192], host_check[4400] = "";
+    if (host)
+        snprintf(host_check, sizeof host_check, " && '%s' --target-env %s '%s/host_%d.spv' 2>&1", VX_SPIRV_VAL,
+                 VX_SPIRV_ENV, tmpdir, slot);
     size_t o = 0;
     for (int k = 0; k < nc && o < sizeof vals; k++) {
         uint32_t v = c[k].v[row[k]];
@@ -474,16 +526,19 @@ static FILE* specialise_start(const char* spv, const char* tmpdir, int slot, con
     }
     snprintf(cmd, sizeof cmd,
              "'%s' --target-env=%s --set-spec-const-default-value '%s' --freeze-spec-const --fold-spec-const-op-composite "
-             "'%s' -o '%s/special_%d.spv' 2>&1 && '%s' --target-env %s '%s/special_%d.spv' 2>&1; r=$?; "
-             "rm -f '%s/special_%d.spv'; exit $r",
-             VX_SPIRV_OPT, VX_SPIRV_ENV, vals, spv, tmpdir, slot, VX_SPIRV_VAL, VX_SPIRV_ENV, tmpdir, slot, tmpdir, slot);
+             "'%s' -o '%s/special_%d.spv' 2>&1 && '%s' --target-env %s '%s/special_%d.spv' 2>&1%s; r=$?; "
+             "rm -f '%s/special_%d.spv' '%s/host_%d.spv'; exit $r",
+             VX_SPIRV_OPT, VX_SPIRV_ENV, vals, spv, tmpdir, slot, VX_SPIRV_VAL, VX_SPIRV_ENV, tmpdir, slot, host_check,
+             tmpdir, slot, tmpdir, slot);
     return popen(cmd, "r");
 }
 
 /* specialise_start and finish_tool in one. */
 static int specialise(const char* spv, const char* tmpdir, const spec_const* c, int nc, const uint32_t* row, char* msg,
                       size_t msg_size) {
-    return finish_tool(specialise_start(spv, tmpdir, 0, c, nc, row), msg, msg_size);
+    int host = vx__spirv_can_specialise();
+    if (host && !host_specialise(spv, tmpdir, 0, c, nc, row, msg, msg_size)) return 0;
+    return finish_tool(specialise_start(spv, tmpdir, 0, c, nc, row, host), msg, msg_size);
 }
 
 /* Checks module path under its combinations (pair_rows over spec_rows' values); adds the combinations checked to
@@ -525,16 +580,24 @@ static int check_specialised(const char* path, const char* tmpdir, size_t* runs)
     int bad = 0;
     for (size_t r0 = 0; ok && r0 < nr && bad < 3; r0 += jobs) {
         FILE* p[JOBS_MAX] = {NULL};
+        char host_msg[JOBS_MAX][256];
+        int host_ok[JOBS_MAX];
         size_t nj = nr - r0 < jobs ? nr - r0 : jobs;
-        for (size_t j = 0; j < nj; j++) p[j] = specialise_start(file, tmpdir, (int)j, c, nc, rows + (r0 + j) * (size_t)nc);
+        int host = vx__spirv_can_specialise();
+        for (size_t j = 0; j < nj; j++) {
+            const uint32_t* row = rows + (r0 + j) * (size_t)nc;
+            host_ok[j] = !host || host_specialise(file, tmpdir, (int)j, c, nc, row, host_msg[j], sizeof host_msg[j]);
+            p[j] = host_ok[j] ? specialise_start(file, tmpdir, (int)j, c, nc, row, host) : NULL;
+        }
         for (size_t j = 0; j < nj; j++) {
             char msg[4096];
             (*runs)++;
-            if (finish_tool(p[j], msg, sizeof msg)) continue;
+            if (!host_ok[j]) snprintf(msg, sizeof msg, "%s", host_msg[j]);
+            if (host_ok[j] && finish_tool(p[j], msg, sizeof msg)) continue;
             bad++;
             fprintf(stderr, "  INVALID %s specialised with", base);
             for (int k = 0; k < nc; k++) fprintf(stderr, " %s=%u", c[k].name, c[k].v[rows[(r0 + j) * (size_t)nc + k]]);
-            fprintf(stderr, ":\n%s\n", p[j] ? msg : "(the tools could not be started)");
+            fprintf(stderr, ":\n%s\n", p[j] || !host_ok[j] ? msg : "(the tools could not be started)");
         }
     }
     if (ok && nc > 0) {
