@@ -460,36 +460,22 @@ static size_t pair_rows(const spec_const* c, int nc, uint32_t** rows_out) {
     return nr;
 }
 
-/* Whether the words of a module declare a specialisation constant (an OpDecorate ... SpecId). */
-static int has_spec_id(const uint32_t* w, size_t nw) {
-    for (size_t i = 5; i < nw;) {
-        uint32_t len = w[i] >> 16, op = w[i] & 0xFFFFu;
-        if (len == 0 || i + len > nw) return 1; /* malformed: counted as a failure */
-        if (op == 71 /* OpDecorate */ && len >= 3 && w[i + 2] == 1 /* SpecId */) return 1;
-        i += len;
-    }
-    return 0;
-}
-
-/* The toolkit's own specialisation (render/spirv_opt.h) of the module spv with the values of row into
- * tmpdir/host_SLOT.spv: 1 when written (and it declares no constant left), else 0 with the reason in msg. */
-static int host_specialise(const char* spv, const char* tmpdir, int slot, const spec_const* c, int nc,
+/* The toolkit's own specialisation (render/spirv_opt.h) of the module words w[0, nw) with the values of row into
+ * tmpdir/host_SLOT.spv: 1 when written (and it declares no constant left: spec_consts finds none), else 0 with the
+ * reason in msg. */
+static int host_specialise(const uint32_t* w, size_t nw, const char* tmpdir, int slot, const spec_const* c, int nc,
                            const uint32_t* row, char* msg, size_t msg_size) {
-    size_t len = 0;
-    char* bytes = read_all(spv, &len);
     uint32_t ids[64], vals[64];
-    int ok = bytes && len % 4 == 0 && len >= 20 && nc <= 64;
-    if (!ok) snprintf(msg, msg_size, "%s: cannot read the module", spv);
-    for (int k = 0; ok && k < nc; k++) ids[k] = c[k].id, vals[k] = c[k].v[row[k]];
-    uint32_t* words = NULL;
+    if (nc > 64) return snprintf(msg, msg_size, "%d constants", nc), 0;
+    for (int k = 0; k < nc; k++) ids[k] = c[k].id, vals[k] = c[k].v[row[k]];
     uint32_t* out = NULL;
     size_t nout = 0;
     vx_error err = {0};
-    if (ok && !(words = malloc(len))) ok = 0, snprintf(msg, msg_size, "out of memory");
-    if (ok) memcpy(words, bytes, len);
-    if (ok && vx__spirv_specialise(words, len / 4, ids, vals, (uint32_t)nc, &out, &nout, &err))
+    spec_const left[1];
+    int ok = 1;
+    if (vx__spirv_specialise(w, nw, ids, vals, (uint32_t)nc, &out, &nout, &err))
         ok = 0, snprintf(msg, msg_size, "vx__spirv_specialise: %s", err.msg);
-    if (ok && has_spec_id(out, nout)) ok = 0, snprintf(msg, msg_size, "a specialisation constant is left");
+    if (ok && spec_consts(out, nout, left, 1) != 0) ok = 0, snprintf(msg, msg_size, "a specialisation constant is left");
     if (ok) {
         char file[4200];
         snprintf(file, sizeof file, "%s/host_%d.spv", tmpdir, slot);
@@ -499,8 +485,6 @@ static int host_specialise(const char* spv, const char* tmpdir, int slot, const 
         if (!ok) snprintf(msg, msg_size, "cannot write host_%d.spv in the test folder", slot);
     }
     free(out);
-    free(words);
-    free(bytes);
     return ok;
 }
 
@@ -534,10 +518,10 @@ static FILE* specialise_start(const char* spv, const char* tmpdir, int slot, con
 }
 
 /* specialise_start and finish_tool in one. */
-static int specialise(const char* spv, const char* tmpdir, const spec_const* c, int nc, const uint32_t* row, char* msg,
-                      size_t msg_size) {
+static int specialise(const char* spv, const uint32_t* w, size_t nw, const char* tmpdir, const spec_const* c, int nc,
+                      const uint32_t* row, char* msg, size_t msg_size) {
     int host = vx__spirv_can_specialise();
-    if (host && !host_specialise(spv, tmpdir, 0, c, nc, row, msg, msg_size)) return 0;
+    if (host && !host_specialise(w, nw, tmpdir, 0, c, nc, row, msg, msg_size)) return 0;
     return finish_tool(specialise_start(spv, tmpdir, 0, c, nc, row, host), msg, msg_size);
 }
 
@@ -554,11 +538,9 @@ static int check_specialised(const char* path, const char* tmpdir, size_t* runs)
     char* bytes = read_all(file, &len);
     spec_const c[64];
     int nc = -1;
-    if (bytes && len % 4 == 0) {
-        uint32_t* w = malloc(len ? len : 4);
-        if (w) memcpy(w, bytes, len), nc = spec_consts(w, len / 4, c, 64);
-        free(w);
-    }
+    /* the module's words, kept for the host's specialisation of each combination */
+    uint32_t* w = bytes && len % 4 == 0 ? malloc(len ? len : 4) : NULL;
+    if (w) memcpy(w, bytes, len), nc = spec_consts(w, len / 4, c, 64);
     free(bytes);
     int ok = nc >= 0;
     if (!ok) fprintf(stderr, "  %s: its specialisation constants could not be read\n", path);
@@ -586,7 +568,7 @@ static int check_specialised(const char* path, const char* tmpdir, size_t* runs)
         int host = vx__spirv_can_specialise();
         for (size_t j = 0; j < nj; j++) {
             const uint32_t* row = rows + (r0 + j) * (size_t)nc;
-            host_ok[j] = !host || host_specialise(file, tmpdir, (int)j, c, nc, row, host_msg[j], sizeof host_msg[j]);
+            host_ok[j] = !host || host_specialise(w, len / 4, tmpdir, (int)j, c, nc, row, host_msg[j], sizeof host_msg[j]);
             p[j] = host_ok[j] ? specialise_start(file, tmpdir, (int)j, c, nc, row, host) : NULL;
         }
         for (size_t j = 0; j < nj; j++) {
@@ -607,6 +589,7 @@ static int check_specialised(const char* path, const char* tmpdir, size_t* runs)
         fprintf(stderr, "\n");
     }
     free(rows);
+    free(w);
     if (strcmp(file, path)) remove(file);
     return ok && !bad;
 }
@@ -637,7 +620,9 @@ static void test_control(void) {
     if (f && fclose(f)) wrote = 0;
     REQUIRE(wrote);
     spec_const c[4];
-    int nc = spec_consts(vx_test_spec_control_spv, sizeof vx_test_spec_control_spv / 4, c, 4);
+    const uint32_t* cw = vx_test_spec_control_spv;
+    size_t cn = sizeof vx_test_spec_control_spv / 4;
+    int nc = spec_consts(cw, cn, c, 4);
     REQUIRE(nc == 2);
     int in = !strcmp(c[0].name, "N") ? 0 : 1, ib = 1 - in;
     CHECK(!strcmp(c[in].name, "N") && !c[in].is_bool && c[in].id == 0);
@@ -647,12 +632,12 @@ static void test_control(void) {
     uint32_t row[2];
     char msg[4096];
     row[in] = 0, row[ib] = 1; /* N 1, B true: an array of length 0 */
-    CHECKF(!specialise(file, tmpdir, c, nc, row, msg, sizeof msg), "N 1, B true passed");
+    CHECKF(!specialise(file, cw, cn, tmpdir, c, nc, row, msg, sizeof msg), "N 1, B true passed");
     CHECKF(strstr(msg, "at least 1") != NULL, "N 1, B true: not the zero-length array: %s", msg);
     row[in] = 0, row[ib] = 0; /* N 1, B false */
-    CHECKF(specialise(file, tmpdir, c, nc, row, msg, sizeof msg), "N 1, B false: %s", msg);
+    CHECKF(specialise(file, cw, cn, tmpdir, c, nc, row, msg, sizeof msg), "N 1, B false: %s", msg);
     row[in] = 1, row[ib] = 1; /* N 4, B true */
-    CHECKF(specialise(file, tmpdir, c, nc, row, msg, sizeof msg), "N 4, B true: %s", msg);
+    CHECKF(specialise(file, cw, cn, tmpdir, c, nc, row, msg, sizeof msg), "N 4, B true: %s", msg);
     /* both reach the array's length */
     CHECK(c[in].typed && c[ib].typed);
     /* the rows: every pair of values of the three constants that reach a type (3, 2 and 2 values) in some row, and
