@@ -2867,6 +2867,13 @@ static void test_gi_mode(void) {
     out = slurp(log);
     CHECKF(out && strstr(out, "bad.probes"), "message: %s", out ? out : "(none)");
     free(out);
+    /* a misspelt gi method: named as unknown with the methods listed (not sent to the probes' gi) */
+    rc = run_cmd("%s %s --passes gbuffer,direct,gi=cone --screenshot %s --hidden > %s 2>&1", g_view, svo, a, log);
+    CHECKF(rc == 2, "status %d", rc);
+    out = slurp(log);
+    CHECKF(out && strstr(out, "unknown gi method 'cone' (probes, lightfield, pathtrace, photons, cones)"), "message: %s",
+           out ? out : "(none)");
+    free(out);
 
     /* --validate counts the layer's errors and prints the count */
     if (!validation_layer()) {

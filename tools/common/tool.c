@@ -229,3 +229,12 @@ const char* vx_tool_ext(const char* path) {
     ext[i] = 0;
     return ext;
 }
+
+bool vx_tool_gi_method_known(const char* name) {
+    static const char* const known[] = {"probes", "lightfield", "pathtrace", "photons", "cones"};
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (!strcmp(name, known[i])) return true;
+    return false;
+}
+
+bool vx_tool_gi_method_needs_probes(const char* name) { return !strcmp(name, "probes") || !strcmp(name, "lightfield"); }

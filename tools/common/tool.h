@@ -70,4 +70,11 @@ vx_logger vx_tool_logger(bool verbose);
  * the calling thread's (valid until its next call). */
 const char* vx_tool_ext(const char* path);
 
+/* The gi methods of the tools' pass pipelines (svo_render --passes, svo_view's passes): the names
+ * gi=NAME takes, for one error that lists them all, and whether a method reads light field probes
+ * (--probes FILE). probes/ gives probes, lightfield and pathtrace, photons/ and cones/ the other two. */
+#define VX_TOOL_GI_METHODS "probes, lightfield, pathtrace, photons, cones"
+bool vx_tool_gi_method_known(const char* name);
+bool vx_tool_gi_method_needs_probes(const char* name);
+
 #endif

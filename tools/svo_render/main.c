@@ -823,7 +823,6 @@ int main(int argc, char** argv) {
     bool pipeline = !o.cpu && !o.probe_mode && o.r.mode == VX_RENDER_COLOR;
     if ((o.passes_given || o.show_given || o.timings) && !pipeline)
         usage_error("%s", "--passes, --show and --timings need the GPU colour mode (no --cpu, no other --mode)");
-    bool photons = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "photons");
     bool cones = vx_pass_list_has(&passes, VX_PASS_GI) && !strcmp(passes.gi, "cones");
     if (cones && o.cone.shadows) {
         /* the gi pass brings the direct light (with cone shadows): no direct pass */
@@ -832,11 +831,11 @@ int main(int argc, char** argv) {
             if (passes.kinds[j] != VX_PASS_DIRECT) passes.kinds[k++] = passes.kinds[j];
         passes.count = k;
     }
-    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && strcmp(passes.gi, "pathtrace") && !photons && !cones)
+    /* the method's name first: a misspelt one is not asked for a probe file */
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && !vx_tool_gi_method_known(passes.gi))
+        usage_error("unknown gi method '%s' (" VX_TOOL_GI_METHODS ")", passes.gi);
+    if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && vx_tool_gi_method_needs_probes(passes.gi))
         usage_error("gi=%s needs --probes FILE", passes.gi);
-    if (vx_pass_list_has(&passes, VX_PASS_GI) && strcmp(passes.gi, "probes") && strcmp(passes.gi, "lightfield") &&
-        strcmp(passes.gi, "pathtrace") && !photons && !cones)
-        usage_error("unknown gi method '%s' (probes, lightfield, pathtrace, photons, cones)", passes.gi);
     if (o.voxel_lights && o.no_scene_lights) usage_error("%s", "--voxel-lights and --no-scene-lights exclude each other");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||

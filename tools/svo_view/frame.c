@@ -491,8 +491,11 @@ bool sv_set_passes(app* a, const char* list) {
         sv_message(a, true, "passes: %s", err.msg);
         return false;
     }
-    if (vx_pass_list_has(&pl, VX_PASS_GI) && strcmp(pl.gi, "pathtrace") && strcmp(pl.gi, "cones") &&
-        strcmp(pl.gi, "photons") && !a->have_probes) {
+    if (vx_pass_list_has(&pl, VX_PASS_GI) && !vx_tool_gi_method_known(pl.gi)) {
+        sv_message(a, true, "passes: unknown gi method '%s' (" VX_TOOL_GI_METHODS ")", pl.gi);
+        return false;
+    }
+    if (vx_pass_list_has(&pl, VX_PASS_GI) && vx_tool_gi_method_needs_probes(pl.gi) && !a->have_probes) {
         sv_message(a, true, "gi=%s needs light field probes (--probes FILE, or the script command probes FILE)", pl.gi);
         return false;
     }

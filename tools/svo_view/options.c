@@ -165,6 +165,8 @@ options sv_options_parse(int argc, char** argv) {
             vx_pass_list pl;
             vx_error perr = {0};
             if (vx_pass_list_parse(o.passes, &pl, &perr)) usage_error("--passes: %s", perr.msg);
+            if (vx_pass_list_has(&pl, VX_PASS_GI) && !vx_tool_gi_method_known(pl.gi))
+                usage_error("--passes: unknown gi method '%s' (" VX_TOOL_GI_METHODS ")", pl.gi);
         } else if (!strcmp(a, "--fov")) {
             if (!vx_tool_parse_double(vx_tool_arg(argc, argv, &i, usage), &o.fov) || !(o.fov > 0 && o.fov < 180))
                 usage_error("bad --fov '%s' (degrees in (0,180))", argv[i]);
