@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -2796,11 +2797,13 @@ static void test_lights_hand_encoded(void) {
     vx_svo_scene_free(&s);
 }
 
-/* Failing allocations: every failure is NOMEM, nothing leaks (ASan). */
-static int oom_left;
+/* Failing allocations: every failure is NOMEM, nothing leaks (ASan). The
+ * count is atomic: the chunked form decodes its chunks on several threads,
+ * which all allocate through this allocator (a plain int raced: ThreadSanitizer). */
+static _Atomic int oom_left;
 static void* oom_alloc(void* u, size_t n) {
     (void)u;
-    if (oom_left-- <= 0) return NULL;
+    if (atomic_fetch_sub(&oom_left, 1) <= 0) return NULL;
     return malloc(n ? n : 1);
 }
 static void oom_free(void* u, void* p) { (void)u, free(p); }
