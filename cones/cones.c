@@ -548,7 +548,7 @@ static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const
     return VX_OK;
 }
 
-/* Emission scale per attribute record (the scene's materials), and the
+/* The emission's terms per attribute record (the scene's materials, vx_material_emitted_terms), and the
  * materials of the specular cones. */
 static vx_result emission(vx_cone_gi* cg, vx_error* err) {
     uint16_t* pal = NULL; /* material ids per record */
@@ -560,19 +560,19 @@ static vx_result emission(vx_cone_gi* cg, vx_error* err) {
         vx_free(cg->alloc, pal);
         return r;
     }
-    if (!(cg->emit_attr = vx_calloc(cg->alloc, n ? n : 1, sizeof(float)))) {
+    if (!(cg->emit_attr = vx_calloc(cg->alloc, n ? 4 * n : 4, sizeof(float)))) {
         vx_free(cg->alloc, pal);
         vx_svo_material_table_free(&t);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     }
-    for (size_t i = 0; t.emissive && i < n; i++) cg->emit_attr[i] = (float)vx_svo_material_table_emission(&t, pal[i]);
+    for (size_t i = 0; t.emissive && i < n; i++) vx_svo_material_table_emitted_terms(&t, pal[i], cg->emit_attr + 4 * i);
     cg->emit_count = n;
     r = materials(cg, &t, pal, n, err);
     vx_free(cg->alloc, pal);
     vx_svo_material_table_free(&t);
-    if (!r) r = vx__buffer_create(cg->g, (n ? n : 1) * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
+    if (!r) r = vx__buffer_create(cg->g, (n ? n : 1) * 4 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
                           &cg->b[B_EMIT], err);
-    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (n ? n : 1) * sizeof(float), err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (n ? n : 1) * 4 * sizeof(float), err);
     return r;
 }
 

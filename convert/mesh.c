@@ -203,14 +203,18 @@ static vx_result parts_to_scene(vx_conv_mesh_part* parts, size_t n, vx_svo_scene
 }
 
 /* Appends "key\0value\0" to a dictionary buffer of cap bytes. */
-static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double v) {
-    char val[32];
-    snprintf(val, sizeof val, "%.9g", v);
+static void dict_put_text(char* d, size_t cap, uint32_t* len, const char* key, const char* val) {
     size_t kl = strlen(key) + 1, vl = strlen(val) + 1;
     if (*len + kl + vl > cap) return;
     memcpy(d + *len, key, kl);
     memcpy(d + *len + kl, val, vl);
     *len += (uint32_t)(kl + vl);
+}
+
+static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double v) {
+    char val[32];
+    snprintf(val, sizeof val, "%.9g", v);
+    dict_put_text(d, cap, len, key, val);
 }
 
 /* glTF materials as MATL records with MagicaVoxel keys (svo.h,
@@ -221,9 +225,11 @@ static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double
  *   transmission > 0: _type _glass, _trans, _rough, _ior = ior - 1
  *   else metallic > 0: _type _metal, _metal, _rough, _ior = ior - 1
  *   else: _type _emit (when emissive) or _diffuse, _rough
- *   emissive: _emit = the largest channel of the emission; the voxel's
- *   colour gives the hue (MagicaVoxel's model: emission = colour x _emit),
- *   so a glTF emissive colour unlike the base colour changes hue. */
+ *   emissive: _emit = the largest channel of the emission, and _emit_color
+ *   its hue (the emission / _emit: glTF's emission does not depend on the
+ *   base colour), except where an emissive texture varies it per cell: the
+ *   voxel's colour gives that hue (MagicaVoxel's model: emission = colour x
+ *   _emit), so there a texel's own hue is lost. */
 static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part* parts, size_t count, vx_svo_scene* s,
                                const vx_allocator* a, vx_error* err) {
     vx__mesh_mats p;
@@ -267,6 +273,16 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part
             dict_put(d, sizeof d, &len, "_rough", v[1]);
             if (glass || metal) dict_put(d, sizeof d, &len, "_ior", g->ior - 1.0);
             if (e > 0) dict_put(d, sizeof d, &len, "_emit", e);
+            /* the emission's own colour (glTF: emission = emissiveFactor x emissiveTexture, not the base colour):
+             * the factor's hue, its largest channel 1, where no texture varies it per cell; a sampled emissive
+             * texture keeps MagicaVoxel's rule (the voxel's colour as the hue) */
+            const vx__mesh_mat* pm = &p.m[i];
+            if (e > 0 && !(pm->sample & VX__MESH_SAMPLE_EMIT) && pm->emit_max > 0) {
+                char rgb[64];
+                snprintf(rgb, sizeof rgb, "%.9g %.9g %.9g", pm->emit[0] / pm->emit_max, pm->emit[1] / pm->emit_max,
+                         pm->emit[2] / pm->emit_max);
+                dict_put_text(d, sizeof d, &len, "_emit_color", rgb);
+            }
             vx_svo_material* m = &s->materials[s->material_count];
             m->id = id;
             m->dict = (char*)vx_alloc(a, len);

@@ -81,9 +81,12 @@
  * gets a block of 6^k ids, k the channels it varies (ids index + 1 when no
  * material varies any). The keys (convert/mesh.c, add_materials): _type
  * _glass with _trans, or _metal with _metal, or _emit / _diffuse; _rough;
- * _ior = IOR - 1; _emit = the largest channel of the emission. MagicaVoxel
- * gives emission the voxel's colour as hue (emission = colour x _emit), so
- * the emissive texel's own hue is lost: a glow whose emissive colour
+ * _ior = IOR - 1; _emit = the largest channel of the emission and
+ * _emit_color (voxkit's key, svo/svo.h) the emission over _emit, so the
+ * emitted light is glTF's whatever the base colour. Where an emissive
+ * texture varies per cell, the records quantize only _emit and the hue is
+ * the voxel's colour (MagicaVoxel's model, emission = colour x _emit): the
+ * emissive texel's own hue is lost there, a glow whose emissive colour
  * differs from the base colour (DamagedHelmet's lights over a grey base)
  * keeps the brightness of its strongest channel in the base colour's hue.
  * A texture that is not decoded (desc.no_color, an unreadable image) leaves

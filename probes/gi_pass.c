@@ -71,10 +71,10 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
     if (!r) r = vx__render_scene_attr_material(rs, scene, a, &pal, &n, err);
-    if (!r && !(gi->emit_attr = vx_calloc(a, n ? n : 1, sizeof(float))))
+    if (!r && !(gi->emit_attr = vx_calloc(a, n ? 4 * n : 4, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
-        for (size_t i = 0; P.L.mt.emissive && i < n; i++) gi->emit_attr[i] = (float)vx__light_emission(&P.L, pal[i]);
+        for (size_t i = 0; P.L.mt.emissive && i < n; i++) vx_svo_material_table_emitted_terms(&P.L.mt, pal[i], gi->emit_attr + 4 * i);
         gi->emit_count = n;
         r = vx_probe_gpu_create(rs, scene, ps, &gi->pg, err);
     }

@@ -47,10 +47,12 @@ vx_result vx__light_init(vx__light* L, const vx_render_caster* c, const vx_svo_s
 
 bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,
                               double rad[3]) {
-    double e = vx__light_emission(L, vx_svo_attr_material(m, attr));
-    if (!(e > 0)) return false;
+    const vx_material* mt = vx__light_material(L, vx_svo_attr_material(m, attr));
+    if (!(mt->emission > 0)) return false;
     uint32_t c = m->attrs ? vx_svo_attr_rgba(s, m, attr) : 0xFFFFFFFFu;
-    for (int k = 0; k < 3; k++) rad[k] = ((c >> (8 * k)) & 0xFF) / 255.0 * e;
+    double rgb[3];
+    for (int k = 0; k < 3; k++) rgb[k] = ((c >> (8 * k)) & 0xFF) / 255.0;
+    vx_material_emitted(mt, rgb, rad);
     return true;
 }
 
@@ -148,8 +150,7 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
     s->albedo[0] = (c & 0xFF) / 255.0, s->albedo[1] = ((c >> 8) & 0xFF) / 255.0, s->albedo[2] = ((c >> 16) & 0xFF) / 255.0;
     s->material = h->material;
     s->cell = h->cell_size;
-    double e = vx__light_emission(L, s->material);
-    for (int k = 0; k < 3; k++) s->emit[k] = s->albedo[k] * e;
+    vx_material_emitted(vx__light_material(L, s->material), s->albedo, s->emit);
 }
 
 void vx__direct(const vx__light* L, const vx__surface* s, double out[3]) {

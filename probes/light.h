@@ -72,7 +72,7 @@ typedef struct vx__light {
     /* the scene's materials by material id (vx_svo_attr_material: the
      * material channel, else the palette index; ids up to 65535, so a
      * sorted table, not one entry per id): vx__light_material and
-     * vx__light_emission look them up */
+     * vx_material_emitted look them up */
     vx_svo_material_table mt;
     vx_material diffuse;  /* what an id without a material reads */
     bool materials;       /* some material is metal or glass */
@@ -104,12 +104,9 @@ static inline const vx_material* vx__light_material(const vx__light* L, uint32_t
     const vx_material* m = vx_svo_material_table_find(&L->mt, id);
     return m ? m : &L->diffuse;
 }
-/* The emission scale of material id `id` (vx_material.emission; 0: none). */
-static inline double vx__light_emission(const vx__light* L, uint32_t id) {
-    return vx_svo_material_table_emission(&L->mt, id);
-}
-/* The emitted radiance of a voxel (attribute `attr` of model m): its colour
- * times its material's emission (by vx_svo_attr_material); false, rad untouched, where the voxel
+/* The emitted radiance of a voxel (attribute `attr` of model m): its colour,
+ * or its material's emission colour, times its material's emission
+ * (vx_material_emitted, by vx_svo_attr_material); false, rad untouched, where the voxel
  * does not emit. The one rule for the path tracer's emitter table and the
  * photons' emitting faces. */
 bool vx__light_voxel_radiance(const vx__light* L, const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr,

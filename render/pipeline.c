@@ -344,7 +344,8 @@ struct vx_frame_renderer {
     double max_cell; /* largest world cell over the drawn instances */
     vx__buffer b[B_COUNT];
     size_t cap_px;         /* pixels the image buffers hold */
-    float* scene_emit;     /* emission per attribute record from the scene's materials (lights without gi) */
+    float* scene_emit;     /* the emission's terms per attribute record (4 floats, vx_material_emitted_terms) from the
+                            * scene's materials (lights without gi) */
     /* the compact layout cannot key this scene's records by material id
      * (vx__render_scene_attr_material refused: a layout built from a model
      * reader has no material ids): the colour model needs no materials and
@@ -470,11 +471,11 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
     if (fr->mat_unkeyed) r = VX_OK, n = 0; /* no records' materials: no emission, no metal (the colour model) */
     else if (r && err) *err = fr->mat_error;
     if (!r && !fr->mat_unkeyed) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
-    if (!r && !(e = vx_calloc(&g->alloc, n ? n : 1, sizeof(float))))
+    if (!r && !(e = vx_calloc(&g->alloc, n ? 4 * n : 4, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
     if (!r) {
-        for (size_t i = 0; t.emissive && i < n; i++) e[i] = (float)vx_svo_material_table_emission(&t, pal[i]);
-        bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, n * sizeof *e);
+        for (size_t i = 0; t.emissive && i < n; i++) vx_svo_material_table_emitted_terms(&t, pal[i], e + 4 * i);
+        bool same = fr->scene_emit && fr->scene_emit_count == n && !memcmp(fr->scene_emit, e, 4 * n * sizeof *e);
         if (same) {
             vx_free(&g->alloc, e); /* what the GPU holds stays */
         } else {
@@ -700,8 +701,8 @@ static void rec_cull(rec* R, vx__pipeline* const p[5], const push_block* pc, uin
     rec_dispatch_n(R, p[4], pc, "cull", per_light);
 }
 
-static bool any_emission(const float* e, size_t n) {
-    for (size_t i = 0; e && i < n; i++)
+static bool any_emission(const float* e, size_t n) { /* n records of 4 terms */
+    for (size_t i = 0; e && i < 4 * n; i++)
         if (e[i] > 0) return true;
     return false;
 }
@@ -841,9 +842,9 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         settle(fr);
         vx__buffer_destroy(g, &fr->b[B_EMIT]);
         fr->emit_src = NULL, fr->emit_count = 0;
-        if ((r = vx__buffer_create(g, emit_n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
+        if ((r = vx__buffer_create(g, emit_n * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "emission",
                                    &fr->b[B_EMIT], err)) ||
-            (r = vx__buffer_upload(g, &fr->b[B_EMIT], emit_tab, emit_n * 4, err)))
+            (r = vx__buffer_upload(g, &fr->b[B_EMIT], emit_tab, emit_n * 16, err)))
             return r;
         fr->emit_src = emit_tab, fr->emit_count = emit_n;
     } else if (!fr->b[B_EMIT].buf && (r = ensure(fr, B_EMIT, 16, "emission", err))) {

@@ -144,8 +144,9 @@ bool vx_show_parse(const char* s, vx_show* out);
  * `sample` of the frame described by `frame` (the same camera as the
  * G-buffer's; spp is 1 and the method traces its own pixel-centre rays);
  * *gpu_seconds receives its GPU time. The light fields are the method's
- * light; emit_attr, when not NULL, is the emission scale of each attribute
- * record in the order of the scene's colour buffer (emit_count records). */
+ * light; emit_attr, when not NULL, holds the emission's terms of each attribute
+ * record (4 floats, svo/svo.h vx_material_emitted_terms: radiance = colour * [3] +
+ * [0..2]) in the order of the scene's colour buffer (emit_count records). */
 typedef struct vx_gi_io {
     const vx_render_desc* frame;
     uint32_t sample;

@@ -305,6 +305,11 @@ vx_result vx_sky_validate(const vx_sky* sky, vx_error* err);
  *  _trans transmission in [0,1] (glass: default 1)
  *  _emit, _flux  emission = colour * _emit * 2^_flux (MagicaVoxel), for
  *         any type that has _emit > 0
+ *  _emit_color  voxkit's key: "R G B", the emitted light's own colour
+ *         (linear, each in [0, 1e30]), which then replaces the voxel's
+ *         colour in the emission (glTF's emissiveFactor: the glTF importer
+ *         writes it with its largest channel 1); absent, unparsable or all
+ *         zero: the voxel's colour, as MagicaVoxel
  * Out-of-range or unparsable values clamp to the range or fall back to the
  * default; resolving never fails. */
 typedef enum vx_material_type {
@@ -320,8 +325,21 @@ typedef struct vx_material {
     double specular;
     double ior;
     double transmission;
-    double emission; /* multiplier of the voxel colour; 0 = not emissive */
+    double emission; /* multiplier of the emission colour; 0 = not emissive */
+    double emission_color[3]; /* the emission colour (linear); all 0: the voxel's colour */
 } vx_material;
+
+/* The radiance a voxel of colour rgb (bytes / 255, as the renderers read it)
+ * emits under m: m->emission times m's emission colour, or times rgb where m
+ * has none. Every renderer's emission is this (the GPU tables take its
+ * terms below). */
+void vx_material_emitted(const vx_material* m, const double rgb[3], double out[3]);
+/* The same as terms the GPU tables hold per record: radiance = rgb * k[3] +
+ * (k[0], k[1], k[2]) (k[3] = emission and the rest 0 for the voxel's colour;
+ * k[3] = 0 and the emission colour times the emission otherwise), so a
+ * scene without emission colours gets rgb * emission, the same bits as a
+ * multiplier alone. m NULL: all 0. */
+void vx_material_emitted_terms(const vx_material* m, float k[4]);
 
 typedef struct vx_svo_scene {
     uint32_t model_count;
@@ -475,6 +493,8 @@ vx_result vx_svo_material_table_make(const vx_svo_scene* scene, const vx_allocat
 const vx_material* vx_svo_material_table_find(const vx_svo_material_table* t, uint32_t id);
 /* Emission of id (vx_material.emission), 0 where it has no material. */
 double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t id);
+/* vx_material_emitted_terms of id's material (all 0 where it has none). */
+void vx_svo_material_table_emitted_terms(const vx_svo_material_table* t, uint32_t id, float k[4]);
 void vx_svo_material_table_free(vx_svo_material_table* t);
 
 /* ---- emissive voxels as lights (svo_emissive.c) ----------------------------------- */
@@ -482,8 +502,9 @@ void vx_svo_material_table_free(vx_svo_material_table* t);
 /* Emissive voxels (a material with emission > 0: MagicaVoxel _emit, the
  * glTF importer's emissive materials) as lights the direct pass and a path
  * tracer's light sampling can see. The material id of a cell is its
- * VX_ATTR_MATERIAL value, else its palette index; its radiance is its colour
- * (bytes / 255, as the renderers read it) times the material's emission.
+ * VX_ATTR_MATERIAL value, else its palette index; its radiance is
+ * vx_material_emitted: its colour (bytes / 255, as the renderers read it),
+ * or the material's emission colour where it has one, times the emission.
  *
  * One light per cluster, not per voxel: a lamp of 30 voxels is one light, so
  * the light count follows the number of lamps, not of voxels, and the many-

@@ -103,7 +103,7 @@ typedef struct ecell {
 typedef struct collect {
     const vx_svo_scene* s;
     const vx_svo_model* m;
-    const float* emit_by_id; /* emission multiplier per material id */
+    const float* emit_by_id; /* vx_material_emitted_terms per material id, 4 floats each */
     uint32_t id_count;
     ecell* cells;
     size_t n, cap, max;
@@ -115,8 +115,8 @@ static bool collect_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_
     collect* c = (collect*)user;
     const vx_svo_model* m = c->m;
     uint32_t id = vx_svo_attr_material(m, a); /* models with neither channel are not visited (emissive_lights) */
-    float e = id < c->id_count ? c->emit_by_id[id] : 0.f;
-    if (!(e > 0)) return true;
+    const float* e = id < c->id_count ? c->emit_by_id + 4 * (size_t)id : NULL;
+    if (!e || !(e[0] > 0 || e[1] > 0 || e[2] > 0 || e[3] > 0)) return true;
     if (c->n == c->max) return c->limit = true, false;
     if (c->n == c->cap) {
         size_t cap = c->cap ? c->cap * 2 : 256;
@@ -126,11 +126,12 @@ static bool collect_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_
         vx_free(c->A, c->cells);
         c->cells = nc, c->cap = cap;
     }
-    /* the voxel's colour as the renderers read it (bytes / 255), times the emission */
+    /* the voxel's colour as the renderers read it (bytes / 255), times the emission, or the emission colour
+     * (vx_material_emitted as its terms) */
     uint32_t rgba = vx_svo_attr_rgba(c->s, m, a);
     ecell* ce = &c->cells[c->n++];
     ce->key = vx_svo_morton(x, y, z);
-    for (int k = 0; k < 3; k++) ce->L[k] = (float)((rgba >> (8 * k) & 0xFFu) / 255.0 * e);
+    for (int k = 0; k < 3; k++) ce->L[k] = (float)((rgba >> (8 * k) & 0xFFu) / 255.0 * e[3] + e[k]);
     ce->parent = (uint32_t)(c->n - 1);
     return true;
 }
@@ -197,12 +198,13 @@ vx_result vx_svo_emissive_lights(const vx_svo_scene* s, const vx_svo_emissive_de
         if (vx_svo_material_resolve(&s->materials[i]).emission > 0 && s->materials[i].id < 65536 && s->materials[i].id + 1 > ids)
             ids = s->materials[i].id + 1;
     if (!ids) return VX_OK;
-    float* emit = (float*)vx_calloc(A, ids, sizeof *emit);
+    float* emit = (float*)vx_calloc(A, 4 * (size_t)ids, sizeof *emit);
     if (!emit) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "emissive lights: out of memory");
     for (uint32_t i = 0; i < s->material_count; i++)
         if (s->materials[i].id < ids) {
-            double e = vx_svo_material_resolve(&s->materials[i]).emission;
-            emit[s->materials[i].id] = (float)fmin(e, 1e30);
+            vx_material mt = vx_svo_material_resolve(&s->materials[i]);
+            mt.emission = fmin(mt.emission, 1e30);
+            vx_material_emitted_terms(&mt, emit + 4 * (size_t)s->materials[i].id);
         }
     vx_result r = VX_OK;
     vx_light* lights = NULL;

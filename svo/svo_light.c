@@ -166,6 +166,21 @@ vx_material vx_svo_material_resolve(const vx_svo_material* m) {
     r.transmission = num(m, "_trans", r.transmission, 0, 1);
     double e = num(m, "_emit", 0, 0, 1e30), f = num(m, "_flux", 0, 0, 16);
     r.emission = e * pow(2.0, f);
+    /* voxkit's own emission colour: three finite numbers >= 0, else the voxel's colour */
+    const char* ec = vx_svo_material_get(m, "_emit_color");
+    if (ec) {
+        double c[3];
+        char* end = (char*)ec;
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; k++) {
+            const char* at = end;
+            c[k] = strtod(at, &end);
+            ok = end != at && isfinite(c[k]) && c[k] >= 0;
+        }
+        while (ok && *end == ' ') end++;
+        if (ok && !*end)
+            for (int k = 0; k < 3; k++) r.emission_color[k] = c[k] > 1e30 ? 1e30 : c[k];
+    }
     if (type == VX_MATERIAL_EMIT && !(r.emission > 0)) r.type = VX_MATERIAL_DIFFUSE;
     return r;
 }
@@ -234,6 +249,28 @@ const vx_material* vx_svo_material_table_find(const vx_svo_material_table* t, ui
 double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t id) {
     const vx_material* m = vx_svo_material_table_find(t, id);
     return m ? m->emission : 0;
+}
+
+void vx_svo_material_table_emitted_terms(const vx_svo_material_table* t, uint32_t id, float k[4]) {
+    vx_material_emitted_terms(vx_svo_material_table_find(t, id), k);
+}
+
+static bool own_emission_color(const vx_material* m) {
+    return m->emission_color[0] > 0 || m->emission_color[1] > 0 || m->emission_color[2] > 0;
+}
+
+void vx_material_emitted(const vx_material* m, const double rgb[3], double out[3]) {
+    bool own = own_emission_color(m);
+    for (int k = 0; k < 3; k++) out[k] = (own ? m->emission_color[k] : rgb[k]) * m->emission;
+}
+
+void vx_material_emitted_terms(const vx_material* m, float k[4]) {
+    k[0] = k[1] = k[2] = k[3] = 0;
+    if (!m || !(m->emission > 0)) return;
+    if (own_emission_color(m))
+        for (int c = 0; c < 3; c++) k[c] = (float)fmin(m->emission_color[c] * m->emission, 1e30);
+    else
+        k[3] = (float)m->emission; /* as the multiplier alone was handed to the GPU */
 }
 
 void vx_svo_material_table_free(vx_svo_material_table* t) {

@@ -85,7 +85,7 @@ void main() {
             nrm += gb_normal(uvec4(0u, h.inst, uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u), 0u));
             vec3 a = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
             alb += a;
-            if (h.attr != NO_HIT) emit += a * emit_attr[h.attr];
+            if (h.attr != NO_HIT) emit += a * emit_attr[h.attr].w + emit_attr[h.attr].xyz; // vx_material_emitted_terms
         }
         alpha[side] = float(hits) / float(S * S);
         any_hit = any_hit || hits > 0u;

@@ -64,7 +64,7 @@ layout(std430, binding = 7) readonly buffer Params {
     uvec4 fu;     // x: the density step's records' first vec4 in Photons, y: 0,
                   // z: the gather's and the density step's workgroups (S_SIZE)
 } P;
-layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };
+layout(std430, binding = 8) readonly buffer Emit { vec4 emit_attr[]; };
 layout(std430, binding = 9) readonly buffer Mats { vec4 mats[]; };
 // per source six vec4: (position, type), (unit direction, range), (power / probability rgb, cdf),
 // (spot scale, spot offset, 1 - cos of the emission cone, radius), (unit tangent, size0), (size1, direct, 0, 0);

@@ -4,7 +4,7 @@
 // (Lambert, GGX metal, dielectric glass with Fresnel, the walk through a
 // glass voxel). Include after trace_common.glsl and after declaring
 //   bool MATS (a spec constant: some attribute record is metal or glass),
-//   emit_attr[] (emission scale per colors[] entry),
+//   emit_attr[] (per colors[] entry the emission's terms, svo/svo.h vx_material_emitted_terms: colour * w + xyz),
 //   mats[] (per colors[] entry two vec4, layout of probes/probe_gpu.c),
 //   ems[] (emissive voxels, five vec4 each, layout of probes/probe_gpu.c),
 // and define uvec2 rng_seed() (the seed's two words) somewhere in the shader.
@@ -80,8 +80,8 @@ Surf surface(vec3 o, vec3 d, Hit h) {
     // off the surface (as the tracer's shadow rays; float needs more than the CPU's 1e-6 cell)
     s.p = p + s.n * (I.cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
     s.alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
-    float e = h.attr != NO_HIT ? emit_attr[h.attr] : 0.0;
-    s.emit = s.alb * e;
+    vec4 e = h.attr != NO_HIT ? emit_attr[h.attr] : vec4(0.0);
+    s.emit = s.alb * e.w + e.xyz;
     s.cell = I.cell;
     s.attr = h.attr;
     return s;

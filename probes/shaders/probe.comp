@@ -103,7 +103,7 @@ layout(std430, binding = 7) readonly buffer Params {
     vec4 smo;      // the sun's depth map (SMAP): xyz its origin relative to the reference point, w the margin
     uvec4 smn;     // x: its texels a side, y: entries of its instance table
 } P;
-layout(std430, binding = 8) readonly buffer Emit { float emit_attr[]; };  // per colors[] entry
+layout(std430, binding = 8) readonly buffer Emit { vec4 emit_attr[]; };  // per colors[] entry
 layout(std430, binding = 9) readonly buffer Probes { vec4 probes[]; };    // xyz: position - reference, w: state
 // [0] flags (x: the loop guard fired, y: samples left), then per texel of
 // each probe (bake): the running sum (rgb, w: distance or -1), the normal

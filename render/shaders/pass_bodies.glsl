@@ -67,6 +67,10 @@ void gbuffer_pixel(uvec2 px, uint s, out uvec4 g0, out uvec4 g1, out uvec4 ids0,
 layout(constant_id = 7) const uint LIGHTS = 0u;
 const uint CULLING = LIGHTS & 3u, SHADOWED = (LIGHTS >> 2) & 63u;
 const bool EMIT_KNOWN = (LIGHTS & 256u) != 0u;
+// The radiance a surface of albedo alb emits by its record's terms k (svo/svo.h vx_material_emitted_terms):
+// the albedo times the emission, or the material's own emission colour.
+vec3 emitted(vec3 alb, vec4 k) { return alb * k.w + k.xyz; }
+bool emits(vec4 k) { return k.w > 0.0 || k.x > 0.0 || k.y > 0.0 || k.z > 0.0; }
 
 // ---- metal seen directly ----------------------------------------------------------
 // METAL: some attribute record is metal (radiometric model only): LIGHTS bit 9
@@ -329,7 +333,7 @@ vec3 lights_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec3 nw, bool mt, Metal M) {
     vec3 p = uintBitsToFloat(g0.xyz);
     vec3 ps = gb_offset_point(p, nw, g1.y);
     float cell = insts[g1.y].cell;
-    bool emissive = EMIT_KNOWN && g1.w < uint(emit_attr.length()) && emit_attr[g1.w] > 0.0; // records past the table: none
+    bool emissive = EMIT_KNOWN && g1.w < uint(emit_attr.length()) && emits(emit_attr[g1.w]); // records past the table: none
     vec3 e = vec3(0.0);
     const uint K = SHADOWED > 0u ? SHADOWED : 1u;
     vec3 ke[K], kd[K];
@@ -531,7 +535,7 @@ vec3 glass_seen_surface(uvec2 px, uvec4 s0, uvec4 s1, vec3 wo) {
     if (mt) M.wo = wo;
     vec3 e = direct_light(px, s0, s1, nw, mt, M);
     vec3 rad = mt ? e : alb / PI * e;
-    if (EMIT_KNOWN && s1.w < uint(emit_attr.length())) rad += alb * emit_attr[s1.w];
+    if (EMIT_KNOWN && s1.w < uint(emit_attr.length())) rad += emitted(alb, emit_attr[s1.w]);
     if (GLASS_SKY) {
         if (mt) rad += M.kd * frame_sky_irradiance(nw) + frame_sky(reflect(-wo, nw)) * metal_albedo(M, max(dot(nw, wo), 0.0));
         else rad += alb * frame_sky_irradiance(nw);
@@ -657,7 +661,7 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
         bool mt = METAL && metal_of(g0, g1, M); // the direct pass gave its radiance
         vec4 gm;
         bool gl = GLASS && glass_of(g1.w, gm); // so it did for glass, the sky term included
-        if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += alb * emit_attr[g1.w];
+        if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += emitted(alb, emit_attr[g1.w]);
         if (HAS_DIRECT) rad += mt || gl ? dir.xyz : alb / PI * dir.xyz;
         if (gl) {
             // glass: gi and the sky term only for its Lambert share 1 - transmission (the path tracer's

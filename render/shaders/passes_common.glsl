@@ -18,7 +18,8 @@ layout(std430, binding = 10) buffer Direct { vec4 direct_img[]; };
 layout(std430, binding = 11) buffer Ao { float ao_img[]; };
 layout(std430, binding = 12) buffer Gi { vec4 gi_img[]; };
 layout(std430, binding = 13) buffer Acc { vec4 acc_img[]; };
-layout(std430, binding = 14) readonly buffer Emit { float emit_attr[]; };
+// per attribute record the emission's terms (svo/svo.h vx_material_emitted_terms): radiance = colour * w + xyz
+layout(std430, binding = 14) readonly buffer Emit { vec4 emit_attr[]; };
 layout(std430, binding = 15) buffer Out2 { vec4 out2_img[]; };
 // Lights (svo/svo.h vx_light), PC.u1.z of them, the PC.u1.w directional
 // ones first (render/pipeline.c packs them):

@@ -229,6 +229,9 @@ static void test_gltf_lights(void) {
     CHECK(gl.type == VX_MATERIAL_GLASS && near(gl.transmission, 0.75, 1e-6) && near(gl.ior, 1.25, 1e-6) &&
           near(gl.roughness, 0.5, 1e-6));
     CHECK(em.type == VX_MATERIAL_EMIT && near(em.emission, 4, 1e-6));
+    /* glTF's emissive colour [1, 0.5, 0] x 4 is the emitted light whatever the base colour (_emit_color) */
+    CHECK(em.emission_color[0] == 1 && em.emission_color[1] == 0.5 && em.emission_color[2] == 0);
+    CHECK(mt.emission_color[0] == 0 && gl.emission_color[0] == 0); /* not emissive: no colour */
     CHECK(vx_svo_scene_material(&s, 4).type == VX_MATERIAL_DIFFUSE);
     /* every cell carries the id of its triangle's material (0 for the diffuse one) */
     size_t cells = 0, wrong = 0;
@@ -406,6 +409,8 @@ static void textured_materials(const char* mat, const char* label) {
     CHECK(wrong == 0);
     CHECK(metal >= 64 && lit >= 32 && diffuse >= 32 && levels_seen >= 4 && ties < 16);
     CHECK(s.material_count == levels_seen); /* one record per combination the cells name */
+    /* an emission sampled per cell keeps the voxel's colour as its hue (no _emit_color: convert/mesh.h) */
+    for (uint32_t i = 0; i < s.material_count; i++) CHECK(!vx_svo_material_get(&s.materials[i], "_emit_color"));
     vx_svo_scene_free(&s);
     vx_gltf_mesh_free(&m);
 }
@@ -452,6 +457,10 @@ static void test_uniform_textures(void) {
         free(j);
         REQUIRE(vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &s, NULL, &err) == VX_OK);
         CHECK(s.material_count == 1 && mat_key(&s, 1, "_metal") > 0.79 && mat_key(&s, 1, "_emit") == 2);
+        /* the emission's own colour, glTF's (the factor over its largest channel), not the base colour */
+        vx_material mt = vx_svo_scene_material(&s, 1);
+        CHECKF(mt.emission == 2 && mt.emission_color[0] == 1 && mt.emission_color[1] == 0.5 && mt.emission_color[2] == 0.25,
+               "emission %g colour %g %g %g", mt.emission, mt.emission_color[0], mt.emission_color[1], mt.emission_color[2]);
         CHECK(vx_svo_write(&s, NULL, &bytes[k], &n[k], &err) == VX_OK);
         vx_svo_scene_free(&s);
         vx_gltf_mesh_free(&m);

@@ -341,6 +341,99 @@ static void test_compact_materials(void) {
     rooms_free(&R);
 }
 
+/* ---- the emission's own colour (_emit_color, glTF's emissiveFactor) -------------------------- */
+
+/* Mean of channel c over the image. */
+static double mean_ch(const vx_render_image* a, int c) {
+    double m = 0;
+    size_t n = (size_t)a->width * a->height;
+    for (size_t i = 0; a->pixels && i < n; i++) m += a->pixels[4 * i + c];
+    return n ? m / n : 0;
+}
+
+/* The palette room's white lamp (emission 2) against the same lamp with the emission colour (1, 0.5, 0.25):
+ * light is carried per channel, so every renderer's red is the white lamp's (the same paths, the same red
+ * emission), its green and blue are less, and the lamp seen directly differs by the emissions' difference,
+ * (0, 1, 1.5), where the voxel's colour would have given none. */
+static void test_emission_color(void) {
+    static const char* const own_kv[] = {"_type", "_emit", "_emit", "2", "_emit_color", "1 0.5 0.25"};
+    vx_svo_scene s[2];
+    palette_room(&s[0]);
+    palette_room(&s[1]);
+    for (uint32_t i = 0; i < s[1].material_count; i++)
+        if (s[1].materials[i].id == 9) s[1].materials[i].id = 1000; /* a later record of id 9 would not win */
+    add_material(&s[1], 9, own_kv, 3);
+    REQUIRE(vx_svo_scene_material(&s[1], 9).emission_color[1] == 0.5);
+    enum { CPU_PT, GPU_PT, DIRECT, CONES, PHOTONS, KINDS };
+    static const char* const name[KINDS] = {"CPU path tracer", "GPU path tracer", "gbuffer,direct (lit)",
+                                            "gbuffer,direct,gi=cones", "gbuffer,direct,gi=photons"};
+    vx_render_image im[KINDS][2] = {{{0}}};
+    double sky[3] = {0.1, 0.1, 0.1};
+    vx_probe_set ps = light_only(0, sky, 3);
+    vx_render_desc base = {.width = 24, .height = 18};
+    vx_probe_render_desc pd = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 8, .seed = 3, .threads = 2};
+    int kinds = gpu_skip ? 1 : KINDS;
+    for (int i = 0; i < 2; i++) {
+        vx_error err = {0};
+        CHECKF(vx_probe_render(&s[i], &ps, &pd, &im[CPU_PT][i], &err) == VX_OK, "CPU path tracer: %s", err.msg);
+        if (gpu_skip) continue;
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        vx_result r = vx_render_scene_create(gpu, &s[i], &rs, &err);
+        if (!r) CHECKF(vx_probe_render_gpu(rs, &s[i], &ps, &pd, &im[GPU_PT][i], &err) == VX_OK, "GPU path tracer: %s", err.msg);
+        if (!r) r = vx_frame_renderer_create(rs, &s[i], &fr, &err);
+        CHECKF(r == VX_OK, "frame renderer: %s", err.msg);
+        if (!r) {
+            CHECK(frame(fr, "gbuffer,direct", NULL, &im[DIRECT][i]));
+            vx_gi_method gm;
+            vx_cone_gi* cg = NULL;
+            if (vx_cone_gi_create(rs, &s[i], &(vx_cone_desc){.res = 32}, &gm, &cg, &err) == VX_OK)
+                CHECK(frame(fr, "gbuffer,direct,gi=cones", &gm, &im[CONES][i]));
+            else CHECKF(false, "gi=cones: %s", err.msg);
+            vx_cone_gi_destroy(cg);
+            vx_photon_gi* pg = NULL;
+            vx_photon_desc phd = {.photons = 1 << 14, .seed = 9};
+            if (vx_photon_gi_create(rs, &s[i], NULL, &phd, &gm, &pg, &err) == VX_OK)
+                CHECK(frame(fr, "gbuffer,direct,gi=photons", &gm, &im[PHOTONS][i]));
+            else CHECKF(false, "gi=photons: %s", err.msg);
+            vx_photon_gi_destroy(pg);
+        }
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+    }
+    for (int k = 0; k < kinds; k++) {
+        const vx_render_image *w = &im[k][0], *o = &im[k][1];
+        if (!w->pixels || !o->pixels || w->width != o->width || w->height != o->height) {
+            CHECKF(false, "%s: no image", name[k]);
+            continue;
+        }
+        double mw[3], mo[3];
+        for (int c = 0; c < 3; c++) mw[c] = mean_ch(w, c), mo[c] = mean_ch(o, c);
+        /* the brightest red pixel of the coloured lamp's image: the lamp seen directly */
+        size_t n = (size_t)o->width * o->height, at = 0;
+        for (size_t i = 1; i < n; i++)
+            if (o->pixels[4 * i] > o->pixels[4 * at]) at = i;
+        const float* px = &o->pixels[4 * at];
+        const float* pw = &w->pixels[4 * at];
+        printf("  %-26s mean RGB white lamp %.4f %.4f %.4f, coloured %.4f %.4f %.4f; brightest %.3f %.3f %.3f (white "
+               "lamp there %.3f %.3f %.3f)\n", name[k], mw[0], mw[1], mw[2], mo[0], mo[1], mo[2], px[0], px[1], px[2],
+               pw[0], pw[1], pw[2]);
+        /* photons: the sources are picked by power, so the coloured lamp sends fewer photons (noise in red) */
+        double tol = k == PHOTONS ? 0.02 : 2e-3;
+        CHECKF(fabs(mo[0] / mw[0] - 1) < tol, "%s: red %.5f against the white lamp's %.5f", name[k], mo[0], mw[0]);
+        CHECKF(mw[1] - mo[1] > 0.005 && mw[2] - mo[2] > mw[1] - mo[1], "%s: green %.5f, blue %.5f against %.5f, %.5f",
+               name[k], mo[1], mo[2], mw[1], mw[2]);
+        /* there the emission differs by (2, 2, 2) - (2, 1, 0.5); the rest of the light is the same */
+        CHECKF(px[0] > 1.5 && fabs(pw[0] - px[0]) < 0.05 && fabs(pw[1] - px[1] - 1) < 0.05 &&
+                   fabs(pw[2] - px[2] - 1.5) < 0.05,
+               "%s: the lamp seen directly is %.3f %.3f %.3f, white %.3f %.3f %.3f", name[k], px[0], px[1], px[2],
+               pw[0], pw[1], pw[2]);
+        for (int i = 0; i < 2; i++) vx_render_image_free(&im[k][i]);
+    }
+    if (!gpu_skip) CHECKF(vx_gpu_validation_errors(gpu) == 0, "%u validation errors", vx_gpu_validation_errors(gpu));
+    vx_svo_scene_free(&s[0]), vx_svo_scene_free(&s[1]);
+}
+
 int main(void) {
     int logged = 0;
     vx_logger lg = {.func = vx_test_validation_log, .user_data = &logged};
@@ -351,6 +444,7 @@ int main(void) {
     RUN(test_pathtrace_gpu);
     RUN(test_passes);
     RUN(test_compact_materials);
+    RUN(test_emission_color);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

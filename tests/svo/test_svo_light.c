@@ -89,6 +89,42 @@ static void test_material_emission(void) {
     CHECK(e.emission == 0);
 }
 
+/* voxkit's _emit_color: the emitted light's own colour in place of the voxel's (glTF's emissiveFactor),
+ * three finite numbers >= 0; anything else leaves the voxel's colour. vx_material_emitted and its GPU terms
+ * give the same radiance. */
+static void test_material_emission_color(void) {
+    vx_material e = resolve((const char* const[]){"_type", "_emit", "_emit", "2", "_emit_color", "1 0.25 0", NULL});
+    CHECK(e.emission == 2 && e.emission_color[0] == 1 && e.emission_color[1] == 0.25 && e.emission_color[2] == 0);
+    static const char* const bad[] = {"1 2", "1 nan 0", "-1 0 0", "1 2 3 4", "abc", "", "1,0,0", "inf 0 0"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        vx_material b = resolve((const char* const[]){"_type", "_emit", "_emit", "2", "_emit_color", bad[i], NULL});
+        CHECKF(b.emission == 2 && b.emission_color[0] == 0 && b.emission_color[1] == 0 && b.emission_color[2] == 0,
+               "'%s'", bad[i]);
+    }
+    e = resolve((const char* const[]){"_type", "_emit", "_emit", "2", "_emit_color", " 0.5 1e40 3 ", NULL});
+    CHECK(e.emission_color[0] == 0.5 && e.emission_color[1] == 1e30 && e.emission_color[2] == 3); /* clamped */
+    /* the radiance: own colour x emission, or the voxel's colour x emission; the terms give the same */
+    const double rgb[3] = {0.2, 0.4, 0.8};
+    vx_material own = resolve((const char* const[]){"_type", "_emit", "_emit", "2", "_emit_color", "1 0.25 0", NULL});
+    vx_material plain = resolve((const char* const[]){"_type", "_emit", "_emit", "2", NULL});
+    vx_material none = resolve((const char* const[]){"_type", "_metal", "_emit_color", "1 1 1", NULL});
+    const vx_material* ms[3] = {&own, &plain, &none};
+    const double want[3][3] = {{2, 0.5, 0}, {0.4, 0.8, 1.6}, {0, 0, 0}};
+    for (int i = 0; i < 3; i++) {
+        double out[3];
+        float k[4];
+        vx_material_emitted(ms[i], rgb, out);
+        vx_material_emitted_terms(ms[i], k);
+        for (int c = 0; c < 3; c++) {
+            CHECKF(near(out[c], want[i][c]), "material %d channel %d: %g, want %g", i, c, out[c], want[i][c]);
+            CHECKF(fabs(rgb[c] * k[3] + k[c] - want[i][c]) <= 1e-6, "terms %d channel %d", i, c);
+        }
+    }
+    float k[4];
+    vx_material_emitted_terms(NULL, k);
+    CHECK(k[0] == 0 && k[1] == 0 && k[2] == 0 && k[3] == 0);
+}
+
 static void test_scene_material(void) {
     char b1[128], b2[128];
     vx_svo_material ms[2] = {mat(7, (const char* const[]){"_type", "_metal", "_rough", "0.5", NULL}, b1, sizeof b1),
@@ -230,6 +266,18 @@ static void test_emissive_single(void) {
     for (int ch = 0; ch < 3; ch++) CHECK(near(sphere_power(&L[0], ch), PI * 4 * 6 * 0.25));
     CHECK(vx_light_validate(&L[0], 0, &e) == VX_OK);
     free(L);
+    /* an own emission colour: the light's power per channel is that colour's (the voxels are white) */
+    vx_svo_material plain = s.materials[0];
+    char dict2[128];
+    s.materials[0] = mat(5, (const char* const[]){"_type", "_emit", "_emit", "2", "_flux", "1", "_emit_color", "1 0.5 0", NULL},
+                         dict2, sizeof dict2);
+    REQUIRE(vx_svo_emissive_lights(&s, NULL, &L, &n, &e) == VX_OK);
+    REQUIRE(n == 1);
+    const double own[3] = {1, 0.5, 0};
+    for (int ch = 0; ch < 3; ch++)
+        CHECKF(near(sphere_power(&L[0], ch), PI * 4 * own[ch] * 6 * 0.25), "channel %d: %g", ch, sphere_power(&L[0], ch));
+    free(L);
+    s.materials[0] = plain;
     /* no emissive material: nothing, without decoding */
     s.materials[0].id = 6 + 100;
     REQUIRE(vx_svo_emissive_lights(&s, NULL, &L, &n, &e) == VX_OK);
@@ -314,6 +362,7 @@ int main(void) {
     RUN(test_material_ior);
     RUN(test_material_clamp_and_nan);
     RUN(test_material_emission);
+    RUN(test_material_emission_color);
     RUN(test_scene_material);
     RUN(test_light_validate);
     RUN(test_sky_validate);

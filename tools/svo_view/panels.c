@@ -274,7 +274,11 @@ static void material_props(app* a) {
             sv_set_material(a, a->mat_sel, f[k].field, v, true);
         }
     }
-    ui_text("emission: colour x %g", r.emission);
+    if (r.emission_color[0] > 0 || r.emission_color[1] > 0 || r.emission_color[2] > 0)
+        ui_text("emission: its own colour (%.3g %.3g %.3g, _emit_color) x %g", r.emission_color[0], r.emission_color[1],
+                r.emission_color[2], r.emission);
+    else
+        ui_text("emission: colour x %g", r.emission);
 }
 
 /* ---- render and statistics -------------------------------------------------------------- */
