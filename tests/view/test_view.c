@@ -599,7 +599,7 @@ static void test_editor_materials(void) {
     bool had_p = find_material(&s, p) != NULL;
     REQUIRE(ved_begin_materials(&e, &err) == VX_OK);
     const char* keys[2];
-    char values[2][32], why[256];
+    char values[2][SV_MATERIAL_VALUE], why[256];
     uint32_t n;
     /* through the panel's and script's field names */
     REQUIRE(sv_material_field("type", "metal", keys, values, &n, why, sizeof why));
@@ -618,6 +618,18 @@ static void test_editor_materials(void) {
     REQUIRE(ved_material_set(&s, g, "_type", "_glass", &err) == VX_OK);
     REQUIRE(ved_material_set(&s, em, "_emit", "3", &err) == VX_OK);
     REQUIRE(ved_material_set(&s, em, "_flux", "1", &err) == VX_OK);
+    /* the emission's own colour (_emit_color): R,G,B, or none for the voxel's colour; bad forms refused */
+    REQUIRE(sv_material_field("emit_color", "1,0.5,0", keys, values, &n, why, sizeof why));
+    CHECK(n == 1 && !strcmp(keys[0], "_emit_color") && !strcmp(values[0], "1 0.5 0"));
+    REQUIRE(ved_material_set(&s, em, keys[0], values[0], &err) == VX_OK);
+    static const char* const bad_colors[] = {"1,2", "1,2,3,4", "-1,0,0", "nan,0,0", "inf,0,0", "1;2;3", "", "1,0,0x"};
+    for (size_t i = 0; i < sizeof bad_colors / sizeof *bad_colors; i++)
+        CHECKF(!sv_material_field("emit_color", bad_colors[i], keys, values, &n, why, sizeof why) &&
+                   strstr(why, "emit_color"),
+               "'%s' taken", bad_colors[i]);
+    REQUIRE(sv_material_field("emit_color", "none", keys, values, &n, why, sizeof why));
+    CHECK(!strcmp(values[0], "0 0 0"));
+    CHECK(vx_svo_scene_material(&s, em).emission_color[1] == 0.5);
     CHECK(s.material_count == before + 2 + !had_p); /* new materials for the ids without one */
     vx_material mp = vx_svo_scene_material(&s, p), mg = vx_svo_scene_material(&s, g), me = vx_svo_scene_material(&s, em);
     CHECKF(mp.type == VX_MATERIAL_METAL && mp.roughness == 0.5 && mp.metalness == 1, "metal: type %d rough %g metal %g",

@@ -249,7 +249,7 @@ static void material_props(app* a) {
     for (int k = 1; k < 4; k++)
         if (t && t[0] == '_' && !strcmp(t + 1, types[k])) type = k;
     ui_text("material %u: %s%s", a->mat_sel, m ? "" : "(none in the file: diffuse) ", r.emission > 0 ? "emissive" : "");
-    char v[32];
+    char v[64];
     if (ui_combo("type", &type, types, 4)) sv_set_material(a, a->mat_sel, "type", types[type], false);
     /* each drag is one undo step (merged) */
     static const struct {
@@ -274,8 +274,16 @@ static void material_props(app* a) {
             sv_set_material(a, a->mat_sel, f[k].field, v, true);
         }
     }
-    if (r.emission_color[0] > 0 || r.emission_color[1] > 0 || r.emission_color[2] > 0)
-        ui_text("emission: its own colour (%.3g %.3g %.3g, _emit_color) x %g", r.emission_color[0], r.emission_color[1],
+    /* the emission's own colour (_emit_color, glTF's emissive colour) or the voxel's (MagicaVoxel's) */
+    bool own = r.emission_color[0] > 0 || r.emission_color[1] > 0 || r.emission_color[2] > 0;
+    if (ui_checkbox("own emission colour (_emit_color)", &own)) sv_set_material(a, a->mat_sel, "emit_color", own ? "1,1,1" : "none", false);
+    double ec[3] = {r.emission_color[0], r.emission_color[1], r.emission_color[2]};
+    if (own && ui_color3("emission colour", ec)) {
+        snprintf(v, sizeof v, "%.4g,%.4g,%.4g", ec[0], ec[1], ec[2]);
+        sv_set_material(a, a->mat_sel, "emit_color", v, true);
+    }
+    if (own)
+        ui_text("emission: its own colour (%.3g %.3g %.3g) x %g", r.emission_color[0], r.emission_color[1],
                 r.emission_color[2], r.emission);
     else
         ui_text("emission: colour x %g", r.emission);

@@ -582,7 +582,7 @@ static void materials_changed(app* a) {
 
 bool sv_set_material(app* a, uint32_t id, const char* field, const char* value, bool merge) {
     const char* keys[2];
-    char values[2][32], why[256];
+    char values[2][SV_MATERIAL_VALUE], why[256];
     uint32_t n;
     if (!sv_material_field(field, value, keys, values, &n, why, sizeof why)) {
         sv_message(a, true, "material %u: %s", id, why);

@@ -127,8 +127,8 @@ size_t sv_gi_options_format(const sv_gi_settings* g, char* out, size_t out_size)
     return at;
 }
 
-bool sv_material_field(const char* field, const char* value, const char* keys[2], char values[2][32], uint32_t* n,
-                       char* why, size_t why_size) {
+bool sv_material_field(const char* field, const char* value, const char* keys[2], char values[2][SV_MATERIAL_VALUE],
+                       uint32_t* n, char* why, size_t why_size) {
     double d = 0;
     *n = 1;
     if (!field || !value) FAIL("a field and a value");
@@ -139,7 +139,24 @@ bool sv_material_field(const char* field, const char* value, const char* keys[2]
             if (!strcmp(value, types[i])) k = i;
         if (k < 0) FAIL("bad material type '%s' (diffuse, metal, glass, emit)", value);
         keys[0] = "_type";
-        snprintf(values[0], 32, "_%s", types[k]);
+        snprintf(values[0], SV_MATERIAL_VALUE, "_%s", types[k]);
+        return true;
+    }
+    if (!strcmp(field, "emit_color")) { /* R,G,B as svo_render's colours, or none (the voxel's colour) */
+        double c[3] = {0, 0, 0};
+        bool ok = !strcmp(value, "none");
+        const char* at = value;
+        for (int k = 0; k < 3 && !ok; k++) {
+            char* end;
+            c[k] = strtod(at, &end);
+            if (end == at || !(c[k] >= 0 && c[k] <= 1e30)) break; /* NaN fails too */
+            if (k == 2) ok = !*end;
+            else if (*end != ',') break;
+            at = end + 1;
+        }
+        if (!ok) FAIL("bad material emit_color '%s' (R,G,B each 0..1e30, or none)", value);
+        keys[0] = "_emit_color";
+        snprintf(values[0], SV_MATERIAL_VALUE, "%.9g %.9g %.9g", c[0], c[1], c[2]);
         return true;
     }
     static const struct {
@@ -153,13 +170,13 @@ bool sv_material_field(const char* field, const char* value, const char* keys[2]
         if (!num(value, &d) || d < f[i].lo || d > f[i].hi)
             FAIL("bad material %s '%s' (%g..%g)", field, value, f[i].lo, f[i].hi);
         keys[0] = f[i].key;
-        snprintf(values[0], 32, "%.9g", d);
+        snprintf(values[0], SV_MATERIAL_VALUE, "%.9g", d);
         if (!strcmp(field, "ior")) { /* MagicaVoxel's _ior is the index - 1; _ri (the index) wins on reading */
             keys[1] = "_ior";
-            snprintf(values[1], 32, "%.9g", d - 1);
+            snprintf(values[1], SV_MATERIAL_VALUE, "%.9g", d - 1);
             *n = 2;
         }
         return true;
     }
-    FAIL("unknown material field '%s' (type, rough, metal, spec, trans, ior, emit, flux)", field);
+    FAIL("unknown material field '%s' (type, rough, metal, spec, trans, ior, emit, flux, emit_color)", field);
 }

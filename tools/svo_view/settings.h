@@ -40,9 +40,12 @@ size_t sv_gi_options_format(const sv_gi_settings* g, char* out, size_t out_size)
  * diffuse|metal|glass|emit (_type), rough (_rough), metal (_metal), spec
  * (_spec), trans (_trans) in [0,1], ior in [1,4] (_ri, the index, and
  * _ior, MagicaVoxel's index - 1, so both readers agree), emit >= 0 (_emit),
- * flux in [0,16] (_flux). *n pairs (1 or 2) in keys/values; false with the
- * reason in why. */
-bool sv_material_field(const char* field, const char* value, const char* keys[2], char values[2][32], uint32_t* n,
-                       char* why, size_t why_size);
+ * flux in [0,16] (_flux), emit_color R,G,B each in [0,1e30] or none
+ * (_emit_color, voxkit's key: the emission's own colour; none = 0 0 0, the
+ * voxel's colour). *n pairs (1 or 2) in keys/values; false with the reason
+ * in why. */
+#define SV_MATERIAL_VALUE 64 /* bytes of one value */
+bool sv_material_field(const char* field, const char* value, const char* keys[2], char values[2][SV_MATERIAL_VALUE],
+                       uint32_t* n, char* why, size_t why_size);
 
 #endif
