@@ -85,7 +85,8 @@ void main() {
             nrm += gb_normal(uvec4(0u, h.inst, uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u), 0u));
             vec3 a = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
             alb += a;
-            if (h.attr != NO_HIT) emit += a * emit_attr[h.attr].w + emit_attr[h.attr].xyz; // vx_material_emitted_terms
+            // vx_material_emitted_terms; records past the table (one record without emission) emit nothing
+            if (h.attr < uint(emit_attr.length())) emit += a * emit_attr[h.attr].w + emit_attr[h.attr].xyz;
         }
         alpha[side] = float(hits) / float(S * S);
         any_hit = any_hit || hits > 0u;

@@ -80,7 +80,8 @@ Surf surface(vec3 o, vec3 d, Hit h) {
     // off the surface (as the tracer's shadow rays; float needs more than the CPU's 1e-6 cell)
     s.p = p + s.n * (I.cell * 1e-3 + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z)));
     s.alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
-    vec4 e = h.attr != NO_HIT ? emit_attr[h.attr] : vec4(0.0);
+    // records past the table emit nothing (a scene without emission binds a table of one record)
+    vec4 e = h.attr < uint(emit_attr.length()) ? emit_attr[h.attr] : vec4(0.0);
     s.emit = s.alb * e.w + e.xyz;
     s.cell = I.cell;
     s.attr = h.attr;
