@@ -560,20 +560,14 @@ static vx_result emission(vx_cone_gi* cg, vx_error* err) {
         vx_free(cg->alloc, pal);
         return r;
     }
-    size_t ne = t.emissive ? n : 0; /* a scene without emission binds one record (voxelize.comp reads none past it) */
-    if (!(cg->emit_attr = vx_calloc(cg->alloc, ne ? 4 * ne : 4, sizeof(float)))) {
-        vx_free(cg->alloc, pal);
-        vx_svo_material_table_free(&t);
-        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", n);
-    }
-    for (size_t i = 0; i < ne; i++) vx_svo_material_table_emitted_terms(&t, pal[i], cg->emit_attr + 4 * i);
-    cg->emit_count = ne;
-    r = materials(cg, &t, pal, n, err);
+    r = vx_svo_material_table_emission_records(&t, pal, n, cg->alloc, &cg->emit_attr, &cg->emit_count, err);
+    if (!r) r = materials(cg, &t, pal, n, err);
     vx_free(cg->alloc, pal);
     vx_svo_material_table_free(&t);
-    if (!r) r = vx__buffer_create(cg->g, (ne ? ne : 1) * 4 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
+    size_t ne = cg->emit_count ? cg->emit_count : 1; /* one zero record where nothing emits */
+    if (!r) r = vx__buffer_create(cg->g, ne * 4 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "cone emission",
                           &cg->b[B_EMIT], err);
-    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, (ne ? ne : 1) * 4 * sizeof(float), err);
+    if (!r) r = vx__buffer_upload(cg->g, &cg->b[B_EMIT], cg->emit_attr, ne * 4 * sizeof(float), err);
     return r;
 }
 

@@ -747,12 +747,10 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
     size_t n = 0;
     float* m = NULL;
     if (!r) r = vx__render_scene_attr_material(rs, scene, a, &pal, &n, err);
-    size_t ne = pg->P.L.mt.emissive ? n : 0; /* a scene without emission binds one record (photon.comp reads none past it) */
-    if (!r && (!(pg->emit_attr = vx_calloc(a, ne ? 4 * ne : 4, sizeof(float))) || !(m = vx_calloc(a, n ? 8 * n : 4, sizeof(float)))))
+    if (!r) r = vx_svo_material_table_emission_records(&pg->P.L.mt, pal, n, a, &pg->emit_attr, &pg->emit_count, err);
+    if (!r && !(m = vx_calloc(a, n ? 8 * n : 4, sizeof(float))))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu attribute records", n);
     if (!r) {
-        for (size_t i = 0; i < ne; i++) vx_svo_material_table_emitted_terms(&pg->P.L.mt, pal[i], pg->emit_attr + 4 * i);
-        pg->emit_count = ne;
         vx__pack_materials(&pg->P.L, pal, pg->P.L.materials ? n : 0, m);
         size_t nm = pg->P.L.materials ? n : 0;
         for (size_t i = 0; i < nm; i++) /* photon.comp bsdf_of: kd = (1 - metalness) (1 - 0.08 specular) albedo */
@@ -768,7 +766,8 @@ vx_result vx_photon_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, co
                         "storage-buffer range (set a smaller capacity or fewer photons per pass)",
                         d.capacity, (unsigned long long)(ph > (uint64_t)pg->buckets * 8 ? ph : (uint64_t)pg->buckets * 8),
                         (unsigned long long)range);
-        if (!r) r = upload_new(pg->g, &pg->emit, pg->emit_attr, (ne ? ne : 1) * 4 * sizeof(float), "photon emission", err);
+        if (!r) r = upload_new(pg->g, &pg->emit, pg->emit_attr, (pg->emit_count ? pg->emit_count : 1) * 4 * sizeof(float),
+                                "photon emission", err);
         if (!r) r = upload_new(pg->g, &pg->mats, m, nm ? 32 * nm : 16, "photon materials", err);
         if (!r) r = upload_new(pg->g, &pg->photons, NULL, ph, "photons", err);
         if (!r) r = upload_new(pg->g, &pg->sorted, NULL, ph, "photons sorted", err);

@@ -71,14 +71,8 @@ vx_result vx_probe_gi_create(vx_render_scene* rs, const vx_svo_scene* scene, con
     uint16_t* pal = NULL; /* material ids per record */
     size_t n = 0;
     if (!r) r = vx__render_scene_attr_material(rs, scene, a, &pal, &n, err);
-    size_t ne = r || !P.L.mt.emissive ? 0 : n; /* a scene without emission: no table (the passes read none) */
-    if (!r && !(gi->emit_attr = vx_calloc(a, ne ? 4 * ne : 4, sizeof(float))))
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", ne);
-    if (!r) {
-        for (size_t i = 0; i < ne; i++) vx_svo_material_table_emitted_terms(&P.L.mt, pal[i], gi->emit_attr + 4 * i);
-        gi->emit_count = ne;
-        r = vx_probe_gpu_create(rs, scene, ps, &gi->pg, err);
-    }
+    if (!r) r = vx_svo_material_table_emission_records(&P.L.mt, pal, n, a, &gi->emit_attr, &gi->emit_count, err);
+    if (!r) r = vx_probe_gpu_create(rs, scene, ps, &gi->pg, err);
     vx_free(a, pal);
     for (int k = 0; k < 3; k++) {
         out_method->light_dir[k] = P.L.light_dir[k];

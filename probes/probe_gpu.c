@@ -209,15 +209,13 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = vx__render_scene_deep(rs);
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
-    /* vx_material_emitted_terms per record; a scene without emission binds one record (the kernels read none past it) */
-    size_t ne = L->mt.emissive ? na : 0;
-    float* em = vx_calloc(c->alloc, ne ? 4 * ne : 4, sizeof(float));
+    float* em = NULL; /* the emission table: one zero record where nothing emits */
+    size_t ne = 0;
+    r = vx_svo_material_table_emission_records(&L->mt, pal, na, c->alloc, &em, &ne, err);
     size_t np = ps ? ps->probe_count : 1;
     float* pp = vx_calloc(c->alloc, np, 4 * sizeof(float));
-    if (!em || !pp) {
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    } else {
-        for (size_t i = 0; i < ne; i++) vx_svo_material_table_emitted_terms(&L->mt, pal[i], em + 4 * i);
+    if (!r && !pp) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
+    if (!r) {
         for (size_t i = 0; ps && i < np; i++) {
             for (int k = 0; k < 3; k++) pp[4 * i + k] = (float)(ps->probes[i].pos[k] - f->ref[k]);
             pp[4 * i + 3] = (float)ps->probes[i].state;

@@ -471,11 +471,9 @@ vx_result vx_frame_renderer_update_scene(vx_frame_renderer* fr, const vx_svo_sce
     if (fr->mat_unkeyed) r = VX_OK, n = 0; /* no records' materials: no emission, no metal (the colour model) */
     else if (r && err) *err = fr->mat_error;
     if (!r && !fr->mat_unkeyed) r = vx_svo_material_table_make(scene, &g->alloc, &t, err);
-    size_t ne = t.emissive ? n : 0; /* a scene without emission: no records (no emission buffer, EMIT_KNOWN off) */
-    if (!r && !(e = vx_calloc(&g->alloc, ne ? 4 * ne : 4, sizeof(float))))
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", ne);
+    size_t ne = 0; /* a scene without emission: no records (no emission buffer, EMIT_KNOWN off) */
+    if (!r) r = vx_svo_material_table_emission_records(&t, pal, n, &g->alloc, &e, &ne, err);
     if (!r) {
-        for (size_t i = 0; i < ne; i++) vx_svo_material_table_emitted_terms(&t, pal[i], e + 4 * i);
         bool same = fr->scene_emit && fr->scene_emit_count == ne && !memcmp(fr->scene_emit, e, 4 * ne * sizeof *e);
         if (same) {
             vx_free(&g->alloc, e); /* what the GPU holds stays */

@@ -493,8 +493,14 @@ vx_result vx_svo_material_table_make(const vx_svo_scene* scene, const vx_allocat
 const vx_material* vx_svo_material_table_find(const vx_svo_material_table* t, uint32_t id);
 /* Emission of id (vx_material.emission), 0 where it has no material. */
 double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t id);
-/* vx_material_emitted_terms of id's material (all 0 where it has none). */
-void vx_svo_material_table_emitted_terms(const vx_svo_material_table* t, uint32_t id, float k[4]);
+/* The renderers' emission table of n attribute records whose material ids
+ * are ids[i]: vx_material_emitted_terms of each record's material, 4 floats
+ * a record, in *out (alloc NULL: malloc; freed with vx_free). Where no
+ * material of t emits, *count = 0 and *out one zero record (a table can
+ * always be bound; the kernels read no record past a table), else *count =
+ * n. */
+vx_result vx_svo_material_table_emission_records(const vx_svo_material_table* t, const uint16_t* ids, size_t n,
+                                                 const vx_allocator* alloc, float** out, size_t* count, vx_error* err);
 void vx_svo_material_table_free(vx_svo_material_table* t);
 
 /* ---- emissive voxels as lights (svo_emissive.c) ----------------------------------- */

@@ -251,8 +251,14 @@ double vx_svo_material_table_emission(const vx_svo_material_table* t, uint32_t i
     return m ? m->emission : 0;
 }
 
-void vx_svo_material_table_emitted_terms(const vx_svo_material_table* t, uint32_t id, float k[4]) {
-    vx_material_emitted_terms(vx_svo_material_table_find(t, id), k);
+vx_result vx_svo_material_table_emission_records(const vx_svo_material_table* t, const uint16_t* ids, size_t n,
+                                                 const vx_allocator* alloc, float** out, size_t* count, vx_error* err) {
+    size_t ne = t && t->emissive ? n : 0;
+    float* e = vx_calloc(alloc, ne ? 4 * ne : 4, sizeof(float));
+    if (!e) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu emission records", ne);
+    for (size_t i = 0; i < ne; i++) vx_material_emitted_terms(vx_svo_material_table_find(t, ids[i]), e + 4 * i);
+    *out = e, *count = ne;
+    return VX_OK;
 }
 
 static bool own_emission_color(const vx_material* m) {

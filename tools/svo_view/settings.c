@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tools/common/tool.h" /* vx_tool_parse_vec: R,G,B as svo_render's colours */
+
 static bool num(const char* s, double* out) {
     char* end;
     if (!s || !*s) return false;
@@ -144,16 +146,9 @@ bool sv_material_field(const char* field, const char* value, const char* keys[2]
     }
     if (!strcmp(field, "emit_color")) { /* R,G,B as svo_render's colours, or none (the voxel's colour) */
         double c[3] = {0, 0, 0};
-        bool ok = !strcmp(value, "none");
-        const char* at = value;
-        for (int k = 0; k < 3 && !ok; k++) {
-            char* end;
-            c[k] = strtod(at, &end);
-            if (end == at || !(c[k] >= 0 && c[k] <= 1e30)) break; /* NaN fails too */
-            if (k == 2) ok = !*end;
-            else if (*end != ',') break;
-            at = end + 1;
-        }
+        bool ok = !strcmp(value, "none") ||
+                  (vx_tool_parse_vec(value, c, 3) && c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && c[0] <= 1e30 && c[1] <= 1e30 &&
+                   c[2] <= 1e30);
         if (!ok) FAIL("bad material emit_color '%s' (R,G,B each 0..1e30, or none)", value);
         keys[0] = "_emit_color";
         snprintf(values[0], SV_MATERIAL_VALUE, "%.9g %.9g %.9g", c[0], c[1], c[2]);
