@@ -227,9 +227,11 @@ static void dict_put(char* d, size_t cap, uint32_t* len, const char* key, double
  *   else: _type _emit (when emissive) or _diffuse, _rough
  *   emissive: _emit = the largest channel of the emission, and _emit_color
  *   its hue (the emission / _emit: glTF's emission does not depend on the
- *   base colour), except where an emissive texture varies it per cell: the
- *   voxel's colour gives that hue (MagicaVoxel's model: emission = colour x
- *   _emit), so there a texel's own hue is lost. */
+ *   base colour, so MagicaVoxel's rule, the voxel's colour as the hue, would
+ *   tint a lamp with its base colour). Where an emissive texture varies the
+ *   emission per cell, the emission is the record's quantized channels
+ *   (vx__mesh_mats_record: each channel has its own levels), so the
+ *   texel's hue survives to the level's precision. */
 static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part* parts, size_t count, vx_svo_scene* s,
                                const vx_allocator* a, vx_error* err) {
     vx__mesh_mats p;
@@ -249,8 +251,8 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part
     for (size_t k = 0; p.sampled && k < count; k++)
         for (uint32_t j = 0; j < parts[k].material_id_count; j++) {
             uint32_t id = parts[k].material_ids[j], mi;
-            float v[4];
-            if (!(want[id >> 6] & (1ull << (id & 63))) && vx__mesh_mats_record(&p, id, &mi, v))
+            float v[4], emission[3];
+            if (!(want[id >> 6] & (1ull << (id & 63))) && vx__mesh_mats_record(&p, id, &mi, v, emission))
                 want[id >> 6] |= 1ull << (id & 63), n++;
         }
     s->materials = n ? (vx_svo_material*)vx_calloc(a, n, sizeof *s->materials) : NULL;
@@ -258,8 +260,8 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part
     for (uint32_t w = 0; !r && w < 65536 / 64; w++)
         for (uint64_t bits = want[w]; bits && !r; bits &= bits - 1) {
             uint32_t id = w * 64 + (uint32_t)__builtin_ctzll(bits), i;
-            float v[4];
-            if (!vx__mesh_mats_record(&p, id, &i, v)) continue;
+            float v[4], emission[3];
+            if (!vx__mesh_mats_record(&p, id, &i, v, emission)) continue;
             const vx_gltf_material* g = &mesh->materials[i];
             char d[256];
             uint32_t len = 0;
@@ -273,14 +275,12 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part
             dict_put(d, sizeof d, &len, "_rough", v[1]);
             if (glass || metal) dict_put(d, sizeof d, &len, "_ior", g->ior - 1.0);
             if (e > 0) dict_put(d, sizeof d, &len, "_emit", e);
-            /* the emission's own colour (glTF: emission = emissiveFactor x emissiveTexture, not the base colour):
-             * the factor's hue, its largest channel 1, where no texture varies it per cell; a sampled emissive
-             * texture keeps MagicaVoxel's rule (the voxel's colour as the hue) */
-            const vx__mesh_mat* pm = &p.m[i];
-            if (e > 0 && !(pm->sample & VX__MESH_SAMPLE_EMIT) && pm->emit_max > 0) {
+            /* the emission's own colour (glTF: emission = emissiveFactor x emissiveTexture, not the base colour),
+             * its largest channel 1: the factor's hue, or where a texture varies it per cell the record's
+             * quantized channels' (so radiance = the cell's quantized emission) */
+            if (e > 0) {
                 char rgb[64];
-                snprintf(rgb, sizeof rgb, "%.9g %.9g %.9g", pm->emit[0] / pm->emit_max, pm->emit[1] / pm->emit_max,
-                         pm->emit[2] / pm->emit_max);
+                snprintf(rgb, sizeof rgb, "%.9g %.9g %.9g", emission[0] / v[2], emission[1] / v[2], emission[2] / v[2]);
                 dict_put_text(d, sizeof d, &len, "_emit_color", rgb);
             }
             vx_svo_material* m = &s->materials[s->material_count];

@@ -1123,12 +1123,13 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
         int32_t img = -1;
         if (mt->image >= 0 && (uint32_t)mt->image < mesh->image_count && mesh->images[mt->image].rgba && mesh->uv)
             img = mt->image;
-        uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_mats_id(&plan, i, 0, 0, 0)};
+        static const float no_emit[3] = {0, 0, 0};
+        uint32_t u[4] = {(uint32_t)img, mt->wrap_s, mt->wrap_t, vx__mesh_mats_id(&plan, i, 0, 0, no_emit)};
         memcpy(o + 4, u, 16);
     }
     if (plan.sampled) { /* setup_tri_sampling's factors and textures per material; vx__mesh_mats_id's plan */
         smats = (float*)vx_calloc(a, MC ? MC : 1, 64);
-        plans = (float*)vx_calloc(a, MC ? MC : 1, 32);
+        plans = (float*)vx_calloc(a, MC ? MC : 1, 48);
         if (!smats || !plans) {
             r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "GPU voxelizer: materials");
             goto done;
@@ -1142,10 +1143,11 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
             int32_t u[8] = {p->sample,         mr ? mt->metal_rough.image : -1, mt->metal_rough.wrap_s, mt->metal_rough.wrap_t,
                             em ? mt->emissive_tex.image : -1, mt->emissive_tex.wrap_s, mt->emissive_tex.wrap_t, 0};
             memcpy(o + 8, u, 32);
-            float* q = plans + 8 * i;
+            float* q = plans + 12 * i;
             q[0] = p->metal, q[1] = p->rough, q[2] = p->emit_max, q[3] = p->trans;
             uint32_t v[4] = {p->base, p->block, p->sample, p->special};
             memcpy(q + 4, v, 16);
+            q[8] = p->emit[0], q[9] = p->emit[1], q[10] = p->emit[2]; /* the channels a sampled emission quantizes */
         }
     }
     struct {
@@ -1183,7 +1185,7 @@ static vx_result gpu_voxelize(void* self, const vx_conv_mesh_desc* desc, const v
                     {B_TABLES, &tables, sizeof tables, 0},
                     {B_RTABLES, &rtables, sizeof rtables, 0},
                     {B_SMATS, smats, plan.sampled ? (uint64_t)MC * 64 : 0, 0},
-                    {B_PLANS, plans, plan.sampled ? (uint64_t)MC * 32 : 0, 0},
+                    {B_PLANS, plans, plan.sampled ? (uint64_t)MC * 48 : 0, 0},
                     {B_UVMR, plan.sampled ? mesh->uv_mr : NULL, plan.sampled && mesh->uv_mr ? (uint64_t)T * 24 : 0, 0},
                     {B_UVEM, plan.sampled ? mesh->uv_emissive : NULL, plan.sampled && mesh->uv_emissive ? (uint64_t)T * 24 : 0, 0}};
     int nups = (int)(sizeof ups / sizeof ups[0]);

@@ -50,7 +50,12 @@ void vx__mesh_region_place(vx__mesh_region* reg, uint64_t region, uint32_t R, co
  * when no material of the mesh samples (ids above 65535 are 0). One that
  * samples has a block of levels^k ids from base, k the channels it samples,
  * one per combination of quantized levels: id = base + (km * Lr + kr) * Le
- * + ke (L = levels for a sampled channel, else 1 with k = 0). */
+ * + ke (L = levels for a sampled channel, else 1 with k = 0). A sampled
+ * emission is n channels, not one: each of R, G, B whose factor emit[c] is
+ * above 0 is quantized on its own, Le = levels^n and ke the levels' mixed-
+ * radix number (R first, only those channels), so that a record keeps the
+ * texel's hue (a red map under a white factor glows red, not white) at the
+ * price of larger blocks (6^3 for a white factor). */
 enum { VX__MESH_SAMPLE_METAL = 1, VX__MESH_SAMPLE_ROUGH = 2, VX__MESH_SAMPLE_EMIT = 4 };
 #define VX__MESH_LEVELS 6u /* levels of a sampled channel (0, 1/5, ..., 1 of its factor); fewer when ids run out */
 
@@ -58,7 +63,7 @@ typedef struct vx__mesh_mat {
     float metal, rough, emit[3], trans; /* effective factors */
     float emit_max;                     /* the largest of emit */
     uint32_t base;                      /* first id (0: none) */
-    uint32_t block;                     /* ids from base: levels^k, 1 when nothing is sampled */
+    uint32_t block;                     /* ids from base: levels^k (k counts an emission's channels), 1 when nothing is sampled */
     uint8_t sample;                     /* VX__MESH_SAMPLE_* */
     bool special;                       /* needs a record whatever its cells sample */
 } vx__mesh_mat;
@@ -78,11 +83,13 @@ vx_result vx__mesh_mats_make(const vx_gltf_mesh* mesh, const vx_allocator* a, vx
 void vx__mesh_mats_free(const vx_allocator* a, vx__mesh_mats* p);
 /* The id of a cell whose largest piece is of material mi (UINT32_MAX: none)
  * and whose area-weighted averages over its pieces are metal, rough and the
- * emission's largest channel (ignored unless mi samples them); 0: diffuse. */
-uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, float emit);
+ * emission's RGB (ignored unless mi samples them); 0: diffuse. */
+uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, const float emit[3]);
 /* What record id stands for: its glTF material and values (metal, rough,
- * emission scalar, transmission); false when no cell can name id. */
-bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4]);
+ * emission scalar = the largest of emit_rgb, transmission) and its emission
+ * (the factor, or where sampled the quantized levels of it); false when no
+ * cell can name id. */
+bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4], float emit_rgb[3]);
 
 typedef vx_result (*vx__mesh_sink)(void* user, const vx__mesh_region* r, vx_error* err);
 

@@ -74,11 +74,18 @@ static void plan_one(const vx_gltf_mesh* mesh, const vx_gltf_material* g, const 
     if (rough_varies && (o->special || o->sample)) o->sample |= VX__MESH_SAMPLE_ROUGH;
 }
 
-/* levels^(channels sampled) */
-static uint32_t block_of(uint8_t sample, uint32_t levels) {
+/* Whether emission channel c of m is quantized per cell: every channel
+ * above 0 of a sampled emission (one that is 0 stays 0 whatever the
+ * texture says, so it needs no levels). */
+static bool emit_sampled(const vx__mesh_mat* m, int c) { return (m->sample & VX__MESH_SAMPLE_EMIT) && m->emit[c] > 0; }
+
+/* levels^(channels sampled), the emission's counted per channel */
+static uint32_t block_of(const vx__mesh_mat* m, uint32_t levels) {
     uint32_t b = 1;
-    for (int k = 0; k < 3; k++)
-        if (sample & (1u << k)) b *= levels;
+    if (m->sample & VX__MESH_SAMPLE_METAL) b *= levels;
+    if (m->sample & VX__MESH_SAMPLE_ROUGH) b *= levels;
+    for (int c = 0; c < 3; c++)
+        if (emit_sampled(m, c)) b *= levels;
     return b;
 }
 
@@ -107,7 +114,7 @@ vx_result vx__mesh_mats_make(const vx_gltf_mesh* mesh, const vx_allocator* a, vx
     out->levels = VX__MESH_LEVELS;
     for (size_t t = 0; out->sampled && t < sizeof tries / sizeof tries[0]; t++) {
         next = 1;
-        for (uint32_t i = 0; i < n; i++) next += block_of(out->m[i].sample, tries[t]);
+        for (uint32_t i = 0; i < n; i++) next += block_of(&out->m[i], tries[t]);
         out->levels = tries[t];
         if (next - 1 <= 65535u) break;
     }
@@ -122,7 +129,7 @@ vx_result vx__mesh_mats_make(const vx_gltf_mesh* mesh, const vx_allocator* a, vx
     next = 1;
     for (uint32_t i = 0; i < n; i++) {
         vx__mesh_mat* m = &out->m[i];
-        m->block = block_of(m->sample, out->levels);
+        m->block = block_of(m, out->levels);
         m->base = next <= 65535u ? (uint32_t)next : 0;
         next += m->block;
     }
@@ -147,21 +154,29 @@ static uint32_t level_of(float v, float f, uint32_t levels) {
     return (uint32_t)lrint(q * (levels - 1));
 }
 
-uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, float emit) {
+uint16_t vx__mesh_mats_id(const vx__mesh_mats* p, uint32_t mi, float metal, float rough, const float emit[3]) {
     if (mi >= p->count || !p->m[mi].base) return 0;
     const vx__mesh_mat* m = &p->m[mi];
     if (!m->sample) return m->special ? (uint16_t)m->base : 0;
-    uint32_t L = p->levels, km = 0, kr = 0, ke = 0;
-    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1, Le = (m->sample & VX__MESH_SAMPLE_EMIT) ? L : 1;
+    uint32_t L = p->levels, km = 0, kr = 0, ke = 0, Le = 1;
+    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1;
     bool lit = m->emit_max > 0, metallic = m->metal > 0;
     if (m->sample & VX__MESH_SAMPLE_METAL) metallic = (km = level_of(metal, m->metal, L)) > 0;
     if (m->sample & VX__MESH_SAMPLE_ROUGH) kr = level_of(rough, m->rough, L);
-    if (m->sample & VX__MESH_SAMPLE_EMIT) lit = (ke = level_of(emit, m->emit_max, L)) > 0;
+    if (m->sample & VX__MESH_SAMPLE_EMIT) {
+        lit = false;
+        for (int c = 0; c < 3; c++)
+            if (emit_sampled(m, c)) {
+                uint32_t k = level_of(emit[c], m->emit[c], L);
+                ke = ke * L + k, Le *= L;
+                lit |= k > 0;
+            }
+    }
     if (!metallic && !lit && !(m->trans > 0)) return 0; /* diffuse: no record */
     return (uint16_t)(m->base + (km * Lr + kr) * Le + ke);
 }
 
-bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4]) {
+bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, float v[4], float emit_rgb[3]) {
     if (id == 0) return false;
     /* the material whose block holds id: the last with a base <= id (bases
      * ascend with the index, then are 0 beyond the id space) */
@@ -175,13 +190,22 @@ bool vx__mesh_mats_record(const vx__mesh_mats* p, uint32_t id, uint32_t* mi, flo
     lo--;
     const vx__mesh_mat* m = &p->m[lo];
     if (!m->base || id < m->base || id - m->base >= m->block) return false;
-    uint32_t L = p->levels, k = id - m->base;
-    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1, Le = (m->sample & VX__MESH_SAMPLE_EMIT) ? L : 1;
+    uint32_t L = p->levels, k = id - m->base, Le = 1;
+    for (int c = 0; c < 3; c++)
+        if (emit_sampled(m, c)) Le *= L;
+    uint32_t Lr = (m->sample & VX__MESH_SAMPLE_ROUGH) ? L : 1;
     uint32_t ke = k % Le, kr = (k / Le) % Lr, km = k / Le / Lr;
     *mi = lo;
     v[0] = (m->sample & VX__MESH_SAMPLE_METAL) ? m->metal * (float)km / (float)(L - 1) : m->metal;
     v[1] = (m->sample & VX__MESH_SAMPLE_ROUGH) ? m->rough * (float)kr / (float)(L - 1) : m->rough;
-    v[2] = (m->sample & VX__MESH_SAMPLE_EMIT) ? m->emit_max * (float)ke / (float)(L - 1) : m->emit_max;
+    memcpy(emit_rgb, m->emit, sizeof m->emit);
+    v[2] = m->emit_max;
+    if (m->sample & VX__MESH_SAMPLE_EMIT) {
+        /* ke's digits, B last (the least significant) */
+        for (int c = 2; c >= 0; c--)
+            if (emit_sampled(m, c)) emit_rgb[c] = m->emit[c] * (float)(ke % L) / (float)(L - 1), ke /= L;
+        v[2] = fmaxf(emit_rgb[0], fmaxf(emit_rgb[1], emit_rgb[2]));
+    }
     v[3] = m->trans;
     return v[0] > 0 || v[2] > 0 || v[3] > 0;
 }

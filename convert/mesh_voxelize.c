@@ -652,7 +652,8 @@ static void setup_tri_attrs(worker* w, size_t t) {
     w->den = w->d00 * w->d11 - w->d01 * w->d01;
     if (!(w->den > 1e-30 * w->d00 * w->d11)) w->den = 0;
     uint32_t mi = mesh->material ? mesh->material[t] : UINT32_MAX;
-    w->mat = w->j->materials ? vx__mesh_mats_id(&w->j->mats, mi, 0, 0, 0) : 0;
+    static const float no_emit[3] = {0, 0, 0};
+    w->mat = w->j->materials ? vx__mesh_mats_id(&w->j->mats, mi, 0, 0, no_emit) : 0;
     w->mi = mi;
     if (w->j->sampling) setup_tri_sampling(w, mi, t);
     if (!w->j->color) return;
@@ -747,8 +748,8 @@ static void brick_extent(uint64_t bm, const uint32_t size[3], uint32_t org[3], i
 static uint16_t cell_material(const job* j, const acc* a) {
     if (!j->sampling) return a->mat;
     float w = a->w > 0 ? a->w : 1.f;
-    float e = fmaxf(a->pe[0], fmaxf(a->pe[1], a->pe[2]));
-    return vx__mesh_mats_id(&j->mats, a->mi, a->pm / w, a->pr / w, e / w);
+    float e[3] = {a->pe[0] / w, a->pe[1] / w, a->pe[2] / w};
+    return vx__mesh_mats_id(&j->mats, a->mi, a->pm / w, a->pr / w, e);
 }
 
 static uint32_t finish_rgba(const acc* a) {

@@ -22,8 +22,9 @@ layout(std430, binding = 6) writeonly buffer ONrm { uint onrm[]; };
 layout(std430, binding = 7) writeonly buffer OMat { uint omat[]; };
 layout(std430, binding = 8) readonly buffer Tables { float thr[256]; uint guess[4097]; uint attrs, sampled, levels, mat_count; };
 /* sampled: per glTF material its vx__mesh_mat (f: metal, rough, emit_max,
- * trans; u: base, block, sample, special); per record its emission's G, B */
-struct Plan { vec4 f; uvec4 u; };
+ * trans; u: base, block, sample, special; e: emit, 0); per record its
+ * emission's G, B */
+struct Plan { vec4 f; uvec4 u; vec4 e; };
 layout(std430, binding = 9) readonly buffer Plans { Plan plans[]; };
 layout(std430, binding = 10) readonly buffer RecX { vec2 recx[]; };
 
@@ -77,14 +78,16 @@ uint level_of(float v, float f, uint L) {
     return uint(roundEven(s));
 }
 
-/* vx__mesh_mats_id: the id of a cell whose largest piece is of material mi */
-uint mats_id(uint mi, float metal, float rough, float emit) {
+/* vx__mesh_mats_id: the id of a cell whose largest piece is of material mi;
+ * a sampled emission quantizes each channel whose factor is above 0, ke
+ * their levels' mixed-radix number (R first) */
+uint mats_id(uint mi, float metal, float rough, vec3 emit) {
     if (mi >= mat_count || plans[mi].u.x == 0u) return 0u;
     vec4 f = plans[mi].f;
     uvec4 u = plans[mi].u;
     if (u.z == 0u) return u.w != 0u ? u.x : 0u;
-    uint L = levels, km = 0u, kr = 0u, ke = 0u;
-    uint Lr = (u.z & 2u) != 0u ? L : 1u, Le = (u.z & 4u) != 0u ? L : 1u;
+    uint L = levels, km = 0u, kr = 0u, ke = 0u, Le = 1u;
+    uint Lr = (u.z & 2u) != 0u ? L : 1u;
     bool lit = f.z > 0, metallic = f.x > 0;
     if ((u.z & 1u) != 0u) {
         km = level_of(metal, f.x, L);
@@ -92,8 +95,15 @@ uint mats_id(uint mi, float metal, float rough, float emit) {
     }
     if ((u.z & 2u) != 0u) kr = level_of(rough, f.y, L);
     if ((u.z & 4u) != 0u) {
-        ke = level_of(emit, f.z, L);
-        lit = ke > 0u;
+        vec4 e = plans[mi].e;
+        lit = false;
+        for (int c = 0; c < 3; c++)
+            if (e[c] > 0) {
+                uint k = level_of(emit[c], e[c], L);
+                ke = ke * L + k;
+                Le *= L;
+                lit = lit || k > 0u;
+            }
     }
     if (!metallic && !lit && !(f.w > 0)) return 0u; /* diffuse: no record */
     return (u.x + (km * Lr + kr) * Le + ke) & 0xFFFFu;
@@ -142,8 +152,7 @@ void main() {
     onrm[o] = oct_encode(double(nn.x), double(nn.y), double(nn.z));
     if (sampled != 0u) { /* mat is the glTF index: cell_material */
         float ww = w > 0 ? w : 1.0;
-        float e = max(pe[0], max(pe[1], pe[2]));
-        mat = mats_id(mat, fdiv(pm, ww), fdiv(pr, ww), fdiv(e, ww));
+        mat = mats_id(mat, fdiv(pm, ww), fdiv(pr, ww), vec3(fdiv(pe[0], ww), fdiv(pe[1], ww), fdiv(pe[2], ww)));
     }
     omat[o] = mat;
 }

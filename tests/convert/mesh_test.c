@@ -1006,6 +1006,77 @@ static void test_uri_directory(void) {
            err.msg);
 }
 
+/* The id plan (mesh_internal.h, "materials"): a sampled emission is one
+ * quantized channel per channel of its factor above 0, so its block is
+ * levels^n (a white factor 6^3, (1 0.5 0) 6^2); the fallback to fewer levels
+ * counts those blocks; and every id of a block is the id of its own record's
+ * values (vx__mesh_mats_record then vx__mesh_mats_id give it back). */
+static void test_mats_emission_blocks(void) {
+    static uint8_t px[16] = {0, 0, 0, 255, 255, 128, 64, 255, 10, 20, 30, 255, 200, 0, 90, 255}; /* every channel varies */
+    vx_gltf_image im = {2, 2, px};
+    float uv[6] = {0};
+    static vx_gltf_material mats[2048];
+    static const struct {
+        float e[3];
+        bool mr;        /* also samples metallic and roughness */
+        uint32_t count; /* materials */
+        uint32_t levels, block;
+    } cases[] = {
+        {{1, 1, 1}, false, 1, 6, 216},
+        {{1, 0.5f, 0}, false, 1, 6, 36},
+        {{0, 0, 2}, false, 1, 6, 6},
+        {{1, 1, 1}, true, 8, 6, 7776},     /* 62,208 ids */
+        {{1, 1, 1}, true, 9, 4, 1024},     /* at 6 levels 69,984 */
+        {{1, 1, 1}, true, 64, 3, 243},     /* at 4 levels 65,536 */
+        {{1, 1, 1}, true, 270, 2, 32},     /* at 3 levels 65,610 */
+        {{1, 1, 1}, true, 2048, 0, 0},     /* at 2 levels 65,536: VX_ERR_LIMIT */
+        {{0.5f, 0, 0}, true, 2048, 3, 27}, /* only R sampled: 3^3 ids each, 55,296 */
+    };
+    for (size_t ci = 0; ci < sizeof cases / sizeof cases[0]; ci++) {
+        for (uint32_t i = 0; i < cases[ci].count; i++) {
+            vx_gltf_material* g = &mats[i];
+            memset(g, 0, sizeof *g);
+            for (int k = 0; k < 4; k++) g->base_color[k] = 1;
+            g->image = -1, g->roughness = 1, g->ior = 1.5f, g->metallic = cases[ci].mr ? 1.f : 0.f;
+            memcpy(g->emissive, cases[ci].e, sizeof g->emissive);
+            g->metal_rough.image = cases[ci].mr ? 0 : -1;
+            g->emissive_tex.image = 0;
+        }
+        vx_gltf_mesh m;
+        memset(&m, 0, sizeof m);
+        m.images = &im, m.image_count = 1, m.uv_mr = uv, m.uv_emissive = uv;
+        m.materials = mats, m.material_count = cases[ci].count;
+        vx__mesh_mats p;
+        vx_error err = {0};
+        vx_result r = vx__mesh_mats_make(&m, NULL, &p, &err);
+        if (!cases[ci].levels) {
+            CHECKF(r == VX_ERR_LIMIT && strstr(err.msg, "more than 65535"), "case %zu: %s", ci, r ? err.msg : "accepted");
+            if (!r) vx__mesh_mats_free(NULL, &p);
+            continue;
+        }
+        CHECKF(r == VX_OK, "case %zu: %s", ci, err.msg);
+        if (r) continue;
+        CHECKF(p.levels == cases[ci].levels && p.m[0].block == cases[ci].block && p.m[cases[ci].count - 1].base ==
+                   1 + (cases[ci].count - 1) * cases[ci].block,
+               "case %zu: %u levels, block %u", ci, p.levels, p.m[0].block);
+        /* the first and last materials' ids round-trip through their records */
+        size_t bad = 0, lit = 0;
+        for (uint32_t mi = 0; mi < cases[ci].count; mi += cases[ci].count > 1 ? cases[ci].count - 1 : 1)
+            for (uint32_t k = 0; k < p.m[mi].block; k++) {
+                uint32_t id = p.m[mi].base + k, back_mi = UINT32_MAX;
+                float v[4], rgb[3];
+                if (!vx__mesh_mats_record(&p, id, &back_mi, v, rgb)) continue; /* diffuse: no cell names it */
+                float mx = rgb[0] > rgb[1] ? rgb[0] : rgb[1];
+                mx = mx > rgb[2] ? mx : rgb[2];
+                bad += back_mi != mi || vx__mesh_mats_id(&p, mi, v[0], v[1], rgb) != id || v[2] != mx;
+                for (int c = 0; c < 3; c++) bad += cases[ci].e[c] == 0 && rgb[c] != 0; /* a channel whose factor is 0 stays 0 */
+                lit += mx > 0;
+            }
+        CHECKF(bad == 0 && lit > 0, "case %zu: %zu ids do not round-trip", ci, bad);
+        vx__mesh_mats_free(NULL, &p);
+    }
+}
+
 int main(void) {
     RUN(test_boundary_faces);
     RUN(test_bottle);
@@ -1027,6 +1098,7 @@ int main(void) {
     RUN(test_far_origin);
     RUN(test_position_precision);
     RUN(test_emissive_texture);
+    RUN(test_mats_emission_blocks);
     RUN(test_uri_directory);
     return vx_test_finish();
 }
