@@ -625,6 +625,36 @@ static void test_textured_materials(void) {
         if (!uniform) CHECK(same_svo(&m, 32, 0, true, "split textures"));
         vx_gltf_mesh_free(&m);
     }
+    /* an emission sampled per channel (mesh_scene_test's test_emissive_hue): every channel of a white factor
+     * (the block 6^3), then only R and G of (1 0.5 0) (6^2): the ids and records are the CPU path's */
+    static const struct {
+        const char* mat;
+        uint8_t full[3];
+        const char* what;
+    } hues[] = {{TEXG_HUE_MAT("1,1,1"), {0, 0, 255}, "emissive hues, factor 1 1 1"},
+                {TEXG_HUE_MAT("1,0.5,0"), {255, 255, 255}, "emissive hues, factor 1 0.5 0"}};
+    for (size_t h = 0; h < sizeof hues / sizeof hues[0]; h++) {
+        memset(mr, 255, sizeof mr);
+        texg_hue(hues[h].full, em);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = texg_read(hues[h].mat, mr, em, &m, &err);
+        CHECKF(r == VX_OK, "%s", err.msg);
+        if (r) continue;
+        vx_svo_scene a;
+        REQUIRE(vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &a, NULL, &err) == VX_OK);
+        uint32_t emitting = 0;
+        for (uint32_t k = 0; k < a.material_count; k++) emitting += vx_svo_material_resolve(&a.materials[k]).emission > 0;
+        CHECKF(emitting >= 4, "%s: %u emitting records", hues[h].what, emitting);
+        vx_svo_scene_free(&a);
+        CHECK(same_svo(&m, 16, 0, false, hues[h].what));
+        vx_conv_mesh_gpu_stats st;
+        vx_conv_mesh_gpu_last_stats(mg, &st);
+        CHECKF(st.sampled_materials == 1, "%s: sampled_materials %u", hues[h].what, st.sampled_materials);
+        CHECK(same_svo(&m, 48, 0, true, hues[h].what));
+        CHECK(same_shares(&m, 32, 0, 2, hues[h].what));
+        vx_gltf_mesh_free(&m);
+    }
 }
 
 int main(void) {

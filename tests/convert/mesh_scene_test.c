@@ -437,6 +437,153 @@ static void test_textured_materials(void) {
     textured_materials(with_color, "split textures, metallic-roughness also the base colour");
 }
 
+typedef struct hue_cells {
+    const vx_svo_scene* s;
+    const vx_svo_model* m;
+    uint16_t id[16 * 16];
+    double rgb[16 * 16][3];
+    bool set[16 * 16];
+} hue_cells;
+static bool hue_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    hue_cells* c = (hue_cells*)user;
+    if (x >= 16 || y >= 16 || z != 0) return true;
+    uint32_t col = vx_svo_attr_color(c->s, c->m, attr);
+    for (int k = 0; k < 3; k++) c->rgb[y * 16 + x][k] = ((col >> (8 * k)) & 255) / 255.0;
+    c->id[y * 16 + x] = (c->m->attrs & VX_ATTR_MATERIAL) ? c->m->material[attr] : 0;
+    c->set[y * 16 + x] = true;
+    return true;
+}
+
+/* An emissive texture's own hue per cell (convert/mesh.h, "Materials"): on
+ * a white base colour, texg_hue's quarters under a white factor x 3 emit
+ * red (3 0 0), orange (3 0.6 0: G's texel 128 is 0.216 linear, level 1 of
+ * 5), blue (0 0 3) and half blue (0 0 0.6), not white (the voxel's colour,
+ * MagicaVoxel's rule, which glowed white here before); under the factor
+ * (1 0.5 0) x 3 only R and G are sampled (ids 1 + 6 kR + kG: a block of 6^2,
+ * where sampling B as well would give 6^3) and nothing emits blue. */
+static void test_emissive_hue(void) {
+    static const struct {
+        const char* mat;
+        uint8_t full[3];    /* texg_hue's bottom colour */
+        double want[4][3];  /* radiance in the quarters red, orange, full, half */
+        int id[4];          /* their ids (0: diffuse) */
+        int max_id;         /* base + block - 1 */
+    } cases[] = {
+        {TEXG_HUE_MAT("1,1,1"), {0, 0, 255}, {{3, 0, 0}, {3, 0.6, 0}, {0, 0, 3}, {0, 0, 0.6}},
+         {1 + 5 * 36, 1 + 5 * 36 + 6, 1 + 5, 1 + 1}, 216},
+        {TEXG_HUE_MAT("1,0.5,0"), {255, 255, 255}, {{3, 0, 0}, {3, 0.3, 0}, {3, 1.5, 0}, {0.6, 0.3, 0}},
+         {1 + 5 * 6, 1 + 5 * 6 + 1, 1 + 5 * 6 + 5, 1 + 6 + 1}, 36},
+    };
+    for (size_t ci = 0; ci < sizeof cases / sizeof cases[0]; ci++) {
+        uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
+        memset(mr, 255, sizeof mr);
+        texg_hue(cases[ci].full, em);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_svo_scene s;
+        REQUIRE(texg_read(cases[ci].mat, mr, em, &m, &err) == VX_OK);
+        vx_result r = vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &s, NULL, &err);
+        CHECKF(r == VX_OK, "%s", err.msg);
+        if (r) {
+            vx_gltf_mesh_free(&m);
+            continue;
+        }
+        REQUIRE(s.model_count == 1 && s.instances[0].xform[3] == 0 && s.instances[0].xform[7] == 0);
+        static hue_cells c;
+        memset(&c, 0, sizeof c);
+        c.s = &s, c.m = &s.models[0];
+        CHECK(vx_svo_decode_model(c.m, hue_visit, &c, &err) == VX_OK);
+        size_t cells = 0, wrong = 0, above = 0, blue = 0;
+        for (int y = 0; y < 16; y++)
+            for (int x = 0; x < 16; x++) {
+                int i = y * 16 + x;
+                if (!c.set[i]) {
+                    wrong++;
+                    continue;
+                }
+                above += c.id[i] > cases[ci].max_id;
+                vx_material mt = vx_svo_scene_material(&s, c.id[i]);
+                double e[3];
+                vx_material_emitted(&mt, c.rgb[i], e);
+                blue += e[2] > 0;
+                bool in_x = (x >= 1 && x <= 6) || (x >= 9 && x <= 14), in_y = (y >= 1 && y <= 6) || (y >= 9 && y <= 14);
+                if (!in_x || !in_y) continue; /* footprints across quarters or wrapped */
+                int q = (y > 8 ? 2 : 0) + (x < 8 ? 1 : 0);
+                const double* want = cases[ci].want[q];
+                bool ok = c.id[i] == cases[ci].id[q] && c.rgb[i][0] == 1 && c.rgb[i][1] == 1 && c.rgb[i][2] == 1;
+                for (int k = 0; k < 3; k++) ok = ok && fabs(e[k] - want[k]) < 1e-5;
+                cells++;
+                if (!ok && wrong++ < 5)
+                    fprintf(stderr, "  case %zu cell %d %d: id %u emits %g %g %g (colour %g %g %g), expected id %d, %g %g %g\n", ci,
+                            x, y, c.id[i], e[0], e[1], e[2], c.rgb[i][0], c.rgb[i][1], c.rgb[i][2], cases[ci].id[q], want[0],
+                            want[1], want[2]);
+            }
+        fprintf(stderr, "  case %zu: %zu cells checked, %u records\n", ci, cells, s.material_count);
+        CHECK(cells == 144 && wrong == 0);
+        CHECKF(above == 0, "case %zu: %zu cells with ids past the material's block", ci, above);
+        if (ci == 1) CHECKF(blue == 0, "%zu cells emit blue under a factor whose blue is 0", blue);
+        /* every emitting record states its colour, its largest channel 1 */
+        for (uint32_t k = 0; k < s.material_count; k++) {
+            vx_material mt = vx_svo_material_resolve(&s.materials[k]);
+            if (!(mt.emission > 0)) continue;
+            double mx = fmax(mt.emission_color[0], fmax(mt.emission_color[1], mt.emission_color[2]));
+            CHECKF(mx == 1, "record %u: emission colour %g %g %g", s.materials[k].id, mt.emission_color[0], mt.emission_color[1],
+                   mt.emission_color[2]);
+        }
+        vx_svo_scene_free(&s);
+        vx_gltf_mesh_free(&m);
+    }
+}
+
+/* A material that samples its metallic-roughness texture but not its
+ * emission (emissiveFactor (1 0.5 0.25) x 2, no emissive texture) keeps the
+ * ids and records it had before emission was sampled per channel: the
+ * records' dictionaries and the cells' ids against those of the converter
+ * before that change (commit 8bec8ee), written out here. */
+static void test_unsampled_emission_unchanged(void) {
+    uint8_t mr[4 * TEXG_N * TEXG_N], em[4 * TEXG_N * TEXG_N];
+    texg_split(mr, em);
+    static const char* mat =
+        "{\"pbrMetallicRoughness\":{\"metallicFactor\":0.8,\"roughnessFactor\":0.5,"
+        "\"metallicRoughnessTexture\":{\"index\":0}},\"emissiveFactor\":[1,0.5,0.25],"
+        "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":2}}}";
+    vx_gltf_mesh m;
+    vx_error err = {0};
+    vx_svo_scene s;
+    REQUIRE(texg_read(mat, mr, em, &m, &err) == VX_OK);
+    REQUIRE(vx_conv_mesh(&(vx_conv_mesh_desc){.res = 16}, &m, &s, NULL, &err) == VX_OK);
+    /* the records as text: "id key=value ...;" in file order */
+    char text[4096];
+    size_t n = 0;
+    for (uint32_t i = 0; i < s.material_count && n < sizeof text; i++) {
+        const vx_svo_material* r = &s.materials[i];
+        n += (size_t)snprintf(text + n, sizeof text - n, "%u", r->id);
+        for (uint32_t o = 0; o < r->dict_size && n < sizeof text;) {
+            const char* k = r->dict + o;
+            const char* v = k + strlen(k) + 1;
+            n += (size_t)snprintf(text + n, sizeof text - n, " %s=%s", k, v);
+            o += (uint32_t)(strlen(k) + strlen(v) + 2);
+        }
+        if (n < sizeof text) n += (size_t)snprintf(text + n, sizeof text - n, ";");
+    }
+    /* the cells' ids, FNV-1a over the 16 x 16 grid (0 where no cell) */
+    cell_ids c;
+    memset(&c, 0, sizeof c);
+    void* u[2] = {&c, &s.models[0]};
+    CHECK(vx_svo_decode_model(&s.models[0], ids_visit, u, &err) == VX_OK);
+    uint32_t h = 2166136261u;
+    for (int i = 0; i < 16 * 16; i++) h = (h ^ c.id[i]) * 16777619u, h = (h ^ (uint32_t)(c.id[i] >> 8)) * 16777619u;
+    static const char* want =
+        "6 _type=_emit _rough=0.5 _emit=2 _emit_color=1 0.5 0.25;"
+        "11 _type=_metal _metal=0.159999996 _rough=0.400000006 _ior=0.5 _emit=2 _emit_color=1 0.5 0.25;"
+        "28 _type=_metal _metal=0.639999986 _rough=0.300000012 _ior=0.5 _emit=2 _emit_color=1 0.5 0.25;"
+        "33 _type=_metal _metal=0.800000012 _rough=0.200000003 _ior=0.5 _emit=2 _emit_color=1 0.5 0.25;";
+    CHECKF(strcmp(text, want) == 0, "records %s", text);
+    CHECKF(h == 0xfd907745u, "ids %08x", h);
+    vx_svo_scene_free(&s);
+    vx_gltf_mesh_free(&m);
+}
+
 /* Uniform textures (every texel the same) give the file of the factors they
  * equal: metallic 0.8 x 1, roughness 0.5 x 0, emission (1 0.5 0.25) x 2 x 1. */
 static void test_uniform_textures(void) {
@@ -561,6 +708,8 @@ int main(void) {
     RUN(test_gltf_lights);
     RUN(test_gltf_bad_lights);
     RUN(test_textured_materials);
+    RUN(test_emissive_hue);
+    RUN(test_unsampled_emission_unchanged);
     RUN(test_uniform_textures);
     RUN(test_helmet_materials);
     return vx_test_finish();

@@ -150,4 +150,32 @@ static const char* kTexgSplitMat =
     "\"emissiveTexture\":{\"index\":1,\"texCoord\":1},"
     "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":2}}}";
 
+/* Emissive textures of two hues (mesh_scene_test's test_emissive_hue,
+ * mesh_gpu_test): in the top half (image rows 0..3, the quad's cells y < 8)
+ * red (255 0 0) in columns 0..3 (TEXCOORD_1's u < 0.5: cells x > 8) and
+ * orange (255 128 0) in columns 4..7; in the bottom half `full` in columns
+ * 0..3 and at half (its channels above 0 at 128) in columns 4..7. A cell whose
+ * bilinear footprint stays in one quarter (x and y in 1..6 or 9..14: no
+ * border, no wrap) sees that quarter's texel alone. */
+static void texg_hue(const uint8_t full[3], uint8_t em[4 * TEXG_N * TEXG_N]) {
+    for (int y = 0; y < TEXG_N; y++)
+        for (int x = 0; x < TEXG_N; x++) {
+            uint8_t* e = em + 4 * (y * TEXG_N + x);
+            bool left = x < 4;
+            for (int c = 0; c < 3; c++) {
+                uint8_t top = c == 0 ? 255 : c == 1 && !left ? 128 : 0;
+                uint8_t bottom = left ? full[c] : full[c] ? 128 : 0;
+                e[c] = y < 4 ? top : bottom;
+            }
+            e[3] = 255;
+        }
+}
+
+/* A material that emits through its texture alone (metallic 0, white base
+ * colour): factor `factor` ("R,G,B") x strength 3. */
+#define TEXG_HUE_MAT(factor)                                                                                    \
+    "{\"pbrMetallicRoughness\":{\"metallicFactor\":0},\"emissiveFactor\":[" factor "],"                          \
+    "\"emissiveTexture\":{\"index\":1,\"texCoord\":1},"                                                         \
+    "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":3}}}"
+
 #endif
