@@ -628,6 +628,7 @@ typedef struct helmet_cnt {
     const vx_svo_scene* s;
     const vx_svo_model* m;
     size_t cells, metal, lit;
+    double emitted[3]; /* summed over the emissive cells: the record's emission colour x emission */
 } helmet_cnt;
 static bool helmet_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     (void)x, (void)y, (void)z;
@@ -637,14 +638,18 @@ static bool helmet_visit(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_
     if (id) {
         k->metal += mat_key(k->s, id, "_metal") > 0;
         k->lit += mat_key(k->s, id, "_emit") > 0;
+        vx_material mt = vx_svo_scene_material(k->s, id);
+        for (int c = 0; c < 3; c++) k->emitted[c] += mt.emission_color[c] * mt.emission;
     }
     return true;
 }
-static void helmet_count(const vx_svo_scene* s, const vx_svo_model* m, size_t* cells, size_t* metal, size_t* lit) {
-    helmet_cnt k = {s, m, 0, 0, 0};
+static void helmet_count(const vx_svo_scene* s, const vx_svo_model* m, size_t* cells, size_t* metal, size_t* lit,
+                         double emitted[3]) {
+    helmet_cnt k = {s, m, 0, 0, 0, {0, 0, 0}};
     vx_error err = {0};
     CHECK(vx_svo_decode_model(m, helmet_visit, &k, &err) == VX_OK);
     *cells += k.cells, *metal += k.metal, *lit += k.lit;
+    for (int c = 0; c < 3; c++) emitted[c] += k.emitted[c];
 }
 
 /* The corpus's DamagedHelmet: metal and emissive cells where its textures
@@ -688,16 +693,45 @@ static void test_helmet_materials(void) {
     vx_svo_scene s;
     REQUIRE(vx_conv_mesh(&d, &m, &s, NULL, &err) == VX_OK);
     size_t cells = 0, metal = 0, lit = 0;
+    double emitted[3] = {0, 0, 0};
     for (uint32_t i = 0; i < s.model_count; i++) {
         const vx_svo_model* md = &s.models[i];
         REQUIRE(md->attrs & VX_ATTR_MATERIAL);
-        helmet_count(&s, md, &cells, &metal, &lit);
+        helmet_count(&s, md, &cells, &metal, &lit, emitted);
     }
     double fm = (double)metal / (double)cells, fl = (double)lit / (double)cells;
     fprintf(stderr, "  DamagedHelmet res 128: %u records, %zu cells, %zu metal (%.3f; surface %.3f), %zu emissive (%.3f; surface %.3f)\n",
             s.material_count, cells, metal, fm, area_metal / area, lit, fl, area_lit / area);
     CHECK(s.material_count > 1 && metal > 0 && lit > 0);
     CHECK(fabs(fm - area_metal / area) < 0.15 && fabs(fl - area_lit / area) < 0.1);
+    /* its emissive map is not grey: every emitting record states its own colour (_emit_color, its largest
+     * channel 1), and some are far from grey */
+    uint32_t emitting = 0, coloured = 0, stated = 0;
+    for (uint32_t i = 0; i < s.material_count; i++) {
+        vx_material mt = vx_svo_material_resolve(&s.materials[i]);
+        if (!(mt.emission > 0)) continue;
+        const double* ec = mt.emission_color;
+        double mx = fmax(ec[0], fmax(ec[1], ec[2])), mn = fmin(ec[0], fmin(ec[1], ec[2]));
+        emitting++;
+        stated += vx_svo_material_get(&s.materials[i], "_emit_color") && mx == 1;
+        coloured += mx - mn > 0.25;
+    }
+    fprintf(stderr, "  DamagedHelmet res 128: %u emitting records, %u with a colour, %u of them far from grey; mean emission of "
+            "its emissive cells %.3f %.3f %.3f\n", emitting, stated, coloured, emitted[0] / (double)(lit ? lit : 1),
+            emitted[1] / (double)(lit ? lit : 1), emitted[2] / (double)(lit ? lit : 1));
+    CHECK(emitting > 0 && stated == emitting && coloured > 0);
+    /* and the scene is a valid file */
+    uint8_t* bytes = NULL;
+    size_t nb = 0;
+    CHECK(vx_svo_validate_scene(&s, &err) == VX_OK && vx_svo_write(&s, NULL, &bytes, &nb, &err) == VX_OK);
+    vx_svo_scene back;
+    vx_result rb = vx_svo_read(NULL, bytes, nb, &back, &err);
+    CHECKF(rb == VX_OK, "read back: %s", err.msg);
+    if (rb == VX_OK) {
+        CHECK(back.material_count == s.material_count && vx_svo_validate_scene(&back, &err) == VX_OK);
+        vx_svo_scene_free(&back);
+    }
+    free(bytes);
     vx_svo_scene_free(&s);
     vx_gltf_mesh_free(&m);
 }
