@@ -70,28 +70,29 @@
  * uniform, under a factor above 0; roughness only where the material can be
  * metal, emissive or transmissive) is quantized to 6 levels of its factor
  * (0, 1/5, ..., 1: the average / factor rounded to the nearest; fewer,
- * 4, 3 or 2, when the ids would pass 65535, else VX_ERR_LIMIT), one record
- * per (glTF material, levels) combination the cells name; a texture uniform
- * over its image counts as its factor (the file is the equivalent factors'
- * file). A material that varies nothing keeps one record, whether or not
+ * 4, 3 or 2, when the ids would pass 65535, else VX_ERR_LIMIT; an emissive
+ * texture's R, G and B are each a channel, those whose factor is above 0),
+ * one record per (glTF material, levels) combination the cells name; a
+ * texture uniform over its image counts as its factor (the file is the
+ * equivalent factors' file). A material that varies nothing keeps one record, whether or not
  * cells name it. A cell that is neither metal (level 0) nor emissive nor
  * transmissive stores material 0 (diffuse, no record); a file without
  * metal, emissive or transmissive materials stores no material channel.
  * Ids (VX_ATTR_MATERIAL) are a function of the mesh alone: glTF material i
- * gets a block of 6^k ids, k the channels it varies (ids index + 1 when no
+ * gets a block of 6^k ids, k the channels it varies (an emission's R, G
+ * and B counted apart: 6^3 under a white factor; ids index + 1 when no
  * material varies any). The keys (convert/mesh.c, add_materials): _type
  * _glass with _trans, or _metal with _metal, or _emit / _diffuse; _rough;
  * _ior = IOR - 1; _emit = the largest channel of the emission and
  * _emit_color (voxkit's key, svo/svo.h) the emission over _emit, so the
- * emitted light is glTF's whatever the base colour. Where an emissive
- * texture varies per cell, the records quantize only _emit and the hue is
- * the voxel's colour (MagicaVoxel's model, emission = colour x _emit): the
- * emissive texel's own hue is lost there, a glow whose emissive colour
- * differs from the base colour (DamagedHelmet's lights over a grey base)
- * keeps the brightness of its strongest channel in the base colour's hue.
- * A texture that is not decoded (desc.no_color, an unreadable image) leaves
- * metallic 0 or the emission out (formats/gltf.h). The GPU voxelizer hands
- * a mesh with per-cell levels to the CPU voxelizer (the same file).
+ * emitted light is glTF's whatever the base colour, not MagicaVoxel's
+ * colour x _emit. Where an emissive texture varies per cell, that emission
+ * is the record's quantized channels, so the emissive texel's own hue is
+ * kept (DamagedHelmet's lights over a grey base glow in their own colours)
+ * to the levels' precision. A texture that is not decoded (desc.no_color,
+ * an unreadable image) leaves metallic 0 or the emission out
+ * (formats/gltf.h). The GPU voxelizer samples the textures too (the same
+ * ids and file; convert/mesh_gpu.h).
  *
  * Lights: KHR_lights_punctual lights become scene lights (vx_light) in the
  * same world frame as the voxels (world_from_grid maps grid cells back to
