@@ -11,7 +11,7 @@ if(TARGET vx_conv_mesh_core)
             tinygltf_CubeImageUriSpaces/CubeImageUriSpaces.gltf)
     list(APPEND VX_GLTF_SEEDS ${VX_CORPUS_DIR}/gltf/${f})
   endforeach()
-  vx_add_fuzz(gltf_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/gltf_fuzz.c LIBS vx_conv_mesh_core ARGS -n 300
+  vx_add_fuzz(gltf_fuzz ${CMAKE_SOURCE_DIR}/tests/fuzz/gltf_fuzz.c LIBS vx_conv_mesh ARGS -n 300
               SEEDS ${VX_GLTF_SEEDS})
 endif()
 if(TARGET vx_conv_mesh_gpu)

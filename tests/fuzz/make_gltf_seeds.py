@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes tests/fuzz/gltf_seeds/: tiny .glb files whose base colour texture is a
 PNG or a JPEG stored in the binary chunk, so gltf_fuzz reaches the image code
-(header sniffing, size limits, decoding) from its first input. Run from the
+(header sniffing, size limits, decoding) from its first input; one also uses
+the PNG as metallic-roughness and emissive texture (the materials' plan). Run from the
 repository root: python3 tests/fuzz/make_gltf_seeds.py"""
 import json
 import os
@@ -31,7 +32,7 @@ def jpeg():
     return b"\xff\xd8" + dqt + sof + dht + sos + b"\x3f" + b"\xff\xd9"
 
 
-def glb(image, mime, indexed):
+def glb(image, mime, indexed, materials=False):
     pos = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0.5)
     uv = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
     idx = struct.pack("<3H", 0, 1, 2) + b"\0\0"
@@ -51,6 +52,14 @@ def glb(image, mime, indexed):
         {"bufferView": add(uv, 34962), "componentType": 5126, "count": 3, "type": "VEC2"},
     ]
     prim = {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}
+    material = {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor": [1, 1, 1, 1]}}
+    if materials:
+        # the same image as metallic-roughness and emissive texture, so that every channel varies per cell
+        # (the materials' per-cell levels and per-channel emission ids, convert/mesh_material.c)
+        material["pbrMetallicRoughness"].update(metallicFactor=0.8, roughnessFactor=0.5,
+                                                metallicRoughnessTexture={"index": 0})
+        material.update(emissiveFactor=[1, 0.5, 0.25], emissiveTexture={"index": 0},
+                        extensions={"KHR_materials_emissive_strength": {"emissiveStrength": 3}})
     if indexed:
         accessors.append({"bufferView": add(idx, 34963), "componentType": 5123, "count": 3, "type": "SCALAR"})
         prim["indices"] = 2
@@ -60,7 +69,7 @@ def glb(image, mime, indexed):
         "scene": 0, "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "scale": [1, 2, 1]}],
         "meshes": [{"primitives": [prim]}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor": [1, 1, 1, 1]}}],
+        "materials": [material],
         "textures": [{"source": 0, "sampler": 0}],
         "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 10497, "wrapT": 10497}],
         "images": [{"bufferView": img, "mimeType": mime}],
@@ -77,6 +86,7 @@ def glb(image, mime, indexed):
 out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "gltf_seeds")
 os.makedirs(out, exist_ok=True)
 for name, data in (("png_tri.glb", glb(png(4, 4), "image/png", False)),
-                   ("jpeg_tri.glb", glb(jpeg(), "image/jpeg", True))):
+                   ("jpeg_tri.glb", glb(jpeg(), "image/jpeg", True)),
+                   ("png_materials.glb", glb(png(4, 4), "image/png", True, True))):
     with open(os.path.join(out, name), "wb") as f:
         f.write(data)
