@@ -4,10 +4,18 @@
  * Everything goes into one buffer (the GLB's BIN chunk): per mesh one
  * primitive of triangles with POSITION (with its min/max), NORMAL and
  * COLOR_0 (linear RGBA, unsigned 16-bit normalized) where given, and 32-bit
- * indices (without NORMAL, glTF viewers compute flat normals), drawn with
- * one opaque material (white base colour, roughness 1, metallic 0) that
- * the vertex colours multiply. Nodes are all roots of the one scene; a
- * node's matrix is column-major, as glTF stores it.
+ * indices (without NORMAL, glTF viewers compute flat normals). Materials:
+ * with material_count 0, one opaque material "voxel" (white base colour,
+ * roughness 1, metallic 0) that the vertex colours multiply, drawing every
+ * mesh as one primitive (the output of a zero-initialised scene is the same
+ * bytes as before materials existed). With materials, each is written as
+ * given (vx_glb_material), and a mesh with primitives is drawn as those
+ * index ranges, each with its material; the vertex attributes are shared by
+ * the mesh's primitives. Extensions are declared in extensionsUsed where a
+ * material needs them: KHR_materials_emissive_strength (strength > 1),
+ * KHR_materials_transmission (transmission > 0), KHR_materials_ior (with
+ * transmission, ior != 1.5). Nodes are all roots of the one scene; a node's
+ * matrix is column-major, as glTF stores it.
  *
  * Errors: VX_ERR_LIMIT when the buffer would pass the GLB's 4 GiB, VX_ERR_IO
  * when the file cannot be written (nothing is left behind: the file is
@@ -26,6 +34,26 @@
 extern "C" {
 #endif
 
+/* A metallic-roughness material. Factors are glTF's: base_color linear
+ * RGBA, emissive linear RGB in [0, 1] times emissive_strength (written as
+ * KHR_materials_emissive_strength only when > 1: brighter emission is the
+ * factor at its largest channel 1 and the rest in the strength). */
+typedef struct vx_glb_material {
+    const char* name;         /* may be NULL */
+    float base_color[4];
+    float metallic, roughness;
+    float emissive[3];
+    float emissive_strength;  /* <= 1: none (the factor alone) */
+    float transmission;       /* KHR_materials_transmission when > 0 */
+    float ior;                /* KHR_materials_ior with transmission, when != 1.5 (0: 1.5) */
+} vx_glb_material;
+
+/* A range of a mesh's indices drawn with one material. */
+typedef struct vx_glb_primitive {
+    size_t index_first, index_count; /* multiples of 3, count at least 3 */
+    uint32_t material;               /* index into the scene's materials */
+} vx_glb_primitive;
+
 typedef struct vx_glb_mesh {
     const char* name;       /* may be NULL */
     size_t vertex_count;    /* at least 1 */
@@ -34,6 +62,8 @@ typedef struct vx_glb_mesh {
     const uint16_t* color;  /* 4 per vertex (linear RGBA, 65535 = 1), or NULL */
     size_t index_count;     /* a multiple of 3, at least 3 */
     const uint32_t* index;  /* triangles, counter-clockwise seen from the front */
+    uint32_t primitive_count; /* 0: one primitive of all indices with material 0 */
+    const vx_glb_primitive* primitives;
 } vx_glb_mesh;
 
 typedef struct vx_glb_node {
@@ -48,6 +78,8 @@ typedef struct vx_glb_scene {
     uint32_t node_count;
     const vx_glb_node* nodes;
     const char* generator;  /* asset.generator, may be NULL */
+    uint32_t material_count; /* 0: the one default material (above) */
+    const vx_glb_material* materials;
 } vx_glb_scene;
 
 /* desc may be NULL (svo/core.h); its allocator serves the temporary file's

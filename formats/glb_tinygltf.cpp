@@ -56,8 +56,26 @@ vx_result check(const vx_glb_scene* s, vx_error* err) {
                 return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u index %zu is %u of %zu vertices", i,
                                k, me.index[k], me.vertex_count);
         bytes += (uint64_t)me.vertex_count * (12 + (me.normal ? 12 : 0) + (me.color ? 8 : 0)) +
-                 (uint64_t)me.index_count * 4 + 16;
+                 (uint64_t)me.index_count * 4 + 16 + (uint64_t)me.primitive_count * 4;
     }
+    for (uint32_t i = 0; i < s->mesh_count; i++) {
+        const vx_glb_mesh& me = s->meshes[i];
+        if (me.primitive_count && !me.primitives)
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u has no primitive array", i);
+        for (uint32_t k = 0; k < me.primitive_count; k++) {
+            const vx_glb_primitive& p = me.primitives[k];
+            if (p.index_count < 3 || p.index_count % 3 || p.index_first % 3 || p.index_first > me.index_count ||
+                p.index_count > me.index_count - p.index_first)
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                               "glb: mesh %u primitive %u: indices %zu+%zu of %zu", i, k, p.index_first,
+                               p.index_count, me.index_count);
+            if (p.material >= (s->material_count ? s->material_count : 1))
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: mesh %u primitive %u names material %u",
+                               i, k, p.material);
+        }
+    }
+    if (s->material_count && !s->materials)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL materials");
     for (uint32_t i = 0; i < s->node_count; i++)
         if (s->nodes[i].mesh < -1 || s->nodes[i].mesh >= (int64_t)s->mesh_count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: node %u names mesh %d of %u", i,
@@ -67,6 +85,42 @@ vx_result check(const vx_glb_scene* s, vx_error* err) {
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb: %llu bytes of geometry, more than a .glb holds",
                        (unsigned long long)bytes);
     return VX_OK;
+}
+
+void add_ext(tinygltf::Model& m, const char* name) {
+    for (const std::string& e : m.extensionsUsed)
+        if (e == name) return;
+    m.extensionsUsed.push_back(name);
+}
+
+tinygltf::Material make_material(tinygltf::Model& m, const vx_glb_material& g) {
+    tinygltf::Material mat;
+    if (g.name) mat.name = g.name;
+    mat.pbrMetallicRoughness.baseColorFactor = {g.base_color[0], g.base_color[1], g.base_color[2], g.base_color[3]};
+    mat.pbrMetallicRoughness.metallicFactor = g.metallic;
+    mat.pbrMetallicRoughness.roughnessFactor = g.roughness;
+    if (g.emissive[0] > 0 || g.emissive[1] > 0 || g.emissive[2] > 0) {
+        mat.emissiveFactor = {g.emissive[0], g.emissive[1], g.emissive[2]};
+        if (g.emissive_strength > 1) {
+            tinygltf::Value::Object o;
+            o["emissiveStrength"] = tinygltf::Value(double(g.emissive_strength));
+            mat.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(o);
+            add_ext(m, "KHR_materials_emissive_strength");
+        }
+    }
+    if (g.transmission > 0) {
+        tinygltf::Value::Object o;
+        o["transmissionFactor"] = tinygltf::Value(double(g.transmission));
+        mat.extensions["KHR_materials_transmission"] = tinygltf::Value(o);
+        add_ext(m, "KHR_materials_transmission");
+        if (g.ior > 0 && g.ior != 1.5f) {
+            tinygltf::Value::Object io;
+            io["ior"] = tinygltf::Value(double(g.ior));
+            mat.extensions["KHR_materials_ior"] = tinygltf::Value(io);
+            add_ext(m, "KHR_materials_ior");
+        }
+    }
+    return mat;
 }
 
 // An output stream buffer that appends to a vx_atomic_file, so tinygltf
@@ -117,7 +171,8 @@ extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_s
         m.asset.version = "2.0";
         m.asset.generator = s->generator ? s->generator : "voxkit";
         m.buffers.resize(1);
-        if (s->mesh_count) {
+        for (uint32_t i = 0; i < s->material_count; i++) m.materials.push_back(make_material(m, s->materials[i]));
+        if (s->mesh_count && !s->material_count) {
             tinygltf::Material mat;
             mat.name = "voxel";
             mat.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
@@ -152,12 +207,24 @@ extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_s
                 m.accessors[c].normalized = true;
                 prim.attributes["COLOR_0"] = c;
             }
-            prim.indices =
-                add_accessor(m, add_view(m, me.index, me.index_count * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, me.index_count);
             tinygltf::Mesh mesh;
             if (me.name) mesh.name = me.name;
-            mesh.primitives.push_back(prim);
+            if (!me.primitive_count) {
+                prim.indices =
+                    add_accessor(m, add_view(m, me.index, me.index_count * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, me.index_count);
+                mesh.primitives.push_back(prim);
+            }
+            // the primitives share the mesh's vertex accessors, each with its own indices
+            for (uint32_t k = 0; k < me.primitive_count; k++) {
+                const vx_glb_primitive& p = me.primitives[k];
+                tinygltf::Primitive pk = prim;
+                pk.material = int(p.material);
+                pk.indices = add_accessor(
+                    m, add_view(m, me.index + p.index_first, p.index_count * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, p.index_count);
+                mesh.primitives.push_back(pk);
+            }
             m.meshes.push_back(mesh);
         }
         tinygltf::Scene scene;

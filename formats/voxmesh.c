@@ -53,6 +53,7 @@ typedef struct mesher {
     const vx_allocator* alloc;
     const uint32_t* xyz;
     const uint32_t* rgba;
+    const uint32_t* material; /* NULL: no material ids (quads merge on colour alone) */
     const size_t* order; /* cell order grouped by brick, NULL: the input order is */
     brick* bricks;
     size_t brick_count;
@@ -146,6 +147,7 @@ typedef struct scratch {
      * a = 2: rows y, bits x). */
     uint64_t occ[3][BS][BS];
     uint32_t* colour; /* BS^3, index x + 64 y + 4096 z; only set cells are read */
+    uint32_t* mat;    /* the same for material ids (when the mesher has them) */
 } scratch;
 
 static inline bool emit(mesher* ms, unsigned t, vx_voxmesh_quad q) {
@@ -176,6 +178,7 @@ static bool brick_mesh(mesher* ms, unsigned t, const brick* b, scratch* s) {
         s->occ[1][y][x] |= (uint64_t)1 << z;
         s->occ[2][z][y] |= (uint64_t)1 << x;
         if (ms->rgba) s->colour[x + BS * y + BS * BS * z] = ms->rgba[i];
+        if (ms->material) s->mat[x + BS * y + BS * BS * z] = ms->material[i];
     }
     /* neighbour bricks' layers facing this one: [axis][0] the brick below, [1] above */
     const uint64_t* nb[3][2];
@@ -205,24 +208,32 @@ static bool brick_mesh(mesher* ms, unsigned t, const brick* b, scratch* s) {
                 }
                 if (!any) continue;
                 const uint32_t* col = ms->rgba ? s->colour + c * stride[a] : NULL;
+                /* a quad covers cells of one colour and one material: the
+                 * material id joins the colour in every comparison */
+                const uint32_t* mt = ms->material ? s->mat + c * stride[a] : NULL;
                 for (uint32_t v = 0; v < BS; v++) {
                     uint64_t row = f[v];
                     while (row) {
                         uint32_t u = (uint32_t)__builtin_ctzll(row), w;
                         uint32_t rgba = col ? col[u * su + v * sv] : 0;
-                        if (!col) {
+                        uint32_t mid = mt ? mt[u * su + v * sv] : 0;
+                        if (!col && !mt) {
                             uint64_t ones = ~(row >> u);
                             w = ones ? (uint32_t)__builtin_ctzll(ones) : BS - u;
                         } else {
                             w = 1;
-                            while (u + w < BS && (row >> (u + w) & 1) && col[(u + w) * su + v * sv] == rgba) w++;
+                            while (u + w < BS && (row >> (u + w) & 1) && (!col || col[(u + w) * su + v * sv] == rgba) &&
+                                   (!mt || mt[(u + w) * su + v * sv] == mid))
+                                w++;
                         }
                         uint64_t run = (w == BS ? ~(uint64_t)0 : (((uint64_t)1 << w) - 1)) << u;
                         uint32_t h = 1;
                         while (v + h < BS && (f[v + h] & run) == run) {
                             bool same = true;
-                            if (col)
-                                for (uint32_t k = 0; k < w && same; k++) same = col[(u + k) * su + (v + h) * sv] == rgba;
+                            for (uint32_t k = 0; k < w && same && (col || mt); k++) {
+                                size_t at = (u + k) * su + (v + h) * sv;
+                                same = (!col || col[at] == rgba) && (!mt || mt[at] == mid);
+                            }
                             if (!same) break;
                             f[v + h] &= ~run;
                             h++;
@@ -236,7 +247,8 @@ static bool brick_mesh(mesher* ms, unsigned t, const brick* b, scratch* s) {
                                              .u1 = origin[ua] + u + w,
                                              .v0 = origin[va] + v,
                                              .v1 = origin[va] + v + h,
-                                             .rgba = rgba};
+                                             .rgba = rgba,
+                                             .material = mid};
                         if (!emit(ms, t, q)) {
                             ms->nomem[t] = true;
                             ok = false;
@@ -283,13 +295,15 @@ static void* worker(void* arg) {
     }
     scratch* s = (scratch*)vx_calloc(ms->alloc, 1, sizeof(scratch));
     if (s && ms->rgba) s->colour = (uint32_t*)vx_calloc(ms->alloc, (size_t)BS * BS * BS, sizeof(uint32_t));
-    if (!s || (ms->rgba && !s->colour)) {
+    if (s && ms->material) s->mat = (uint32_t*)vx_calloc(ms->alloc, (size_t)BS * BS * BS, sizeof(uint32_t));
+    if (!s || (ms->rgba && !s->colour) || (ms->material && !s->mat)) {
         ms->nomem[t] = true;
     } else {
         for (size_t b = ms->range[t]; b < ms->range[t + 1]; b++)
             if (!brick_mesh(ms, t, &ms->bricks[b], s) && ms->nomem[t]) break;
     }
     if (s) vx_free(ms->alloc, s->colour);
+    if (s) vx_free(ms->alloc, s->mat);
     vx_free(ms->alloc, s);
     return NULL;
 }
@@ -302,6 +316,11 @@ static void run_phase(mesher* ms, int phase) {
 
 vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const uint32_t* rgba, size_t count,
                            vx_voxmesh* out, vx_error* err) {
+    return vx_voxmesh_build_material(alloc, xyz, rgba, NULL, count, out, err);
+}
+
+vx_result vx_voxmesh_build_material(const vx_allocator* alloc, const uint32_t* xyz, const uint32_t* rgba,
+                                    const uint32_t* material, size_t count, vx_voxmesh* out, vx_error* err) {
     if (!out || (!xyz && count)) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "voxmesh: NULL argument");
     memset(out, 0, sizeof *out);
     for (size_t i = 0; i < 3 * count; i++)
@@ -313,6 +332,7 @@ vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const
     ms->alloc = alloc;
     ms->xyz = xyz;
     ms->rgba = rgba;
+    ms->material = material;
     vx_result r = VX_OK;
     size_t brick_cap = 0, *order = NULL;
     if (!map_rehash(ms, 64)) goto nomem;

@@ -8,7 +8,8 @@
  * bricks of 64^3 cells, meshed independently (on every core for large
  * sets; the output does not depend on the thread count): within a brick the
  * quads of one plane and direction are greedy: each unused face, in
- * row-major order, starts a quad that grows along u while the colour holds,
+ * row-major order, starts a quad that grows along u while the colour (and
+ * the material id, where given) holds,
  * then along v while the whole row segment matches. Quads do not cross
  * brick boundaries. The naive mesh (one quad per exposed face) is
  * vx_voxmesh.faces quads.
@@ -45,6 +46,7 @@ typedef struct vx_voxmesh_quad {
     uint32_t u0, u1;   /* extent along axis (axis+1)%3, u0 < u1 */
     uint32_t v0, v1;   /* extent along axis (axis+2)%3, v0 < v1 */
     uint32_t rgba;     /* colour of the cells behind the quad (as given) */
+    uint32_t material; /* material id of those cells (as given; 0 without ids) */
 } vx_voxmesh_quad;
 
 typedef struct vx_voxmesh {
@@ -60,6 +62,11 @@ typedef struct vx_voxmesh {
  * VX_ERR_INVALID_ARG. */
 vx_result vx_voxmesh_build(const vx_allocator* alloc, const uint32_t* xyz, const uint32_t* rgba, size_t count,
                            vx_voxmesh* out, vx_error* err);
+/* The same with a material id per cell (material[i]; NULL: as
+ * vx_voxmesh_build): a quad then covers cells of one colour and one id, so
+ * an export can draw each id's faces with its own material. */
+vx_result vx_voxmesh_build_material(const vx_allocator* alloc, const uint32_t* xyz, const uint32_t* rgba,
+                                    const uint32_t* material, size_t count, vx_voxmesh* out, vx_error* err);
 void vx_voxmesh_free(vx_voxmesh* m);
 
 #ifdef __cplusplus
