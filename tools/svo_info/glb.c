@@ -1,5 +1,15 @@
 /* tools/svo_info/glb.c - svo_info --to-glb (see glb.h): decode each model,
- * greedy-mesh its surface (formats/voxmesh.h), write with formats/glb.h. */
+ * greedy-mesh its surface (formats/voxmesh.h), write with formats/glb.h.
+ *
+ * Materials: a cell's material id is vx_svo_attr_material (its
+ * VX_ATTR_MATERIAL value, else its palette index). Ids whose MATL record
+ * resolves to something other than a plain diffuse (metal, glass, or any
+ * type with emission > 0) get a glTF material each; every other cell draws
+ * with the default material 0 (white, roughness 1, metallic 0), and a scene
+ * with no such id is written exactly as before materials were exported.
+ * The mesher keeps the ids apart (a quad covers one id) and each mesh has
+ * one primitive per material, its quads sorted by material. Base colour
+ * stays white: the vertex colours carry the colour. */
 #include "tools/svo_info/glb.h"
 
 #include <math.h>
@@ -14,6 +24,8 @@
 
 typedef struct mesh_data {
     float* pos;
+    vx_glb_primitive* prims; /* .material: table index + 1 (0 default) until the glTF indices are known */
+    uint32_t prim_count;
     uint16_t* color;
     uint32_t* index;
     size_t vertices, indices;
@@ -28,6 +40,49 @@ static double now(void) {
 
 /* The quads as triangles: 4 corners each, counter-clockwise from outside (no
  * normals: glTF viewers compute flat ones, which these are). */
+/* Sorting quads by material, the mesher's order kept within one (the
+ * output must not depend on qsort's handling of equal keys). */
+typedef struct quad_ref {
+    uint32_t material;
+    size_t at;
+} quad_ref;
+static int quad_ref_cmp(const void* a, const void* b) {
+    const quad_ref *p = a, *q = b;
+    if (p->material != q->material) return p->material < q->material ? -1 : 1;
+    return (p->at > q->at) - (p->at < q->at);
+}
+
+/* With materials (quads' material = table index + 1, 0 the default): the
+ * quads sorted by material and md->prims one index range per material. */
+static vx_result sort_by_material(const vx_allocator* A, vx_voxmesh* vm, mesh_data* md, vx_error* err) {
+    size_t nq = vm->quad_count;
+    quad_ref* ref = (quad_ref*)vx_calloc(A, nq, sizeof(quad_ref));
+    vx_voxmesh_quad* sorted = (vx_voxmesh_quad*)vx_calloc(A, nq, sizeof(vx_voxmesh_quad));
+    if (!ref || !sorted) {
+        vx_free(A, ref);
+        vx_free(A, sorted);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu quads", nq);
+    }
+    for (size_t q = 0; q < nq; q++) ref[q] = (quad_ref){vm->quads[q].material, q};
+    qsort(ref, nq, sizeof *ref, quad_ref_cmp);
+    uint32_t n = 0;
+    for (size_t q = 0; q < nq; q++) {
+        sorted[q] = vm->quads[ref[q].at];
+        n += q == 0 || ref[q].material != ref[q - 1].material;
+    }
+    vx_free(A, ref);
+    memcpy(vm->quads, sorted, nq * sizeof *sorted);
+    vx_free(A, sorted);
+    md->prims = (vx_glb_primitive*)vx_calloc(A, n, sizeof(vx_glb_primitive));
+    if (!md->prims) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u primitives", n);
+    for (size_t q = 0; q < nq; q++) {
+        if (q == 0 || vm->quads[q].material != vm->quads[q - 1].material)
+            md->prims[md->prim_count++] = (vx_glb_primitive){.index_first = 6 * q, .material = vm->quads[q].material};
+        md->prims[md->prim_count - 1].index_count += 6;
+    }
+    return VX_OK;
+}
+
 static vx_result quads_to_mesh(const vx_allocator* A, const vx_voxmesh* vm, const uint16_t lin[256], mesh_data* md,
                                vx_error* err) {
     size_t nq = vm->quad_count;
@@ -65,13 +120,30 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
     uint16_t lin[256]; /* sRGB byte -> linear, 65535 = 1 */
     for (int i = 0; i < 256; i++) lin[i] = (uint16_t)lround(65535.0 * lind[i]);
     svo_glb_stats st = {0};
-    vx_result r = VX_OK;
+    vx_svo_material_table tab = {0};
+    vx_glb_material* gmat = NULL;
+    uint32_t* cell_mat = NULL; /* per cell of the model at hand: table index + 1, 0 default */
+    size_t cell_mat_cap = 0;
+    double* emit_sum = NULL;   /* per table entry: linear RGB sum and cell count of its cells */
+    int32_t* gl_index = NULL;  /* per table entry + 1: glTF material index, -1 unused */
+    char(*mat_names)[24] = NULL;
+    vx_result r = vx_svo_material_table_make(s, A, &tab, err);
+    if (r) return r;
+    bool materials = false; /* some table entry is more than a plain diffuse */
+    for (uint32_t k = 0; k < tab.count; k++)
+        materials |= tab.mats[k].type != VX_MATERIAL_DIFFUSE || tab.mats[k].emission > 0;
     mesh_data* md = (mesh_data*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(mesh_data));
     int32_t* mesh_of = (int32_t*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(int32_t));
     vx_glb_mesh* meshes = (vx_glb_mesh*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(vx_glb_mesh));
     vx_glb_node* nodes = (vx_glb_node*)vx_calloc(A, s->instance_count ? s->instance_count : 1, sizeof(vx_glb_node));
     char(*names)[80] = vx_calloc(A, s->instance_count ? s->instance_count : 1, 80);
-    if (!md || !mesh_of || !meshes || !nodes || !names) {
+    if (materials) {
+        emit_sum = (double*)vx_calloc(A, tab.count, 4 * sizeof(double));
+        gl_index = (int32_t*)vx_calloc(A, (size_t)tab.count + 1, sizeof(int32_t));
+        gmat = (vx_glb_material*)vx_calloc(A, (size_t)tab.count + 1, sizeof(vx_glb_material));
+        mat_names = vx_calloc(A, (size_t)tab.count + 1, sizeof *mat_names);
+    }
+    if (!md || !mesh_of || !meshes || !nodes || !names || (materials && (!emit_sum || !gl_index || !gmat || !mat_names))) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
         goto done;
     }
@@ -85,18 +157,41 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
         svo_cells c = {0};
         r = svo_cells_decode(A, s, i, &c, err);
         vx_voxmesh vm = {0};
-        if (r == VX_OK) r = vx_voxmesh_build(A, c.xyz, c.rgba, c.n, &vm, err);
+        bool any = false; /* a cell of this model with a non-default material */
+        if (r == VX_OK && materials && c.n) {
+            if (!vx_grow(A, (void**)&cell_mat, &cell_mat_cap, c.n, sizeof(uint32_t)))
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %zu cells", c.n);
+            for (size_t k = 0; r == VX_OK && k < c.n; k++) {
+                const vx_material* mt =
+                    vx_svo_material_table_find(&tab, vx_svo_attr_material(&s->models[i], c.attr[k]));
+                uint32_t t = mt && (mt->type != VX_MATERIAL_DIFFUSE || mt->emission > 0)
+                                 ? (uint32_t)(mt - tab.mats) + 1
+                                 : 0;
+                cell_mat[k] = t;
+                if (!t) continue;
+                any = true;
+                /* the mean linear colour of an id's cells: its emission colour
+                 * where the record has none (MagicaVoxel: colour x _emit) */
+                double* e = emit_sum + 4 * (t - 1);
+                for (int ch = 0; ch < 3; ch++) e[ch] += lind[c.rgba[k] >> (8 * ch) & 0xFF];
+                e[3] += 1;
+            }
+        }
+        if (r == VX_OK) r = vx_voxmesh_build_material(A, c.xyz, c.rgba, any ? cell_mat : NULL, c.n, &vm, err);
         svo_cells_free(&c);
         if (r == VX_OK && vm.quad_count) {
             mesh_data* d = &md[st.meshes];
-            r = quads_to_mesh(A, &vm, lin, d, err);
+            if (any) r = sort_by_material(A, &vm, d, err);
+            if (r == VX_OK) r = quads_to_mesh(A, &vm, lin, d, err);
             snprintf(d->name, sizeof d->name, "model %u", i);
             meshes[st.meshes] = (vx_glb_mesh){.name = d->name,
                                               .vertex_count = d->vertices,
                                               .pos = d->pos,
                                               .color = d->color,
                                               .index_count = d->indices,
-                                              .index = d->index};
+                                              .index = d->index,
+                                              .primitive_count = d->prim_count,
+                                              .primitives = d->prims};
             mesh_of[i] = (int32_t)st.meshes++;
             st.quads += vm.quad_count;
             st.faces += vm.faces;
@@ -125,7 +220,57 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
         n->name = names[st.nodes];
         st.nodes++;
     }
+    uint32_t gcount = 0;
+    if (materials) {
+        /* glTF material 0 is the default; then one per table entry some
+         * primitive uses, in id order */
+        gmat[gcount++] = (vx_glb_material){
+            .name = "voxel", .base_color = {1, 1, 1, 1}, .metallic = 0, .roughness = 1};
+        for (uint32_t k = 0; k <= tab.count; k++) gl_index[k] = k ? -1 : 0;
+        for (uint32_t m = 0; m < st.meshes; m++)
+            for (uint32_t p = 0; p < md[m].prim_count; p++)
+                if (md[m].prims[p].material) gl_index[md[m].prims[p].material] = 1;
+        for (uint32_t k = 1; k <= tab.count; k++) {
+            if (gl_index[k] < 0) continue;
+            const vx_material* mt = &tab.mats[k - 1];
+            gl_index[k] = (int32_t)gcount;
+            vx_glb_material* g = &gmat[gcount++];
+            snprintf(mat_names[gcount - 1], sizeof mat_names[0], "material %u", tab.ids[k - 1]);
+            *g = (vx_glb_material){
+                .name = mat_names[gcount - 1], .base_color = {1, 1, 1, 1}, .roughness = (float)mt->roughness};
+            if (mt->type == VX_MATERIAL_METAL) g->metallic = (float)mt->metalness;
+            if (mt->type == VX_MATERIAL_GLASS) {
+                g->transmission = (float)mt->transmission;
+                g->ior = (float)mt->ior;
+            }
+            if (mt->emission > 0) {
+                /* glTF's emission does not multiply the base colour: the
+                 * record's emission colour x strength, or where it has none
+                 * (MagicaVoxel's rule, the voxel's colour x strength) the mean
+                 * linear colour of the id's cells, exact for .vox scenes where
+                 * a palette index is one colour and one material */
+                const double* ec = mt->emission_color;
+                double mean[3], e[3], big = 0;
+                const double* sum = emit_sum + 4 * (k - 1);
+                for (int ch = 0; ch < 3; ch++) mean[ch] = sum[3] > 0 ? sum[ch] / sum[3] : 1.0;
+                bool own = ec[0] > 0 || ec[1] > 0 || ec[2] > 0;
+                for (int ch = 0; ch < 3; ch++) {
+                    e[ch] = (own ? ec[ch] : mean[ch]) * mt->emission;
+                    if (e[ch] > big) big = e[ch];
+                }
+                /* the factor at most 1, the rest in the strength */
+                double scale = big > 1 ? big : 1;
+                for (int ch = 0; ch < 3; ch++) g->emissive[ch] = (float)(e[ch] / scale);
+                if (big > 1) g->emissive_strength = (float)big;
+            }
+        }
+        for (uint32_t m = 0; m < st.meshes; m++)
+            for (uint32_t p = 0; p < md[m].prim_count; p++)
+                md[m].prims[p].material = (uint32_t)gl_index[md[m].prims[p].material];
+    }
     vx_glb_scene gs = {.mesh_count = st.meshes,
+                       .material_count = gcount,
+                       .materials = gmat,
                        .meshes = meshes,
                        .node_count = st.nodes,
                        .nodes = nodes,
@@ -138,7 +283,14 @@ done:
             vx_free(A, md[i].pos);
             vx_free(A, md[i].color);
             vx_free(A, md[i].index);
+            vx_free(A, md[i].prims);
         }
+    vx_free(A, cell_mat);
+    vx_free(A, emit_sum);
+    vx_free(A, gl_index);
+    vx_free(A, gmat);
+    vx_free(A, mat_names);
+    vx_svo_material_table_free(&tab);
     vx_free(A, md);
     vx_free(A, mesh_of);
     vx_free(A, meshes);
