@@ -38,8 +38,6 @@ static double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* The quads as triangles: 4 corners each, counter-clockwise from outside (no
- * normals: glTF viewers compute flat ones, which these are). */
 /* Sorting quads by material, the mesher's order kept within one (the
  * output must not depend on qsort's handling of equal keys). */
 typedef struct quad_ref {
@@ -83,6 +81,8 @@ static vx_result sort_by_material(const vx_allocator* A, vx_voxmesh* vm, mesh_da
     return VX_OK;
 }
 
+/* The quads as triangles: 4 corners each, counter-clockwise from outside (no
+ * normals: glTF viewers compute flat ones, which these are). */
 static vx_result quads_to_mesh(const vx_allocator* A, const vx_voxmesh* vm, const uint16_t lin[256], mesh_data* md,
                                vx_error* err) {
     size_t nq = vm->quad_count;
