@@ -31,7 +31,14 @@ def read_glb(path):
             continue
         nodes += 1
         M = np.array(node.get("matrix", np.eye(4).reshape(-1))).reshape(4, 4).T  # column-major
+        # a mesh's primitives (one per material) may share their vertex
+        # accessors, each drawing its own index range: the vertices once
+        seen = set()
         for prim in g["meshes"][node["mesh"]]["primitives"]:
+            key = (prim["attributes"]["POSITION"], prim["attributes"].get("COLOR_0"))
+            if key in seen:
+                continue
+            seen.add(key)
             p = accessor(prim["attributes"]["POSITION"])
             pos.append(p @ M[:3, :3].T + M[:3, 3])
             if "COLOR_0" in prim["attributes"]:
