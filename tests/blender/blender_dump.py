@@ -4,7 +4,8 @@ OUT.npz, for test_blender.py to compare with the file's contents.
 
   glb: bpy.ops.import_scene.gltf; per mesh object its vertices in world space
        (Blender's +Z-up world) and each vertex's colour from the imported colour
-       attribute (linear RGBA), plus the object count.
+       attribute (linear RGBA), plus the object count; each material's
+       Principled BSDF inputs (metallic, roughness, transmission, emission).
   vdb: bpy.ops.object.volume_import; the grids' names, types and channel
        counts, the first grid's index-to-object matrix and the evaluated
        object's bounding box.
@@ -45,8 +46,21 @@ if kind == "glb":
             else:
                 c[:] = vals
         col.append(c)
+    # the materials as Blender's Principled BSDF holds them (name, metallic,
+    # roughness, transmission, emission colour x strength)
+    mats = []
+    for m in bpy.data.materials:
+        bsdf = m.node_tree.nodes.get("Principled BSDF") if m.use_nodes and m.node_tree else None
+        if bsdf is None:
+            continue
+        inp = bsdf.inputs
+        e = inp["Emission"].default_value
+        k = inp["Emission Strength"].default_value
+        mats.append((m.name, inp["Metallic"].default_value, inp["Roughness"].default_value,
+                     inp["Transmission"].default_value, e[0] * k, e[1] * k, e[2] * k))
     np.savez(out, objects=len(meshes), pos=np.concatenate(pos) if pos else np.zeros((0, 3)),
-             col=np.concatenate(col) if col else np.zeros((0, 4)))
+             col=np.concatenate(col) if col else np.zeros((0, 4)),
+             mat_names=np.array([m[0] for m in mats]), mat_values=np.array([m[1:] for m in mats]).reshape(-1, 6))
 elif kind == "vdb":
     bpy.ops.object.volume_import(filepath=src)
     o = bpy.context.scene.objects[0]

@@ -6,7 +6,8 @@ and with `svo_info --dump`:
   - .glb: one Blender object per mesh node; every vertex of the file, no more,
     no fewer, at its place once glTF's +Y up is turned into Blender's +Z up
     (x, y, z) -> (x, -z, y), with its colour (to the sRGB byte Blender stores);
-    the corpus Duck stands upright in Blender (head above body along +Z).
+    the corpus Duck stands upright in Blender (head above body along +Z); the
+    demo's materials (metal, glass, emission) with the file's values.
   - .vdb: a volume with the grids "density" (float) and "color" (vec3), the
     .svo's world_from_grid (svo_info's "world" line) with voxel centres at cell
     centres, and a bounding box around exactly the dumped cells (to OpenVDB's
@@ -80,6 +81,30 @@ def check_glb(name, glb, duck=False):
               f"{name}.glb: stands upright in Blender (head {nh}, body {nb} vertices, head {lift:+.2f} of the height above the body along +Z)")
 
 
+def check_materials(name, glb):
+    """Blender's materials against the file's: every glTF material by name with
+    its metallic, roughness, transmission and emission (factor x strength)"""
+    _, _, _, g = read_glb(glb)
+    b = blender("glb", glb)
+    if b is None:
+        return
+    got = dict(zip(b["mat_names"].tolist(), b["mat_values"].tolist()))
+    vals = list(got.values())
+    check(any(v[0] > 0 for v in vals) and any(v[2] > 0 for v in vals) and any(max(v[3:]) > 0 for v in vals),
+          f"{name}.glb: Blender has a metal, a transmissive and an emissive material ({len(vals)} materials)")
+    for m in g.get("materials", []):
+        pbr = m.get("pbrMetallicRoughness", {})
+        ext = m.get("extensions", {})
+        k = ext.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0)
+        want = [pbr.get("metallicFactor", 1.0), pbr.get("roughnessFactor", 1.0),
+                ext.get("KHR_materials_transmission", {}).get("transmissionFactor", 0.0)] + \
+            [c * k for c in m.get("emissiveFactor", [0, 0, 0])]
+        have = got.get(m["name"])
+        check(have is not None and np.allclose(have, want, atol=1e-4),
+              f"{name}.glb: Blender's material '{m['name']}' {np.round(have, 4).tolist() if have else None} "
+              f"(metallic, roughness, transmission, emission) is the file's {np.round(want, 4).tolist()}")
+
+
 def check_vdb(name, svo):
     vdb = os.path.join(WORK, name + ".vdb")
     colours = b"colours" in tool("svo_info", svo, "--to-vdb", vdb)  # "wrote ... (N grids, ..., colours)"
@@ -127,6 +152,8 @@ tool("vox2svo", "-q", "--write-demo", demo_vox)
 tool("vox2svo", "-q", demo_vox, demo)
 tool("svo_info", demo, "--to-glb", os.path.join(WORK, "demo.glb"), "-q")
 check_glb("demo", os.path.join(WORK, "demo.glb"))
+# the demo's lamps (emission), greenhouse (glass) and statue (metal) as Blender reads them
+check_materials("demo", os.path.join(WORK, "demo.glb"))
 check_vdb("demo", demo)
 
 duck = os.path.join(CORPUS, "gltf", "julian_Duck.glb")
