@@ -173,12 +173,9 @@ extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_s
         m.buffers.resize(1);
         for (uint32_t i = 0; i < s->material_count; i++) m.materials.push_back(make_material(m, s->materials[i]));
         if (s->mesh_count && !s->material_count) {
-            tinygltf::Material mat;
-            mat.name = "voxel";
-            mat.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
-            mat.pbrMetallicRoughness.metallicFactor = 0.0;
-            mat.pbrMetallicRoughness.roughnessFactor = 1.0;
-            m.materials.push_back(mat);
+            // the default (glb.h): white, metallic 0, roughness 1, no emission
+            const vx_glb_material voxel = {"voxel", {1, 1, 1, 1}, 0, 1, {0, 0, 0}, 0, 0, 0};
+            m.materials.push_back(make_material(m, voxel));
         }
         for (uint32_t i = 0; i < s->mesh_count; i++) {
             const vx_glb_mesh& me = s->meshes[i];

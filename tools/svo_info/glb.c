@@ -38,6 +38,10 @@ static double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* Whether a resolved record gets a glTF material of its own (metal, glass,
+ * or any emission); the rest draw with the default. */
+static bool exported(const vx_material* m) { return m->type != VX_MATERIAL_DIFFUSE || m->emission > 0; }
+
 /* Sorting quads by material, the mesher's order kept within one (the
  * output must not depend on qsort's handling of equal keys). */
 typedef struct quad_ref {
@@ -131,7 +135,7 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
     if (r) return r;
     bool materials = false; /* some table entry is more than a plain diffuse */
     for (uint32_t k = 0; k < tab.count; k++)
-        materials |= tab.mats[k].type != VX_MATERIAL_DIFFUSE || tab.mats[k].emission > 0;
+        materials |= exported(&tab.mats[k]);
     mesh_data* md = (mesh_data*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(mesh_data));
     int32_t* mesh_of = (int32_t*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(int32_t));
     vx_glb_mesh* meshes = (vx_glb_mesh*)vx_calloc(A, s->model_count ? s->model_count : 1, sizeof(vx_glb_mesh));
@@ -164,7 +168,7 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
             for (size_t k = 0; r == VX_OK && k < c.n; k++) {
                 const vx_material* mt =
                     vx_svo_material_table_find(&tab, vx_svo_attr_material(&s->models[i], c.attr[k]));
-                uint32_t t = mt && (mt->type != VX_MATERIAL_DIFFUSE || mt->emission > 0)
+                uint32_t t = mt && exported(mt)
                                  ? (uint32_t)(mt - tab.mats) + 1
                                  : 0;
                 cell_mat[k] = t;
