@@ -19,12 +19,12 @@ if(NOT vx_core_version STREQUAL "#define VX_VERSION_STRING \"${PROJECT_VERSION}\
   message(FATAL_ERROR "svo/core.h has '${vx_core_version}' but the project version is ${PROJECT_VERSION}")
 endif()
 
-set(VX_LIB_MODULES vx_core vx_svo vx_formats vx_voxmesh vx_glb vx_gltf vx_vdb vx_image vx_convert vx_conv_file vx_conv_mesh_core vx_conv_mesh
+set(VX_LIB_MODULES vx_core vx_svo vx_formats vx_voxmesh vx_glb vx_gltf vx_vdb vx_image vx_convert vx_conv_export vx_conv_file vx_conv_mesh_core vx_conv_mesh
                    vx_conv_vdb vx_trace vx_render vx_probes vx_photons vx_cones)
 # public header -> the module that must be built for it to be installed
 set(VX_LIB_HEADERS
     svo/core.h:vx_core svo/svo.h:vx_svo svo/edit.h:vx_svo formats/vox.h:vx_formats formats/voxmesh.h:vx_voxmesh formats/glb.h:vx_glb formats/gltf.h:vx_gltf formats/vdb.h:vx_vdb
-    formats/image.h:vx_image convert/convert.h:vx_convert convert/file.h:vx_conv_file convert/mesh.h:vx_conv_mesh convert/volume.h:vx_conv_vdb
+    formats/image.h:vx_image convert/convert.h:vx_convert convert/export.h:vx_conv_export convert/file.h:vx_conv_file convert/mesh.h:vx_conv_mesh convert/volume.h:vx_conv_vdb
     render/render.h:vx_trace render/pipeline.h:vx_render probes/probes.h:vx_probes
     photons/photons.h:vx_photons cones/cones.h:vx_cones)
 

@@ -10,6 +10,7 @@
  *   s.frame_count, s.frame_rate            # an animation: s.frame_instances(n), s.scene_voxels(frame=n)
  *   img = s.render(320, 240)               # (H,W,4) float32, lavapipe or a GPU (cpu=True: reference)
  *   s.save("castle.svo"); voxkit.convert("duck.glb", "duck.svo", res=128)
+ *   s.to_vox("castle.vox"); s.to_glb("castle.glb"); s.to_vdb("castle.vdb")
  *
  * Errors raise voxkit.Error (a subclass of Exception) whose message is
  * voxkit's, prefixed with the file it concerns; its attributes path, code
@@ -26,6 +27,7 @@
 #include <string.h>
 
 #include "voxkit/convert/convert.h"
+#include "voxkit/convert/export.h"
 #include "voxkit/convert/file.h"
 #include "voxkit/svo/svo.h"
 #include "voxkit/version.h"
@@ -426,6 +428,56 @@ static PyObject* scene_render(Scene* self, PyObject* args, PyObject* kw) {
 }
 #endif
 
+/* to_glb / to_vdb: the library's exports (convert/export.h), of the scene
+ * or of one animation frame's view, as svo_info --to-glb / --to-vdb write
+ * them (the same bytes for a .glb). */
+static PyObject* scene_to_glb(Scene* self, PyObject* args, PyObject* kw) {
+    static char* kwlist[] = {"path", "all", "frame", NULL};
+    PyObject* pathobj;
+    int all = 0;
+    unsigned int frame = 0;
+    vx_svo_scene view;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|pI:to_glb", kwlist, PyUnicode_FSConverter, &pathobj, &all, &frame))
+        return NULL;
+    if (!frame_view(self, frame, &view)) {
+        Py_DECREF(pathobj);
+        return NULL;
+    }
+    const char* path = PyBytes_AS_STRING(pathobj);
+    vx_error err = {0};
+    vx_result r;
+    Py_BEGIN_ALLOW_THREADS
+    r = vx_conv_svo_to_glb_file(&(vx_conv_export_desc){.all = all}, &view, path, NULL, &err);
+    Py_END_ALLOW_THREADS
+    PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
+    Py_DECREF(pathobj);
+    return out;
+}
+
+static PyObject* scene_to_vdb(Scene* self, PyObject* args, PyObject* kw) {
+    static char* kwlist[] = {"path", "all", "models", "frame", NULL};
+    PyObject* pathobj;
+    int all = 0, models = 0;
+    unsigned int frame = 0;
+    vx_svo_scene view;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|ppI:to_vdb", kwlist, PyUnicode_FSConverter, &pathobj, &all, &models,
+                                     &frame))
+        return NULL;
+    if (!frame_view(self, frame, &view)) {
+        Py_DECREF(pathobj);
+        return NULL;
+    }
+    const char* path = PyBytes_AS_STRING(pathobj);
+    vx_error err = {0};
+    vx_result r;
+    Py_BEGIN_ALLOW_THREADS
+    r = vx_conv_svo_to_vdb_file(&(vx_conv_export_desc){.all = all, .vdb_models = models}, &view, path, NULL, &err);
+    Py_END_ALLOW_THREADS
+    PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
+    Py_DECREF(pathobj);
+    return out;
+}
+
 static PyMethodDef scene_methods[] = {
     {"voxels", (PyCFunction)scene_voxels, METH_VARARGS,
      "voxels(model) -> (xyz, rgba): the model's cells as an (N,3) int32 array of model cells and their\n"
@@ -446,6 +498,16 @@ static PyMethodDef scene_methods[] = {
      "A .vox palette holds 255 colours: a scene with more raises voxkit.Error, unless quantize=True\n"
      "maps them to a 255-entry palette (median cut, each cell its nearest entry; svo_info --quantize)\n"
      "and warns with voxkit.QuantizeWarning giving the count and the colour error (max, mean)."},
+    {"to_glb", (PyCFunction)(void (*)(void))scene_to_glb, METH_VARARGS | METH_KEYWORDS,
+     "to_glb(path, all=False, frame=0): writes the scene as binary glTF (as svo_info --to-glb): one\n"
+     "mesh per model (greedy-meshed surface, vertex colours), one node per shown instance, turned\n"
+     "to glTF's +Y up; MATL metal, glass and emission as glTF materials. all=True: hidden\n"
+     "instances and layers too; frame=N: an animation's frame N."},
+    {"to_vdb", (PyCFunction)(void (*)(void))scene_to_vdb, METH_VARARGS | METH_KEYWORDS,
+     "to_vdb(path, all=False, models=False, frame=0): writes the scene as OpenVDB grids (as\n"
+     "svo_info --to-vdb): the flattened scene as a fog volume 'density' and a vec3 grid 'color'\n"
+     "(linear RGB); models=True: a grid pair 'NAME/density', 'NAME/color' per shown instance\n"
+     "(svo_info --vdb-models)."},
 #ifdef VX_PY_RENDER
     {"render", (PyCFunction)(void (*)(void))scene_render, METH_VARARGS | METH_KEYWORDS,
      "render(width=640, height=480, mode='color', spp=1, eye=None, target=None, up=None, fov=45,\n"

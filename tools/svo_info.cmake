@@ -1,14 +1,4 @@
-add_executable(svo_info ${CMAKE_CURRENT_LIST_DIR}/svo_info/main.c ${CMAKE_CURRENT_LIST_DIR}/svo_info/cells.c)
-target_link_libraries(svo_info PRIVATE vx_convert vx_tool_light vx_tool m)
-# --to-glb where the .glb writer is built (formats/voxmesh.cmake)
-if(TARGET vx_glb)
-  target_sources(svo_info PRIVATE ${CMAKE_CURRENT_LIST_DIR}/svo_info/glb.c)
-  target_link_libraries(svo_info PRIVATE vx_glb vx_voxmesh m)
-  target_compile_definitions(svo_info PRIVATE VX_HAVE_GLB=1)
-endif()
-# --to-vdb where the OpenVDB shim is built (formats/vdb.cmake)
-if(TARGET vx_vdb)
-  target_sources(svo_info PRIVATE ${CMAKE_CURRENT_LIST_DIR}/svo_info/vdb.c)
-  target_link_libraries(svo_info PRIVATE vx_vdb)
-  target_compile_definitions(svo_info PRIVATE VX_HAVE_VDB=1)
-endif()
+add_executable(svo_info ${CMAKE_CURRENT_LIST_DIR}/svo_info/main.c)
+# --to-glb and --to-vdb through the library's exports (convert/export.h),
+# which say when this build lacks their writer
+target_link_libraries(svo_info PRIVATE vx_convert vx_conv_export vx_tool_light vx_tool m)

@@ -1,5 +1,5 @@
 /* tests/glb/test_glb_materials.c - svo_info --to-glb keeps the scene's MATL
- * materials (tools/svo_info/glb.c, formats/glb.h). A .vox scene written with
+ * materials (convert/export_glb.c, formats/glb.h). A .vox scene written with
  * our writer: a 12 x 2 x 2 bar of six 2^3 blocks, palette indices 1..6: a
  * _diffuse record, _metal, _glass, and three _emit (white and orange under
  * MagicaVoxel's colour x _emit rule, one with voxkit's _emit_color). The
@@ -18,13 +18,13 @@
 #include <unistd.h>
 
 #include "convert/convert.h"
+#include "convert/export.h"
+#include "convert/export_internal.h" /* the cells of the model read back */
 #include "convert/mesh.h"
 #include "formats/gltf.h"
 #include "formats/vox.h"
 #include "svo/svo.h"
 #include "tests/test.h"
-#include "tools/svo_info/cells.h"
-#include "tools/svo_info/glb.h"
 
 enum { BLOCKS = 6 };
 
@@ -122,7 +122,7 @@ static void tmp_path(char* buf, size_t n, const char* tag) {
 
 static vx_result export_glb(const vx_svo_scene* s, const char* path) {
     vx_error err = {0};
-    vx_result r = svo_info_to_glb(NULL, s, false, path, NULL, &err);
+    vx_result r = vx_conv_svo_to_glb_file(NULL, s, path, NULL, &err);
     if (r) fprintf(stderr, "  export: %s\n", err.msg);
     return r;
 }
@@ -231,8 +231,8 @@ static void test_materials_round_trip(void) {
     uint64_t cells = 0;
     size_t wrong = 0;
     for (uint32_t m = 0; m < back.model_count; m++) {
-        svo_cells c = {0};
-        REQUIRE(svo_cells_decode(NULL, &back, m, &c, &err) == VX_OK);
+        vx__export_cells c = {0};
+        REQUIRE(vx__export_cells_decode(NULL, &back, m, &c, &err) == VX_OK);
         cells += c.n;
         uint32_t lo = UINT32_MAX;
         for (size_t i = 0; i < c.n; i++) lo = c.xyz[3 * i] < lo ? c.xyz[3 * i] : lo;
@@ -250,7 +250,7 @@ static void test_materials_round_trip(void) {
                 fprintf(stderr, "  cell %u %u %u (block %d): type %d, expected %d\n", c.xyz[3 * i], c.xyz[3 * i + 1],
                         c.xyz[3 * i + 2], b, (int)got.type, (int)want.type);
         }
-        svo_cells_free(&c);
+        vx__export_cells_free(&c);
     }
     CHECKF(cells == 4 * 2 * BLOCKS, "%llu cells back", (unsigned long long)cells);
     CHECKF(wrong == 0, "%zu cells with another block's material", wrong);

@@ -103,6 +103,43 @@ conv = os.path.join(WORK, "demo-convert.svo")
 voxkit.convert(demo_vox, conv, no_dag=True, keep_hidden=True)
 check(np.array_equal(dump(conv), dump(demo)), "convert(src, dst, no_dag=True) writes the same voxels")
 
+# ---- exports: to_glb and to_vdb (convert/export.h, svo_info's --to-glb, --to-vdb) ----
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+glb_py, glb_tool = os.path.join(WORK, "demo-py.glb"), os.path.join(WORK, "demo-tool.glb")
+s.to_glb(glb_py)
+tool("svo_info", demo, "--to-glb", glb_tool)
+check(read(glb_py) == read(glb_tool) and read(glb_py)[:4] == b"glTF",
+      f"to_glb(): the bytes svo_info --to-glb writes ({os.path.getsize(glb_py)} bytes)")
+glb_all, glb_all_tool = os.path.join(WORK, "demo-py-all.glb"), os.path.join(WORK, "demo-tool-all.glb")
+s.to_glb(glb_all, all=True)
+tool("svo_info", demo, "--all", "--to-glb", glb_all_tool)
+check(read(glb_all) == read(glb_all_tool) and read(glb_all) != read(glb_py),
+      "to_glb(all=True): the bytes svo_info --all --to-glb writes (the hidden layer's instance too: not the default's)")
+# the independent path for .vdb: the module's own OpenVDB import reads the grids back
+vdb_py = os.path.join(WORK, "demo-py.vdb")
+s.to_vdb(vdb_py)
+back = module_cells(voxkit.open(vdb_py, color_grid="color"))
+ref = module_cells(s)
+ref_cells = np.unique(ref[:, :3], axis=0)
+ref_rows = {tuple(r) for r in ref}
+check(np.array_equal(back[:, :3], ref_cells) and all(tuple(r) in ref_rows for r in back),
+      f"to_vdb(): read back, the scene's {len(ref_cells)} cells with their colours (overlaps: one instance's)")
+s.to_vdb(vdb_py, models=True)
+tool("svo_info", demo, "--vdb-models", "--to-vdb", os.path.join(WORK, "demo-tool-models.vdb"))
+check(abs(os.path.getsize(vdb_py) - os.path.getsize(os.path.join(WORK, "demo-tool-models.vdb"))) <= 64,
+      "to_vdb(models=True): the size svo_info --vdb-models writes (OpenVDB's files differ only in their UUIDs)")
+for call, what in ((lambda: s.to_glb(os.path.join(WORK, "no-such-folder", "x.glb")), "to_glb into a missing folder"),
+                   (lambda: s.to_vdb(os.path.join(WORK, "no-such-folder", "x.vdb")), "to_vdb into a missing folder")):
+    try:
+        call()
+        check(False, f"{what} raises voxkit.Error")
+    except voxkit.Error as e:
+        check("no-such-folder" in str(e), f"{what} raises voxkit.Error naming the file: {e}")
+
 # ---- an animation: the demo with a moving tower (issue 24) ---------------------
 anim_vox, anim = os.path.join(WORK, "anim.vox"), os.path.join(WORK, "anim.svo")
 tool("vox2svo", "--write-demo", anim_vox, "--demo-frames", "6")
@@ -131,6 +168,12 @@ for f in range(a.frame_count):
     check(np.array_equal(got, ref) and np.array_equal(placed, ref),
           f"frame {f}: scene_voxels(frame={f}) and frame_instances({f}) placed equal --dump --frame {f} ({len(ref)} voxels)")
 check(moved == a.frame_count - 1, f"frame_instances: an instance moves in each of frames 1..5 ({moved})")
+a.to_glb(os.path.join(WORK, "anim-3.glb"), frame=3)
+tool("svo_info", anim, "--frame", "3", "--to-glb", os.path.join(WORK, "anim-3-tool.glb"))
+a.to_glb(os.path.join(WORK, "anim-0.glb"))
+check(read(os.path.join(WORK, "anim-3.glb")) == read(os.path.join(WORK, "anim-3-tool.glb")) and
+      read(os.path.join(WORK, "anim-3.glb")) != read(os.path.join(WORK, "anim-0.glb")),
+      "to_glb(frame=3): the bytes svo_info --frame 3 --to-glb writes (not frame 0's)")
 check(len(a.frame_instances(0)) == len(a.instances) and
       all(np.array_equal(i["xform"], j["xform"]) for i, j in zip(a.frame_instances(0), a.instances)),
       "frame_instances(0) is instances")

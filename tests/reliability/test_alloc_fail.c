@@ -35,11 +35,8 @@
 #include "svo/svo.h"
 #include "tests/fail_alloc.h"
 #include "tests/test.h"
-#ifdef VX_HAVE_GLB
-#include "tools/svo_info/glb.h"
-#endif
-#ifdef VX_HAVE_VDB
-#include "tools/svo_info/vdb.h"
+#if defined(VX_HAVE_GLB) || defined(VX_HAVE_VDB)
+#include "convert/export.h"
 #endif
 
 
@@ -419,15 +416,18 @@ static vx_result w_atomic(const vx_write_desc* wd, const void* obj, const char* 
 }
 #ifdef VX_HAVE_GLB
 static vx_result w_glb(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
-    return svo_info_to_glb(wd, (const vx_svo_scene*)obj, true, path, NULL, err);
+    return vx_conv_svo_to_glb_file(&(vx_conv_export_desc){.write = wd, .all = true}, (const vx_svo_scene*)obj, path, NULL,
+                                   err);
 }
 #endif
 #ifdef VX_HAVE_VDB
 static vx_result w_vdb(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
-    return svo_info_to_vdb(wd, (const vx_svo_scene*)obj, true, false, path, NULL, err);
+    return vx_conv_svo_to_vdb_file(&(vx_conv_export_desc){.write = wd, .all = true}, (const vx_svo_scene*)obj, path, NULL,
+                                   err);
 }
 static vx_result w_vdb_models(const vx_write_desc* wd, const void* obj, const char* path, vx_error* err) {
-    return svo_info_to_vdb(wd, (const vx_svo_scene*)obj, true, true, path, NULL, err);
+    return vx_conv_svo_to_vdb_file(&(vx_conv_export_desc){.write = wd, .all = true, .vdb_models = true},
+                                   (const vx_svo_scene*)obj, path, NULL, err);
 }
 #endif
 

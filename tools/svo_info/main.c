@@ -5,14 +5,9 @@
 #include <string.h>
 
 #include "convert/convert.h"
+#include "convert/export.h"
 #include "tools/common/light.h"
 #include "tools/common/tool.h"
-#ifdef VX_HAVE_GLB
-#include "tools/svo_info/glb.h"
-#endif
-#ifdef VX_HAVE_VDB
-#include "tools/svo_info/vdb.h"
-#endif
 
 typedef struct options {
     const char* in;
@@ -379,31 +374,24 @@ int main(int argc, char** argv) {
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
         else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
     }
+    vx_conv_export_desc xd = {.all = o.all, .vdb_models = o.vdb_models};
     if (status == 0 && o.to_glb) {
-#ifdef VX_HAVE_GLB
-        svo_glb_stats gs;
-        r = svo_info_to_glb(NULL, &view, o.all, o.to_glb, &gs, &err);
-        if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
+        vx_conv_glb_stats gs;
+        r = vx_conv_svo_to_glb_file(&xd, &view, o.to_glb, &gs, &err);
+        if (r == VX_ERR_UNSUPPORTED) status = vx_tool_errorf("%s", err.msg);
+        else if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
                    o.to_glb, gs.meshes, gs.nodes, vx_tool_num(gs.quads), vx_tool_num(gs.faces), gs.seconds_mesh);
-#else
-        status = vx_tool_errorf("%s: this svo_info was built without tinygltf (libtinygltf-dev): no .glb export",
-                                o.to_glb);
-#endif
     }
     if (status == 0 && o.to_vdb) {
-#ifdef VX_HAVE_VDB
-        svo_vdb_stats vs;
-        r = svo_info_to_vdb(NULL, &view, o.all, o.vdb_models, o.to_vdb, &vs, &err);
-        if (r != VX_OK) status = vx_tool_error(o.to_vdb, &err);
+        vx_conv_vdb_stats vs;
+        r = vx_conv_svo_to_vdb_file(&xd, &view, o.to_vdb, &vs, &err);
+        if (r == VX_ERR_UNSUPPORTED) status = vx_tool_errorf("%s", err.msg);
+        else if (r != VX_OK) status = vx_tool_error(o.to_vdb, &err);
         else if (!o.quiet && !o.dump)
             printf("wrote        %s (%u grids, %s active voxels%s)\n", o.to_vdb, vs.grids, vx_tool_num(vs.voxels),
                    vs.colors ? ", colours" : "");
-#else
-        status = vx_tool_errorf("%s: this svo_info was built without OpenVDB (libopenvdb-dev): no .vdb export",
-                                o.to_vdb);
-#endif
     }
     vx_svo_scene_free(&s);
     return status;

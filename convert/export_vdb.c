@@ -1,13 +1,14 @@
-/* tools/svo_info/vdb.c - svo_info --to-vdb (see vdb.h), written through the
- * OpenVDB shim (formats/vdb.h). */
-#include "tools/svo_info/vdb.h"
+/* convert/export_vdb.c - vx_conv_svo_to_vdb_file (convert/export.h): the
+ * scene's cells as OpenVDB grids, written through the OpenVDB shim
+ * (formats/vdb.h). */
+#include "convert/export.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "formats/vdb.h"
-#include "tools/svo_info/cells.h"
+#include "convert/export_internal.h"
 
 /* A density and a colour grid's voxels. */
 typedef struct pair {
@@ -34,7 +35,7 @@ static void centred(const double w[12], double out[12]) {
 static bool has_colors(const vx_svo_model* m) { return (m->attrs & (VX_ATTR_PALETTE | VX_ATTR_RGBA8)) != 0; }
 
 /* Appends model m's cells mapped by x (NULL: model cells) to p. */
-static vx_result add_cells(const vx_svo_scene* s, uint32_t m, const svo_cells* c, const double* x, const double lin[256],
+static vx_result add_cells(const vx_svo_scene* s, uint32_t m, const vx__export_cells* c, const double* x, const double lin[256],
                            pair* p, vx_error* err) {
     const vx_svo_model* md = &s->models[m];
     if (!vx_grow(p->alloc, (void**)&p->ijk, &p->cap_ijk, 3 * (p->n + c->n), sizeof(int32_t)) ||
@@ -58,15 +59,18 @@ static vx_result add_cells(const vx_svo_scene* s, uint32_t m, const svo_cells* c
     return VX_OK;
 }
 
-vx_result svo_info_to_vdb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, bool models, const char* path,
-                          svo_vdb_stats* stats, vx_error* err) {
+vx_result vx_conv_svo_to_vdb_file(const vx_conv_export_desc* xd, const vx_svo_scene* s, const char* path,
+                                  vx_conv_vdb_stats* stats, vx_error* err) {
+    if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "vdb export: NULL argument");
+    const vx_write_desc* desc = xd ? xd->write : NULL;
+    bool all = xd && xd->all, models = xd && xd->vdb_models;
     const vx_allocator* A = desc ? desc->alloc : NULL;
     double lin[256];
-    svo_srgb_to_linear(lin);
-    svo_vdb_stats st = {0};
+    vx__export_srgb_to_linear(lin);
+    vx_conv_vdb_stats st = {0};
     vx_result r = VX_OK;
     uint32_t mc = s->model_count ? s->model_count : 1, ic = s->instance_count ? s->instance_count : 1;
-    svo_cells* cells = (svo_cells*)vx_calloc(A, mc, sizeof(svo_cells));
+    vx__export_cells* cells = (vx__export_cells*)vx_calloc(A, mc, sizeof(vx__export_cells));
     bool* decoded = (bool*)vx_calloc(A, mc, sizeof(bool));
     int32_t* first = (int32_t*)vx_calloc(A, mc, sizeof(int32_t)); /* grid index of a model's density grid */
     pair* pairs = (pair*)vx_calloc(A, models ? mc : 1, sizeof(pair));
@@ -88,7 +92,7 @@ vx_result svo_info_to_vdb(const vx_write_desc* desc, const vx_svo_scene* s, bool
         uint32_t m = in->model;
         if (m >= s->model_count || !(all || vx_svo_instance_visible(s, i)) || !s->models[m].voxel_count) continue;
         if (!decoded[m]) {
-            if ((r = svo_cells_decode(A, s, m, &cells[m], err)) != VX_OK) goto done;
+            if ((r = vx__export_cells_decode(A, s, m, &cells[m], err)) != VX_OK) goto done;
             decoded[m] = true;
             if (models) { /* the model's own voxels, once */
                 if ((r = add_cells(s, m, &cells[m], NULL, lin, &pairs[m], err)) != VX_OK) goto done;
@@ -140,7 +144,7 @@ vx_result svo_info_to_vdb(const vx_write_desc* desc, const vx_svo_scene* s, bool
     r = vx_vdb_write_file(desc, grids, g, path, err);
     if (r == VX_OK && stats) *stats = st;
 done:
-    for (uint32_t m = 0; cells && m < s->model_count; m++) svo_cells_free(&cells[m]);
+    for (uint32_t m = 0; cells && m < s->model_count; m++) vx__export_cells_free(&cells[m]);
     for (uint32_t m = 0; pairs && m < (models ? s->model_count : 1); m++) pair_free(&pairs[m]);
     vx_free(A, cells);
     vx_free(A, decoded);

@@ -1,5 +1,6 @@
-/* tools/svo_info/glb.c - svo_info --to-glb (see glb.h): decode each model,
- * greedy-mesh its surface (formats/voxmesh.h), write with formats/glb.h.
+/* convert/export_glb.c - vx_conv_svo_to_glb_file (convert/export.h):
+ * decode each model, greedy-mesh its surface (formats/voxmesh.h), write with
+ * formats/glb.h.
  *
  * Materials: a cell's material id is vx_svo_attr_material (its
  * VX_ATTR_MATERIAL value, else its palette index). Ids whose MATL record
@@ -10,7 +11,7 @@
  * The mesher keeps the ids apart (a quad covers one id) and each mesh has
  * one primitive per material, its quads sorted by material. Base colour
  * stays white: the vertex colours carry the colour. */
-#include "tools/svo_info/glb.h"
+#include "convert/export.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -20,7 +21,7 @@
 
 #include "formats/glb.h"
 #include "formats/voxmesh.h"
-#include "tools/svo_info/cells.h"
+#include "convert/export_internal.h"
 
 typedef struct mesh_data {
     float* pos;
@@ -116,14 +117,17 @@ static vx_result quads_to_mesh(const vx_allocator* A, const vx_voxmesh* vm, cons
     return VX_OK;
 }
 
-vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool all, const char* path,
-                          svo_glb_stats* stats, vx_error* err) {
+vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_scene* s, const char* path,
+                                  vx_conv_glb_stats* stats, vx_error* err) {
+    if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb export: NULL argument");
+    const vx_write_desc* desc = xd ? xd->write : NULL;
+    bool all = xd && xd->all;
     const vx_allocator* A = desc ? desc->alloc : NULL;
     double lind[256];
-    svo_srgb_to_linear(lind);
+    vx__export_srgb_to_linear(lind);
     uint16_t lin[256]; /* sRGB byte -> linear, 65535 = 1 */
     for (int i = 0; i < 256; i++) lin[i] = (uint16_t)lround(65535.0 * lind[i]);
-    svo_glb_stats st = {0};
+    vx_conv_glb_stats st = {0};
     vx_svo_material_table tab = {0};
     vx_glb_material* gmat = NULL;
     uint32_t* cell_mat = NULL; /* per cell of the model at hand: table index + 1, 0 default */
@@ -158,8 +162,8 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
             mesh_of[s->instances[i].model] = -1;
     for (uint32_t i = 0; i < s->model_count; i++) {
         if (mesh_of[i] == -2) continue; /* a mesh no node uses (glTF validators flag it) */
-        svo_cells c = {0};
-        r = svo_cells_decode(A, s, i, &c, err);
+        vx__export_cells c = {0};
+        r = vx__export_cells_decode(A, s, i, &c, err);
         vx_voxmesh vm = {0};
         bool any = false; /* a cell of this model with a non-default material */
         if (r == VX_OK && materials && c.n) {
@@ -182,7 +186,7 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
             }
         }
         if (r == VX_OK) r = vx_voxmesh_build_material(A, c.xyz, c.rgba, any ? cell_mat : NULL, c.n, &vm, err);
-        svo_cells_free(&c);
+        vx__export_cells_free(&c);
         if (r == VX_OK && vm.quad_count) {
             mesh_data* d = &md[st.meshes];
             if (any) r = sort_by_material(A, &vm, d, err);
@@ -278,7 +282,8 @@ vx_result svo_info_to_glb(const vx_write_desc* desc, const vx_svo_scene* s, bool
                        .meshes = meshes,
                        .node_count = st.nodes,
                        .nodes = nodes,
-                       .generator = "voxkit svo_info " VX_VERSION_STRING};
+                       .generator = "voxkit " VX_VERSION_STRING};
+    st.materials = gcount;
     r = vx_glb_write_file(desc, &gs, path, err);
     if (r == VX_OK && stats) *stats = st;
 done:

@@ -1,5 +1,5 @@
-/* tools/svo_info/cells.c (see cells.h) */
-#include "tools/svo_info/cells.h"
+/* convert/export_cells.c (see export_internal.h) */
+#include "convert/export_internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -7,14 +7,14 @@
 typedef struct grow {
     const vx_svo_scene* s;
     const vx_svo_model* m;
-    svo_cells c;
+    vx__export_cells c;
     size_t cap_xyz, cap_rgba, cap_attr;
     bool nomem;
 } grow;
 
 static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     grow* g = (grow*)user;
-    svo_cells* c = &g->c;
+    vx__export_cells* c = &g->c;
     if (!vx_grow(c->alloc, (void**)&c->xyz, &g->cap_xyz, 3 * (c->n + 1), sizeof(uint32_t)) ||
         !vx_grow(c->alloc, (void**)&c->rgba, &g->cap_rgba, c->n + 1, sizeof(uint32_t)) ||
         !vx_grow(c->alloc, (void**)&c->attr, &g->cap_attr, c->n + 1, sizeof(uint32_t))) {
@@ -27,7 +27,7 @@ static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
     return true;
 }
 
-vx_result svo_cells_decode(const vx_allocator* a, const vx_svo_scene* s, uint32_t m, svo_cells* out, vx_error* err) {
+vx_result vx__export_cells_decode(const vx_allocator* a, const vx_svo_scene* s, uint32_t m, vx__export_cells* out, vx_error* err) {
     grow g = {.s = s, .m = &s->models[m], .c = {.alloc = a}};
     /* room for every cell up front (vx_svo_read checked voxel_count against
      * the tree), so that the per-cell growth checks never copy */
@@ -35,28 +35,28 @@ vx_result svo_cells_decode(const vx_allocator* a, const vx_svo_scene* s, uint32_
     if (hint && (!vx_grow(a, (void**)&g.c.xyz, &g.cap_xyz, 3 * (size_t)hint, sizeof(uint32_t)) ||
                  !vx_grow(a, (void**)&g.c.rgba, &g.cap_rgba, (size_t)hint, sizeof(uint32_t)) ||
                  !vx_grow(a, (void**)&g.c.attr, &g.cap_attr, (size_t)hint, sizeof(uint32_t)))) {
-        svo_cells_free(&g.c);
+        vx__export_cells_free(&g.c);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its %llu voxels", m,
                        (unsigned long long)hint);
     }
     vx_result r = vx_svo_decode_model(g.m, add_cell, &g, err);
     if (g.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "model %u: out of memory for its voxels", m);
     if (r != VX_OK) {
-        svo_cells_free(&g.c);
+        vx__export_cells_free(&g.c);
         return r;
     }
     *out = g.c;
     return VX_OK;
 }
 
-void svo_cells_free(svo_cells* c) {
+void vx__export_cells_free(vx__export_cells* c) {
     vx_free(c->alloc, c->xyz);
     vx_free(c->alloc, c->rgba);
     vx_free(c->alloc, c->attr);
     memset(c, 0, sizeof *c);
 }
 
-void svo_srgb_to_linear(double lin[256]) {
+void vx__export_srgb_to_linear(double lin[256]) {
     for (int i = 0; i < 256; i++) {
         double c = i / 255.0;
         lin[i] = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
