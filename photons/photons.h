@@ -25,7 +25,8 @@
  * Tracing (photons/shaders/photon.comp). Each photon walks the BVH and the
  * octrees with the path tracer's materials (probes/shaders/path_common.glsl:
  * Lambert, GGX metal, glass with refraction and Fresnel, the walk through a
- * glass voxel). At every surface that is not glass it is stored (position,
+ * glass voxel; an opaque voxel met from inside glass, as the floor under a
+ * glass block, is a surface there). At every surface that is not glass it is stored (position,
  * incoming direction, normal, power), then scatters by the BSDF with Russian
  * roulette on its throughput (survivors keep about their power). A photon
  * whose path since the light went only through glass is a caustic photon

@@ -250,11 +250,20 @@ static bool dielectric(const double n[3], const double wo_w[3], double eta, doub
  * straight stretch from its start p (t: how far the walk is along it), so
  * where a stretch leaves the glass does not depend on the boxes it took on
  * the way (the GPU walks give the same bits in either scene layout, one of
- * which knows no collapsed leaves: path_common.glsl). false: absorbed (the
- * walk limit, render/trace.h vx__glass_walk_steps). On true, o/d the ray
- * that left. */
-static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3], double csize, double ior, double alpha,
-                       double p[3], double d[3], vx__rng* rng, double thr[3], double o[3]) {
+ * which knows no collapsed leaves: path_common.glsl). WALK_ABSORBED: the walk
+ * limit (render/trace.h vx__glass_walk_steps). WALK_OUT: o/d the ray that
+ * left. WALK_STOP: the walk met an opaque voxel across a face of the glass
+ * (a glass block on a floor, a voxel set in glass): *stop is that voxel's
+ * surface, seen from inside the glass, and the glass cell the walk was in,
+ * where a bounce off the surface walks on (vx__path). */
+enum { WALK_ABSORBED, WALK_OUT, WALK_STOP };
+typedef struct glass_stop {
+    vx_render_ray_hit h;  /* the opaque voxel: normal facing into the glass, t = 0 at p */
+    double p[3];          /* the point on the face between the glass and the voxel */
+    uint32_t inst, cell[3]; /* the glass cell it was met from */
+} glass_stop;
+static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3], double csize, double ior, double alpha,
+                      double p[3], double d[3], vx__rng* rng, double thr[3], double o[3], glass_stop* stop) {
     uint32_t c[3] = {cell[0], cell[1], cell[2]};
     const vx_svo_scene* S = L->scene;
     uint32_t limit = vx__glass_walk_steps(S->models[S->instances[inst].model].depth);
@@ -282,7 +291,7 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
             double ta = ((dm[a] > 0 ? hi[a] : lo[a]) - om[a]) / dm[a];
             if (ta < te) te = ta, ax = a;
         }
-        if (ax < 0 || !isfinite(te)) return false;
+        if (ax < 0 || !isfinite(te)) return WALK_ABSORBED;
         te = fmax(te, t);
         double q[3], nf[3], eps = 1e-4 * csize;
         for (int k = 0; k < 3; k++) q[k] = p[k] + d[k] * te, nf[k] = (dm[ax] > 0 ? 1 : -1) * M[4 * ax + k];
@@ -297,23 +306,28 @@ static bool glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3]
                 t = te + eps;
                 continue;
             }
-            return false; /* an opaque voxel against the glass: the path ends at the shared face */
+            /* an opaque voxel against the glass: its face, lit only through the glass */
+            stop->h = g;
+            stop->h.t = 0;
+            for (int k = 0; k < 3; k++) stop->h.normal[k] = -nf[k], stop->p[k] = q[k];
+            stop->inst = inst, stop->cell[0] = c[0], stop->cell[1] = c[1], stop->cell[2] = c[2];
+            return WALK_STOP;
         }
         /* glass -> outside: the normal facing the inside */
         double nin[3] = {-nf[0], -nf[1], -nf[2]}, wo[3] = {-d[0], -d[1], -d[2]}, wi[3], w;
         bool refr;
-        if (!dielectric(nin, wo, 1 / ior, alpha, rng, wi, &refr, &w)) return false;
+        if (!dielectric(nin, wo, 1 / ior, alpha, rng, wi, &refr, &w)) return WALK_ABSORBED;
         for (int k = 0; k < 3; k++) thr[k] *= w;
         memcpy(d, wi, 3 * sizeof(double));
         if (refr) {
             for (int k = 0; k < 3; k++) o[k] = q[k] + nf[k] * eps;
-            return true;
+            return WALK_OUT;
         }
         /* reflected inside: a new stretch from just inside the face */
         for (int k = 0; k < 3; k++) p[k] = q[k] - nf[k] * eps;
         t = 0;
     }
-    return false;
+    return WALK_ABSORBED;
 }
 
 /* ---- lights ------------------------------------------------------------------------- */
@@ -530,13 +544,38 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
     double prev_pdf = 0; /* the BSDF density of the last direction; 0: a delta or the camera (full weight) */
     uint32_t depth = 0;  /* diffuse and glossy bounces so far */
     int vertex = 0;      /* surfaces met, glass events included */
+    /* Inside glass: the walk (glass_walk) the next event runs from ro along
+     * rd, in glass cell g_cell of instance g_inst (after a refraction into
+     * the glass, or a bounce off an opaque voxel met from inside it). */
+    bool in_glass = false;
+    uint32_t g_inst = 0, g_cell[3] = {0, 0, 0};
+    double g_csize = 0, g_ior = 1.5, g_alpha = 0;
     for (int events = 0; events < 1024; events++) {
         vx_render_ray_hit h;
-        bool hit = vx_render_cast(L->caster, ro, rd, INFINITY, false, &h);
+        bool hit, stopped = false; /* stopped: h is an opaque voxel's face met from inside glass, at ro */
+        if (in_glass) {
+            glass_stop st;
+            double p[3] = {ro[0], ro[1], ro[2]};
+            int wr = glass_walk(L, g_inst, g_cell, g_csize, g_ior, g_alpha, p, rd, rng, thr, ro, &st);
+            /* no light is sampled inside glass (a shadow ray starting in a glass voxel meets it), so
+             * what the path finds after a walk counts whole, as after a delta event */
+            prev_pdf = 0;
+            if (wr == WALK_ABSORBED) break;
+            if (wr == WALK_STOP) {
+                h = st.h, hit = stopped = true;
+                memcpy(ro, st.p, sizeof ro);
+                g_inst = st.inst, memcpy(g_cell, st.cell, sizeof g_cell);
+            } else {
+                in_glass = false;
+                hit = vx_render_cast(L->caster, ro, rd, INFINITY, false, &h);
+            }
+        } else {
+            hit = vx_render_cast(L->caster, ro, rd, INFINITY, false, &h);
+        }
         double le[3], lp = 0;
         bool skip = indirect && vertex == 0; /* the camera's own ray: the pipeline shows the first surface */
         bool skip_lights = indirect && vertex <= 1; /* and the direct pass the lights on it */
-        if (L->light_count && area_hit(L, ro, rd, hit ? h.t : INFINITY, le, &lp) >= 0) {
+        if (!stopped && L->light_count && area_hit(L, ro, rd, hit ? h.t : INFINITY, le, &lp) >= 0) {
             double w = prev_pdf > 0 ? mis(prev_pdf, lp) : 1;
             if (!skip_lights)
                 for (int k = 0; k < 3; k++) acc[k] += thr[k] * le[k] * w;
@@ -591,16 +630,19 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             }
             if (!L->inst_inv) break;
             for (int k = 0; k < 3; k++) thr[k] *= B.alb[k];
-            double p[3];
-            for (int k = 0; k < 3; k++) p[k] = ro[k] + rd[k] * h.t - s.n[k] * 1e-6 * h.cell_size;
+            for (int k = 0; k < 3; k++) ro[k] = ro[k] + rd[k] * h.t - s.n[k] * 1e-6 * h.cell_size;
             memcpy(rd, wi, sizeof rd);
             const vx_material* m = vx__light_material(L, s.material);
-            if (!glass_walk(L, h.instance, h.cell, h.cell_size, m->ior, B.alpha, p, rd, rng, thr, ro)) break;
+            in_glass = true; /* the walk runs at the next event */
+            g_inst = h.instance, memcpy(g_cell, h.cell, sizeof g_cell);
+            g_csize = h.cell_size, g_ior = m->ior, g_alpha = B.alpha;
             continue;
         }
-        double dl[3];
-        nee(L, &s, &B, wo, rng, depth < bounces, indirect && vertex == 1, dl);
-        for (int k = 0; k < 3; k++) acc[k] += thr[k] * dl[k];
+        if (!stopped) { /* inside glass no light is sampled (above) */
+            double dl[3];
+            nee(L, &s, &B, wo, rng, depth < bounces, indirect && vertex == 1, dl);
+            for (int k = 0; k < 3; k++) acc[k] += thr[k] * dl[k];
+        }
         if (depth >= bounces) break;
         double w[3];
         if (!bsdf_sample(&B, wo, rng, rd, w, &prev_pdf)) break;
@@ -613,6 +655,7 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
         }
         if (thr[0] == 0 && thr[1] == 0 && thr[2] == 0) break;
         memcpy(ro, s.p, sizeof ro);
+        in_glass = stopped; /* a bounce off a voxel set in glass goes back into the glass */
     }
     memcpy(out, acc, sizeof acc);
     return primary_hit;

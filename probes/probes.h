@@ -26,7 +26,12 @@
  * scene; materials from the scene's MATL records (vx_svo_scene_material):
  * emission albedo * _emit * 2^_flux, and in the path tracer metal (GGX) and
  * glass (dielectric, a glass voxel a solid block) besides diffuse; the
- * irradiance probes and the light field treat every surface as diffuse.
+ * irradiance probes and the light field treat every surface as diffuse. An
+ * opaque voxel against glass (a glass block standing on a floor, a voxel
+ * set in glass) is a surface where a walk through the glass meets it: its
+ * emission counts and the path bounces off it back into the glass; no light
+ * is sampled there (a shadow ray from inside glass meets the glass), so the
+ * light it gets comes through the glass by the path's own walks.
  * The path tracer (pathtrace.c, probe.comp) also takes the frame's lights
  * (vx_light: all types) and samples every light at every vertex with
  * multiple importance sampling, emissive voxels included (renderer), and

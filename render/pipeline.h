@@ -54,7 +54,10 @@
  * radiance the refracted ray brings: walked through the glass cells, out
  * with weight 1 - F_out (past the critical angle reflected inside), traced
  * to the next surface, which gets its direct light (shadowed, Lambert or
- * metal's BRDF), emission and sky term (a miss: the sky). Rough glass takes
+ * metal's BRDF), emission and sky term (a miss: the sky); an opaque voxel
+ * against the glass (the floor a glass block stands on, a voxel set in
+ * glass) is such a surface too, seen from inside the glass (its shadow rays
+ * meet the glass: its emission and sky term). Rough glass takes
  * the smooth directions; internal reflections below the critical angle are
  * not followed; at most 4 glass bodies and 256 cells a body. The direct
  * image holds that radiance, resolve adds it as it is; gi and ao add

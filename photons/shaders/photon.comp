@@ -244,6 +244,11 @@ void trace_photons() {
     bool alive = false, done = false, specular = false; // specular: the path went through glass since its last diffuse or glossy vertex
     uint stored = 0u;
     int events = 0;
+    // inside glass (probes/shaders/probe.comp path()): the walk the next event runs from o along d
+    bool in_glass = false;
+    uint g_inst = 0u;
+    uvec3 g_cell = uvec3(0u);
+    float g_ior = 1.5, g_alpha = 0.0;
     for (uint guard = 0u; guard < 65536u; guard++) {
         if (!alive) {
             if (guard > 0u) {
@@ -257,7 +262,7 @@ void trace_photons() {
             }
             rng_init(0x50000000u + P.seed.z, id, 0u);
             alive = emit(o, d, phi, flags, type, lpos, range);
-            specular = false, stored = 0u, events = 0;
+            specular = false, stored = 0u, events = 0, in_glass = false;
             continue;
         }
         if (events >= 256 || stored > P.a.z) {
@@ -265,11 +270,22 @@ void trace_photons() {
             continue;
         }
         Hit h;
-        if (!cast_ray(o, d, BIG, h)) {
+        bool stopped = false; // h: an opaque voxel's face met from inside glass (WALK_STOP), at o
+        if (in_glass) {
+            vec3 p = o;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, phi, o, h);
+            stopped = wr == WALK_STOP;
+            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            in_glass = false;
+            events++;
+            if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) {
+                alive = false;
+                continue;
+            }
+        } else if (!cast_ray(o, d, BIG, h)) {
             alive = false;
             continue;
-        }
-        if (events++ == 0) {
+        } else if (events++ == 0) {
             if (range < 0.0 && h.t < -range) { // a buried voxel face
                 alive = false;
                 continue;
@@ -297,9 +313,11 @@ void trace_photons() {
                 continue;
             }
             phi *= B.alb;
-            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            o = pe;
             d = wi;
-            alive = glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, phi, o);
+            in_glass = true; // the walk runs at the next event
+            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         // a surface that scatters: the photon is stored (caustic when only glass came before it since
@@ -317,6 +335,7 @@ void trace_photons() {
         phi *= w / q;
         specular = false;
         o = g_s.p;
+        in_glass = stopped; // a bounce off a voxel set in glass goes back into the glass
     }
     if (!done || !loops_intact()) ctr[2] = 1u; // photons left untraced
 }
@@ -564,13 +583,28 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
         float pdf;
         if (!bsdf_sample(B, wo, d, thr, pdf)) continue;
         vec3 o = s0.p;
+        bool in_glass = false, stopped = false;
+        uint g_inst = 0u;
+        uvec3 g_cell = uvec3(0u);
+        float g_ior = 1.5, g_alpha = 0.0;
         for (int events = 0; events < 32; events++) {
             Hit h;
-            if (!cast_ray(o, d, BIG, h)) break;
+            stopped = false;
+            if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
+                vec3 p = o;
+                uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+                in_glass = false;
+                stopped = wr == WALK_STOP;
+            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+                if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) break;
+            } else if (!cast_ray(o, d, BIG, h)) {
+                break;
+            }
             g_s = surface(o, d, h);
             Bsdf B2 = bsdf_of(g_s);
             if (B2.kind != B_GLASS) {
-                vec2 kf = kernel_factors(h);
+                // (a face met from inside glass: no kernel correction, its neighbours are glass)
+                vec2 kf = stopped ? vec2(1.0) : kernel_factors(h);
                 sum += thr * (gather(B2, -d, 0u, P.r.x, P.r.z * kf.x, G_ALL) +
                               gather(B2, -d, F_CAUSTIC, P.r.y, P.r.w * kf.y, G_ALL));
                 break;
@@ -586,9 +620,11 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
                 continue;
             }
             thr *= B2.alb;
-            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            o = pe;
             d = wi;
-            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B2.alpha, p, d, thr, o)) break;
+            in_glass = true;
+            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B2.alpha;
         }
     }
     g_s = s0;
@@ -636,9 +672,22 @@ void gather_pixel() {
     // factor of the sums (throughput times albedo / pi), the light found here
     vec4 rec0 = vec4(0.0), rec1 = vec4(0.0);
     float rec2w = 0.0; // the caustic radius' kernel factor (rec1.w the global one's)
+    bool in_glass = false, stopped = false;
+    uint g_inst = 0u;
+    uvec3 g_cell = uvec3(0u);
+    float g_ior = 1.5, g_alpha = 0.0;
     for (int events = 0; events < 64; events++) {
         Hit h;
-        if (!cast_ray(o, d, BIG, h)) {
+        stopped = false;
+        if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
+            vec3 p = o;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+            in_glass = false;
+            stopped = wr == WALK_STOP;
+            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            if (wr == WALK_ABSORBED) break;
+        }
+        if (!stopped && !cast_ray(o, d, BIG, h)) {
             if (events > 0 || full) L += thr * sky_radiance(d);
             break;
         }
@@ -664,13 +713,16 @@ void gather_pixel() {
                 continue;
             }
             thr *= B.alb;
-            vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            o = pe;
             d = wi;
-            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
+            in_glass = true; // the walk runs at the next event
+            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;
-        vec2 kf = kernel_factors(h);
+        // (a face met from inside glass: no kernel correction, its neighbours are glass)
+        vec2 kf = stopped ? vec2(1.0) : kernel_factors(h);
         if (B.kind == B_GLOSSY) {
             // A glossy surface (as Jensen's photon mapping treats it): the diffuse lobe from the photons,
             // the specular lobe by a ray. The photon estimate divides by the disk pi r^2 but finds only
@@ -695,6 +747,7 @@ void gather_pixel() {
             thr *= w;
             o = g_s.p;
             after_glossy = true;
+            in_glass = stopped; // off a voxel set in glass, back into the glass
             continue;
         }
         // the final gather at the camera's first surface; in a full image the light that came straight

@@ -247,8 +247,11 @@ uint model_cell_attr(uint mi, uvec3 c) {
 }
 
 // Inside a glass voxel (cell of instance inst) at p along d: to the face where the glass ends
-// (probes/pathtrace.c glass_walk). false: absorbed (glass_walk_steps of the model where it starts). On
-// true, o and d the ray that left. Each step leaves the box of the octree leaf that holds the current cell
+// (probes/pathtrace.c glass_walk). WALK_ABSORBED: glass_walk_steps of the model where it starts.
+// WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel across a face of the glass (a glass
+// block on a floor, a voxel set in glass): o the point on that face, sh the face seen from inside the
+// glass (t 0, the voxel's colour and record; inst, cell, axis and sign the glass cell's it was met from,
+// where a bounce off it walks on). Each step leaves the box of the octree leaf that holds the current cell
 // (a uniform glass block at once, cell_leaf.glsl; else the cell), its exit measured along the straight
 // stretch from its start p (t: how far the walk is along it), so the exit from the glass does not depend
 // on the boxes taken on the way: the compact layout, which walks cell by cell, gives the same bits. The
@@ -261,8 +264,9 @@ uint model_cell_attr(uint mi, uvec3 c) {
 bool glass_cell_leaf(uint mi, uvec3 c, out uint level) { return is_glass(model_cell_leaf(mi, c, level)); }
 #define GLASS_CELL(mi, c, level) glass_cell_leaf(mi, c, level)
 #endif
-bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d, PT_PREC inout vec3 thr,
-                PT_PREC out vec3 o) {
+const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
+uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d,
+                PT_PREC inout vec3 thr, PT_PREC out vec3 o, out Hit sh) {
     uvec3 c = cell;
     uint lv;
     if (!GLASS_CELL(insts[inst].model, c, lv)) lv = 0u;
@@ -283,7 +287,7 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
             PT_PREC float ta = ((dm[a] > 0.0 ? hi[a] : lo[a]) - om[a]) / dm[a];
             if (ta < te) { te = ta; ax = a; }
         }
-        if (ax < 0) return false;
+        if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         PT_PREC vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
@@ -302,7 +306,16 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         }
         Hit g;
         if (cast_ray(qi, d, eps, g)) {
-            if (!is_glass(g.attr)) return false; // an opaque voxel against the glass (probes/pathtrace.c)
+            if (!is_glass(g.attr)) { // an opaque voxel against the glass: its face, lit only through the glass
+                sh = g;
+                sh.t = 0.0;
+                sh.inst = inst;
+                sh.cell = c;
+                sh.axis = ax;
+                sh.nsign = dm[ax] > 0.0 ? -1.0 : 1.0;
+                o = q;
+                return WALK_STOP;
+            }
             inst = g.inst;
             c = g.cell;
             if (!GLASS_CELL(insts[inst].model, c, lv)) lv = 0u;
@@ -314,21 +327,21 @@ bool glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         float w;
 #ifdef PATH_PRECISE
         precise float eta = 1.0 / ior;
-        if (!dielectric(-nf, -d, eta, alpha, wi, refr, w)) return false;
+        if (!dielectric(-nf, -d, eta, alpha, wi, refr, w)) return WALK_ABSORBED;
 #else
-        if (!dielectric(-nf, -d, 1.0 / ior, alpha, wi, refr, w)) return false;
+        if (!dielectric(-nf, -d, 1.0 / ior, alpha, wi, refr, w)) return WALK_ABSORBED;
 #endif
         thr *= w;
         d = wi;
         if (refr) {
             o = q + nf * eps;
-            return true;
+            return WALK_OUT;
         }
         // reflected inside: a new stretch from just inside the face
         p = q - nf * eps;
         t = 0.0;
     }
-    return false;
+    return WALK_ABSORBED;
 }
 
 // A point of an emissive voxel's surface, the voxel picked by power among the first `count` of ems[]

@@ -313,15 +313,36 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     PT_PREC float prev_pdf = 0.0;
     uint depth = 0u;
     int vertex = 0;
+    // Inside glass (probes/pathtrace.c vx__path): the walk the next event runs from o along d, in glass
+    // cell g_cell of instance g_inst, after a refraction into the glass or a bounce off an opaque voxel
+    // met from inside it
+    bool in_glass = false;
+    uint g_inst = 0u;
+    uvec3 g_cell = uvec3(0u);
+    float g_ior = 1.5, g_alpha = 0.0;
     for (int events = 0; events < 1024; events++) {
         Hit h;
-        g_tskip = events == 0 ? g_path_tskip : 0.0;
-        bool hit = cast_ray(o, d, BIG, h);
-        g_tskip = 0.0;
+        bool hit, stopped = false; // stopped: h is an opaque voxel's face met from inside glass, at o
+        if (in_glass) {
+            PT_PREC vec3 p = o;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+            // no light is sampled inside glass (a shadow ray starting in a glass voxel meets it), so what
+            // the path finds after a walk counts whole, as after a delta event
+            prev_pdf = 0.0;
+            if (wr == WALK_ABSORBED) break;
+            stopped = wr == WALK_STOP;
+            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            in_glass = false;
+            hit = stopped || cast_ray(o, d, BIG, h);
+        } else {
+            g_tskip = events == 0 ? g_path_tskip : 0.0;
+            hit = cast_ray(o, d, BIG, h);
+            g_tskip = 0.0;
+        }
         bool skip = indirect && vertex == 0, skip_lights = indirect && vertex <= 1;
         vec3 le;
         float lp;
-        if (LIGHTS && P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
+        if (!stopped && LIGHTS && P.cnt.x > 0u && area_hit(o, d, hit ? h.t : BIG, le, lp)) {
             if (!skip_lights) acc += thr * le * (prev_pdf > 0.0 ? mis(prev_pdf, lp) : 1.0);
             break;
         }
@@ -364,9 +385,13 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
                 continue;
             }
             thr *= B.alb;
-            PT_PREC vec3 p = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            // (through a temporary: `o = o + ...` sent glslang 11's propagation of precise into an
+            // endless growth, 8 GB in seconds)
+            PT_PREC vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
+            o = pe;
             d = wi;
-            if (!glass_walk(h.inst, h.cell, mats[2u * g_s.attr + 1u].x, B.alpha, p, d, thr, o)) break;
+            in_glass = true; // the walk runs at the next event
+            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         // Without lights nee() is the sun's term alone and draws no random numbers: its shadow ray is traced
@@ -374,7 +399,8 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         // registers); the same numbers and sums
         PT_PREC vec3 sun_f = vec3(0.0), thr_v = thr;
         bool sun_ray = false;
-        if (LIGHTS) {
+        if (stopped) { // inside glass no light is sampled (above)
+        } else if (LIGHTS) {
             acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
         } else if (!(indirect && vertex == 1) && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) &&
                    dot(g_s.n, P.light.xyz) > 0.0) {
@@ -410,6 +436,7 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         }
         if (thr == vec3(0.0)) break;
         o = g_s.p;
+        in_glass = stopped; // a bounce off a voxel set in glass goes back into the glass
     }
     return acc;
 }

@@ -444,10 +444,14 @@ vec3 glass_refract(vec3 wo, vec3 n, float eta) {
 // does not depend on the boxes taken on the way (the compact layout walks
 // cell by cell and gives the same bits). The share F reflected back inside
 // below the critical angle is not followed (a loss of F_out * F_in,
-// 0.16% for a slab of ior 1.5 seen head on). false: an opaque voxel against
-// the glass (the path tracer ends its path there too) or glass_walk_steps
-// steps. On true, o and d the ray that left.
-bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o) {
+// 0.16% for a slab of ior 1.5 seen head on). WALK_ABSORBED: glass_walk_steps
+// steps. WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel
+// across a face of the glass (a glass block on a floor, a voxel set in
+// glass; the path tracer's walk stops there too): o the point on that face,
+// s1 its G-buffer-like record (the voxel's colour and record, the glass
+// instance's axis and sign, the normal facing into the glass).
+const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
+uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o, out uvec4 s1) {
     uvec3 c = glass_cell(inst, p);
     uint lv;
     if (model_cell_leaf(insts[inst].model, c, lv) == NO_HIT) lv = 0u;
@@ -471,7 +475,7 @@ bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
                 ax = a;
             }
         }
-        if (ax < 0) return false;
+        if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0); // the exit face's outward normal
@@ -500,7 +504,11 @@ bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         g_iter = 0u;
         if (trace_scene(qi, d, 0.0, false, g)) {
             vec4 gm;
-            if (!glass_of(g.attr, gm)) return false;
+            if (!glass_of(g.attr, gm)) { // an opaque voxel against the glass: its face, seen from inside
+                o = q;
+                s1 = uvec4(g.color, inst, uint(ax) | (dm[ax] > 0.0 ? 4u : 0u), g.attr);
+                return WALK_STOP;
+            }
             inst = g.inst;
             c = glass_cell(inst, qi);
             if (model_cell_leaf(insts[inst].model, c, lv) == NO_HIT) lv = 0u;
@@ -517,9 +525,9 @@ bool glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         thr *= 1.0 - fr;
         d = glass_refract(-d, -nf, 1.0 / ior);
         o = q + nf * eps;
-        return true;
+        return WALK_OUT;
     }
-    return false;
+    return WALK_ABSORBED;
 }
 
 // The radiance an opaque G-buffer-like entry (s0, s1: a point met by a ray
@@ -575,7 +583,16 @@ vec3 glass_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
         thr *= (1.0 - fr) * alb;
         vec3 d = glass_refract(wo, n, ior), o;
         float eps = 1e-3 * insts[inst].cell + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z));
-        if (!glass_pass_walk(inst, p - n * eps, ior, d, thr, o)) break;
+        uvec4 st;
+        uint wr = glass_pass_walk(inst, p - n * eps, ior, d, thr, o, st);
+        if (wr == WALK_ABSORBED) break;
+        if (wr == WALK_STOP) {
+            // a voxel set in the glass (or the floor a glass block stands on): shaded as a surface seen
+            // through glass; its shadow rays start inside the glass, which they meet, so its direct light
+            // is none, as in the path tracer, which samples no light inside glass
+            rad += thr * glass_seen_surface(px, uvec4(floatBitsToUint(o), 0u), st, -d);
+            break;
+        }
         Hit h;
         h.t = 3.0e38;
         h.inst = NO_HIT;

@@ -34,6 +34,12 @@ if(VX_WITH_VULKAN)
               ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_thick PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # opaque voxels against glass (a slab standing on a floor), seen through it: the passes, the CPU and the
+  # GPU path tracers against the closed forms (emission; the sky through the glass)
+  vx_add_test(test_glass_contact SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_contact.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_glass_contact PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
