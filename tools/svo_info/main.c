@@ -278,6 +278,22 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
     if (shown < s->light_count) printf("  ... %u more lights (--models lists all)\n", s->light_count - shown);
 }
 
+#ifdef VX_HAVE_GLB
+/* --to-glb's lights: how many, and which other glTF readers see only
+ * approximately (voxkit reads its extras back exactly). */
+static void print_glb_lights(const options* o, const vx_svo_scene* s, const svo_glb_stats* gs) {
+    printf("lights       %u written (KHR_lights_punctual), %u approximated for other glTF readers%s\n", gs->lights,
+           gs->approximated, gs->approximated ? " (exact in extras.voxkit_light)" : "");
+    uint32_t shown = 0, limit = o->models ? UINT32_MAX : 16;
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        const char* why = (s->lights[i].flags & VX_LIGHT_FROM_VOXELS) ? NULL : svo_info_glb_light_approx(&s->lights[i]);
+        if (!why || shown++ >= limit) continue;
+        printf("  light %-4u %s\n", i, why);
+    }
+    if (shown > limit) printf("  ... %u more approximated lights (--models lists all)\n", shown - limit);
+}
+#endif
+
 typedef struct dump_ctx {
     const vx_svo_scene* s;
     const vx_svo_model* m;
@@ -385,8 +401,11 @@ int main(int argc, char** argv) {
         r = svo_info_to_glb(NULL, &view, o.all, o.to_glb, &gs, &err);
         if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
         else if (!o.quiet && !o.dump)
+        {
             printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
                    o.to_glb, gs.meshes, gs.nodes, vx_tool_num(gs.quads), vx_tool_num(gs.faces), gs.seconds_mesh);
+            if (gs.lights) print_glb_lights(&o, &view, &gs);
+        }
 #else
         status = vx_tool_errorf("%s: this svo_info was built without tinygltf (libtinygltf-dev): no .glb export",
                                 o.to_glb);
