@@ -7,6 +7,7 @@
 # again; vx_voxmesh's self-test on random sets.
 set -u
 BIN=$1 CHECK=$2 CORPUS=${VX_CORPUS_DIR:-$3} T=$4
+HERE=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$T"
 mkdir -p "$T"
 fails=0
@@ -27,37 +28,16 @@ run "demo (hidden kept) glb" "$CHECK" "$T/demo-h.svo" "$T/demo-h.glb"
 run "demo to glb --all" "$BIN/svo_info" -q "$T/demo-h.svo" --to-glb "$T/demo-all.glb" --all
 run "demo glb --all" "$CHECK" "$T/demo-h.svo" "$T/demo-all.glb" --all
 # lights (KHR_lights_punctual, voxkit's sphere and rect records in extras):
-# glTF -> vox2svo -> --to-glb (checked) -> vox2svo lists the same lights
-cat >"$T/lights.gltf" <<'GLTF'
-{"asset":{"version":"2.0"},
- "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAQAAAAAAAAAAAAAAAAAAAgEAAAAAA"}],
- "bufferViews":[{"buffer":0,"byteLength":36}],
- "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[4,4,0]}],
- "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
- "extensionsUsed":["KHR_lights_punctual"],
- "extensions":{"KHR_lights_punctual":{"lights":[
-  {"type":"directional","color":[1,0.9,0.8],"intensity":3},
-  {"type":"point","color":[0.2,0.4,1],"intensity":50,"range":20},
-  {"type":"spot","intensity":100,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.6}},
-  {"type":"point","intensity":7.85,"extras":{"voxkit_light":{"type":"sphere","radiance":40,"radius":0.25}}},
-  {"type":"spot","intensity":10,"spot":{"outerConeAngle":1.5707963267948966},
-   "extras":{"voxkit_light":{"type":"rect","radiance":10,"size":[2,0.5]}}}]}},
- "nodes":[{"mesh":0},
-  {"rotation":[-0.3826834,0,0,0.9238795],"extensions":{"KHR_lights_punctual":{"light":0}}},
-  {"translation":[0.5,2,0.25],"extensions":{"KHR_lights_punctual":{"light":1}}},
-  {"translation":[1,3,-2],"rotation":[0.2,0.1,0.3,0.927],"extensions":{"KHR_lights_punctual":{"light":2}}},
-  {"translation":[2,4,-1],"extensions":{"KHR_lights_punctual":{"light":3}}},
-  {"translation":[0,5,-3],"rotation":[-0.7071068,0,0,0.7071068],"extensions":{"KHR_lights_punctual":{"light":4}}}],
- "scenes":[{"nodes":[0,1,2,3,4,5]}],"scene":0}
-GLTF
-run "lights to svo" "$BIN/vox2svo" -q "$T/lights.gltf" "$T/lights.svo" --res 8
+# tests/glb/lights.gltf -> vox2svo -> --to-glb (checked) -> vox2svo lists the same lights
+run "lights to svo" "$BIN/vox2svo" -q "$HERE/lights.gltf" "$T/lights.svo" --res 8
 run "lights to glb" "$BIN/svo_info" "$T/lights.svo" --to-glb "$T/lights.glb"
 run "lights glb" "$CHECK" "$T/lights.svo" "$T/lights.glb"
 "$BIN/svo_info" "$T/lights.svo" --to-glb "$T/lights.glb" >"$T/lights.out" 2>&1
-if grep -q "^lights       5 written (KHR_lights_punctual), 2 approximated" "$T/lights.out" &&
+if grep -q "^lights       5 written (KHR_lights_punctual), 3 approximated" "$T/lights.out" &&
+  grep -q "^  light 0    sun without its angular diameter" "$T/lights.out" &&
   grep -q "^  light 3    sphere light as a point light" "$T/lights.out" &&
   grep -q "^  light 4    rect light as a spot" "$T/lights.out"; then
-  echo "ok   --to-glb counts 5 lights, the sphere and the rect approximated"
+  echo "ok   --to-glb counts 5 lights, the sun, the sphere and the rect approximated"
 else
   echo "FAIL --to-glb's light lines"; cat "$T/lights.out"; fails=$((fails + 1))
 fi
