@@ -16,6 +16,7 @@
 #include "tools/svo_info/glb.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -188,13 +189,25 @@ typedef struct light_text {
     char extras[768];
 } light_text;
 
-/* Appends `,"key":v` (or an array of n values) to the extras text; %.17g
- * reads back as the same double. */
-static void put_num(light_text* t, size_t* at, const char* key, const double* v, int n) {
+/* Appends to the extras text (which stays terminated: a text that did not
+ * fit, which the fields' count and %.17g's 24 characters rule out, ends
+ * cut and the writer refuses it as JSON). */
+static void put(light_text* t, size_t* at, const char* fmt, ...) {
     size_t cap = sizeof t->extras;
-    *at += (size_t)snprintf(t->extras + *at, cap - *at, ",\"%s\":%s", key, n > 1 ? "[" : "");
-    for (int k = 0; k < n; k++) *at += (size_t)snprintf(t->extras + *at, cap - *at, "%s%.17g", k ? "," : "", v[k]);
-    if (n > 1) *at += (size_t)snprintf(t->extras + *at, cap - *at, "]");
+    if (*at >= cap - 1) return;
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(t->extras + *at, cap - *at, fmt, ap);
+    va_end(ap);
+    *at = k < 0 ? cap - 1 : *at + (size_t)k < cap - 1 ? *at + (size_t)k : cap - 1;
+}
+
+/* Appends `,"key":v` (or an array of n values); %.17g reads back as the
+ * same double. */
+static void put_num(light_text* t, size_t* at, const char* key, const double* v, int n) {
+    put(t, at, ",\"%s\":%s", key, n > 1 ? "[" : "");
+    for (int k = 0; k < n; k++) put(t, at, "%s%.17g", k ? "," : "", v[k]);
+    if (n > 1) put(t, at, "]");
 }
 
 /* Light l (a valid record, index i in the scene) as KHR_lights_punctual
@@ -203,7 +216,8 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
     memset(g, 0, sizeof *g);
     snprintf(t->name, sizeof t->name, "light %u", i);
     g->name = t->name;
-    size_t at = (size_t)snprintf(t->extras, sizeof t->extras, "{\"voxkit_light\":{\"type\":\"%s\"", light_type_name[l->type]);
+    size_t at = 0;
+    put(t, &at, "{\"voxkit_light\":{\"type\":\"%s\"", light_type_name[l->type]);
     bool extras = false; /* the punctual light is not the exact record */
     /* the extension's colour lies in [0, 1]: a brighter channel goes into
      * the intensity (every renderer multiplies the two), the exact values
@@ -278,7 +292,7 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
         if (l->type != VX_LIGHT_SPHERE && l->type != VX_LIGHT_RECT) put_num(t, &at, "intensity", &l->intensity, 1);
         extras = true;
     }
-    snprintf(t->extras + at, sizeof t->extras - at, "}}");
+    put(t, &at, "}}");
     g->extras = extras ? t->extras : NULL;
 }
 
