@@ -5,6 +5,11 @@
 #include "convert/export.h"
 
 #ifndef VX_HAVE_GLB
+const char* vx_conv_glb_light_approx(const vx_light* l) {
+    (void)l;
+    return NULL;
+}
+
 vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* desc, const vx_svo_scene* s, const char* path,
                                   vx_conv_glb_stats* stats, vx_error* err) {
     (void)desc, (void)s, (void)stats;

@@ -60,6 +60,26 @@ typedef struct vx_conv_glb_stats {
 vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* desc, const vx_svo_scene* s, const char* path,
                                   vx_conv_glb_stats* stats, vx_error* err);
 
+/* Lights in the .glb: every stored light (those of emissive voxels are never
+ * stored) as a KHR_lights_punctual light on a root node named "light I" (I
+ * its index in the scene), placed and aimed in glTF's +Y-up world units as
+ * the mesh nodes are. Directional, point and spot carry over in glTF's units
+ * (which are voxkit's); the two types glTF lacks become their nearest
+ * punctual light: a sphere (radiance L, radius r) a point light of the same
+ * power seen from afar, I = L pi r^2; a rect (one-sided, radiance L, area A)
+ * a spot along its normal with outer cone pi/2, inner 0 and its on-axis
+ * intensity I = L A. Where the punctual light is not voxkit's exact record
+ * (sphere, rect, a point or spot radius, a sun's angular diameter, a spot
+ * whose inner cone equals its outer, a colour channel over 1), the light's
+ * extras hold "voxkit_light" with the exact values (docs/LIBRARY.md), which
+ * formats/gltf.h reads back (vox2svo, voxkit.open). The sky is not exported.
+ *
+ * Why light l's punctual form differs from the light, for other glTF
+ * readers (a phrase such as "sphere light as a point light of the same
+ * power"), or NULL when it is the light itself (and for a build without
+ * tinygltf). */
+const char* vx_conv_glb_light_approx(const vx_light* l);
+
 typedef struct vx_conv_vdb_stats {
     uint32_t grids;  /* grids written (shared ones included) */
     uint64_t voxels; /* active voxels written (a shared tree counted once) */

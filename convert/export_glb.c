@@ -10,10 +10,15 @@
  * with no such id is written exactly as before materials were exported.
  * The mesher keeps the ids apart (a quad covers one id) and each mesh has
  * one primitive per material, its quads sorted by material. Base colour
- * stays white: the vertex colours carry the colour. */
+ * stays white: the vertex colours carry the colour.
+ *
+ * Lights: the stored ones as KHR_lights_punctual lights on nodes of their
+ * own (formats/glb.h and convert/export.h say how each type maps;
+ * light_to_glb below). */
 #include "convert/export.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,6 +122,182 @@ static vx_result quads_to_mesh(const vx_allocator* A, const vx_voxmesh* vm, cons
     return VX_OK;
 }
 
+/* ---- lights ------------------------------------------------------------------------ */
+
+static const char* const light_type_name[VX_LIGHT_TYPE_COUNT] = {"directional", "point", "spot", "sphere", "rect"};
+
+/* voxkit's +Z up to glTF's +Y up, (x, y, z) -> (x, z, -y), as the mesh nodes */
+static void to_gltf(const double v[3], double o[3]) {
+    o[0] = v[0];
+    o[1] = v[2];
+    o[2] = -v[1];
+}
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* The node placing a light at p: with d (where it shines, any length) its -Z
+ * along d and its +X along x_hint made orthogonal to d (NULL: the world axis
+ * most across d), +Y completing a right-handed frame; without d the identity
+ * rotation. A rotation, so glTF validators see a proper TRS matrix, and
+ * reading -Z back gives d normalized. */
+static void light_matrix(const double p[3], const double* d, const double* x_hint, double M[16]) {
+    double x[3] = {1, 0, 0}, y[3] = {0, 1, 0}, z[3] = {0, 0, 1};
+    if (d) {
+        double dl = sqrt(dot3(d, d)), h[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++) z[k] = -d[k] / dl;
+        if (x_hint) {
+            memcpy(h, x_hint, sizeof h);
+        } else {
+            int a = 0;
+            for (int k = 1; k < 3; k++)
+                if (fabs(z[k]) < fabs(z[a])) a = k;
+            h[a] = 1;
+        }
+        double hz = dot3(h, z);
+        for (int k = 0; k < 3; k++) x[k] = h[k] - hz * z[k];
+        double xl = sqrt(dot3(x, x));
+        for (int k = 0; k < 3; k++) x[k] /= xl;
+        y[0] = z[1] * x[2] - z[2] * x[1];
+        y[1] = z[2] * x[0] - z[0] * x[2];
+        y[2] = z[0] * x[1] - z[1] * x[0];
+    }
+    memset(M, 0, 16 * sizeof *M);
+    for (int k = 0; k < 3; k++) {
+        M[k] = x[k];
+        M[4 + k] = y[k];
+        M[8 + k] = z[k];
+        M[12 + k] = p[k];
+    }
+    M[15] = 1;
+}
+
+const char* vx_conv_glb_light_approx(const vx_light* l) {
+    switch (l->type) {
+    case VX_LIGHT_SPHERE: return "sphere light as a point light of the same power (I = L pi r^2)";
+    case VX_LIGHT_RECT: return "rect light as a spot along its normal (outer cone 90 degrees, I = L A)";
+    case VX_LIGHT_DIRECTIONAL:
+        return l->angular_diameter > 0 ? "sun without its angular diameter (glTF's is a hard sun)" : NULL;
+    case VX_LIGHT_SPOT:
+        if (!(l->inner_cone < l->outer_cone)) return "spot with its inner cone nudged below the outer (glTF needs inner < outer)";
+        return l->radius > 0 ? "spot without its radius (glTF's is a point source)" : NULL;
+    case VX_LIGHT_POINT: return l->radius > 0 ? "point light without its radius (glTF's is a point source)" : NULL;
+    default: return NULL;
+    }
+}
+
+/* a light's node name and its extras' JSON text */
+typedef struct light_text {
+    char name[24];
+    char extras[768];
+} light_text;
+
+/* Appends to the extras text (which stays terminated: a text that did not
+ * fit, which the fields' count and %.17g's 24 characters rule out, ends
+ * cut and the writer refuses it as JSON). */
+static void put(light_text* t, size_t* at, const char* fmt, ...) {
+    size_t cap = sizeof t->extras;
+    if (*at >= cap - 1) return;
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(t->extras + *at, cap - *at, fmt, ap);
+    va_end(ap);
+    *at = k < 0 ? cap - 1 : *at + (size_t)k < cap - 1 ? *at + (size_t)k : cap - 1;
+}
+
+/* Appends `,"key":v` (or an array of n values); %.17g reads back as the
+ * same double. */
+static void put_num(light_text* t, size_t* at, const char* key, const double* v, int n) {
+    put(t, at, ",\"%s\":%s", key, n > 1 ? "[" : "");
+    for (int k = 0; k < n; k++) put(t, at, "%s%.17g", k ? "," : "", v[k]);
+    if (n > 1) put(t, at, "]");
+}
+
+/* Light l (a valid record, index i in the scene) as KHR_lights_punctual
+ * (glb.h): g's strings point into t. */
+static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_text* t) {
+    memset(g, 0, sizeof *g);
+    snprintf(t->name, sizeof t->name, "light %u", i);
+    g->name = t->name;
+    size_t at = 0;
+    put(t, &at, "{\"voxkit_light\":{\"type\":\"%s\"", light_type_name[l->type]);
+    bool extras = false; /* the punctual light is not the exact record */
+    /* the extension's colour lies in [0, 1]: a brighter channel goes into
+     * the intensity (every renderer multiplies the two), the exact values
+     * into extras */
+    double big = fmax(l->color[0], fmax(l->color[1], l->color[2])), scale = big > 1 ? big : 1;
+    for (int k = 0; k < 3; k++) g->color[k] = l->color[k] / scale;
+    double p[3], d[3], x[3], back[3] = {-l->direction[0], -l->direction[1], -l->direction[2]};
+    to_gltf(l->position, p);
+    g->intensity = l->intensity * scale;
+    switch (l->type) {
+    case VX_LIGHT_DIRECTIONAL: /* vx_light's direction points towards the light; glTF's light travels along -Z */
+        g->type = VX_GLB_LIGHT_DIRECTIONAL;
+        to_gltf(back, d);
+        light_matrix(p, d, NULL, g->matrix);
+        if (l->angular_diameter > 0) put_num(t, &at, "angular_diameter", &l->angular_diameter, 1), extras = true;
+        break;
+    case VX_LIGHT_POINT:
+        g->type = VX_GLB_LIGHT_POINT;
+        g->range = l->range;
+        light_matrix(p, NULL, NULL, g->matrix);
+        if (l->radius > 0) put_num(t, &at, "radius", &l->radius, 1), extras = true;
+        break;
+    case VX_LIGHT_SPOT:
+        g->type = VX_GLB_LIGHT_SPOT;
+        g->range = l->range;
+        g->inner_cone = l->inner_cone, g->outer_cone = l->outer_cone;
+        if (!(g->inner_cone < g->outer_cone)) {
+            /* glTF needs inner < outer; voxkit allows them equal (a hard
+             * edge). The inner cone goes a millionth of the outer below it
+             * (both 0: the outer up to 1e-6 radians): voxkit's renderers
+             * widen a falloff narrower than 0.001 in cosine to that anyway,
+             * so the light looks the same. The exact cones go into extras. */
+            if (g->outer_cone > 0) g->inner_cone = g->outer_cone * (1 - 1e-6);
+            else g->outer_cone = 1e-6;
+            put_num(t, &at, "inner_cone", &l->inner_cone, 1);
+            put_num(t, &at, "outer_cone", &l->outer_cone, 1);
+            extras = true;
+        }
+        to_gltf(l->direction, d);
+        light_matrix(p, d, NULL, g->matrix);
+        if (l->radius > 0) put_num(t, &at, "radius", &l->radius, 1), extras = true;
+        break;
+    case VX_LIGHT_SPHERE:
+        /* seen from afar a sphere of radiance L and radius r is a point of
+         * intensity L pi r^2 (its projected disc, every direction) */
+        g->type = VX_GLB_LIGHT_POINT;
+        g->intensity = l->intensity * 3.141592653589793 * l->radius * l->radius * scale;
+        light_matrix(p, NULL, NULL, g->matrix);
+        put_num(t, &at, "radiance", &l->intensity, 1);
+        put_num(t, &at, "radius", &l->radius, 1);
+        extras = true;
+        break;
+    case VX_LIGHT_RECT: {
+        /* a one-sided Lambertian emitter of radiance L and area A: on its
+         * axis intensity L A, falling off as cos theta to 0 at 90 degrees;
+         * the spot's smooth falloff from 0 to pi/2 stands in for the cosine */
+        g->type = VX_GLB_LIGHT_SPOT;
+        g->intensity = l->intensity * l->size[0] * l->size[1] * scale;
+        g->inner_cone = 0, g->outer_cone = 1.5707963267948966;
+        to_gltf(l->direction, d);
+        to_gltf(l->tangent, x);
+        light_matrix(p, d, x, g->matrix); /* the node's +X: the first edge */
+        put_num(t, &at, "radiance", &l->intensity, 1);
+        put_num(t, &at, "size", l->size, 2);
+        extras = true;
+        break;
+    }
+    default: break;
+    }
+    if (scale > 1) {
+        put_num(t, &at, "color", l->color, 3);
+        if (l->type != VX_LIGHT_SPHERE && l->type != VX_LIGHT_RECT) put_num(t, &at, "intensity", &l->intensity, 1);
+        extras = true;
+    }
+    put(t, &at, "}}");
+    g->extras = extras ? t->extras : NULL;
+}
+
 vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_scene* s, const char* path,
                                   vx_conv_glb_stats* stats, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb export: NULL argument");
@@ -135,6 +316,8 @@ vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_sc
     double* emit_sum = NULL;   /* per table entry: linear RGB sum and cell count of its cells */
     int32_t* gl_index = NULL;  /* per table entry + 1: glTF material index, -1 unused */
     char(*mat_names)[24] = NULL;
+    vx_glb_light* glights = NULL;
+    light_text* ltext = NULL;
     vx_result r = vx_svo_material_table_make(s, A, &tab, err);
     if (r) return r;
     bool materials = false; /* some table entry is more than a plain diffuse */
@@ -276,12 +459,30 @@ vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_sc
             for (uint32_t p = 0; p < md[m].prim_count; p++)
                 md[m].prims[p].material = (uint32_t)gl_index[md[m].prims[p].material];
     }
+    if (s->light_count) {
+        glights = (vx_glb_light*)vx_calloc(A, s->light_count, sizeof *glights);
+        ltext = (light_text*)vx_calloc(A, s->light_count, sizeof *ltext);
+        if (!glights || !ltext) {
+            r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for %u lights", s->light_count);
+            goto done;
+        }
+    }
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        const vx_light* l = &s->lights[i];
+        if (l->flags & VX_LIGHT_FROM_VOXELS) continue; /* the voxels' own emission is in the meshes' materials */
+        if ((r = vx_light_validate(l, i, err))) goto done;
+        light_to_glb(l, i, &glights[st.lights], &ltext[st.lights]);
+        st.lights++;
+        st.lights_approximated += vx_conv_glb_light_approx(l) != NULL;
+    }
     vx_glb_scene gs = {.mesh_count = st.meshes,
                        .material_count = gcount,
                        .materials = gmat,
                        .meshes = meshes,
                        .node_count = st.nodes,
                        .nodes = nodes,
+                       .light_count = st.lights,
+                       .lights = glights,
                        .generator = "voxkit " VX_VERSION_STRING};
     st.materials = gcount;
     r = vx_glb_write_file(desc, &gs, path, err);
@@ -299,6 +500,8 @@ done:
     vx_free(A, gl_index);
     vx_free(A, gmat);
     vx_free(A, mat_names);
+    vx_free(A, glights);
+    vx_free(A, ltext);
     vx_svo_material_table_free(&tab);
     vx_free(A, md);
     vx_free(A, mesh_of);

@@ -303,7 +303,10 @@ static vx_result add_materials(const vx_gltf_mesh* mesh, const vx_conv_mesh_part
  * scene's world frame (world_from_grid maps grid cells back to it;
  * vx_conv_mesh_file turned both +Z up), so positions and directions carry
  * over; a directional light's vx_light
- * direction points towards the light, the opposite of glTF's. */
+ * direction points towards the light, the opposite of glTF's. voxkit's own
+ * record in a light's extras (formats/gltf.h: svo_info --to-glb's sphere and
+ * rect lights, radii, a sun's angular diameter) comes back as it was
+ * written; values a type does not use stay 0. */
 static vx_result add_lights(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_allocator* a, vx_error* err) {
     if (!mesh->light_count) return VX_OK;
     s->lights = (vx_light*)vx_calloc(a, mesh->light_count, sizeof *s->lights);
@@ -311,17 +314,22 @@ static vx_result add_lights(const vx_gltf_mesh* mesh, vx_svo_scene* s, const vx_
     for (uint32_t i = 0; i < mesh->light_count; i++) {
         const vx_gltf_light* g = &mesh->lights[i];
         vx_light* l = &s->lights[i];
-        l->type = g->type == VX_GLTF_LIGHT_DIRECTIONAL ? VX_LIGHT_DIRECTIONAL
-                  : g->type == VX_GLTF_LIGHT_SPOT      ? VX_LIGHT_SPOT
-                                                       : VX_LIGHT_POINT;
+        static const vx_light_type types[5] = {VX_LIGHT_DIRECTIONAL, VX_LIGHT_POINT, VX_LIGHT_SPOT, VX_LIGHT_SPHERE,
+                                               VX_LIGHT_RECT};
+        l->type = g->type < 5 ? types[g->type] : VX_LIGHT_POINT;
+        bool dir = l->type == VX_LIGHT_DIRECTIONAL, aimed = l->type == VX_LIGHT_SPOT || l->type == VX_LIGHT_RECT;
         for (int k = 0; k < 3; k++) {
-            l->position[k] = l->type == VX_LIGHT_DIRECTIONAL ? 0 : g->position[k];
-            l->direction[k] = l->type == VX_LIGHT_DIRECTIONAL ? -g->direction[k] : l->type == VX_LIGHT_SPOT ? g->direction[k] : 0;
+            l->position[k] = dir ? 0 : g->position[k];
+            l->direction[k] = dir ? -g->direction[k] : aimed ? g->direction[k] : 0;
             l->color[k] = g->color[k];
+            if (l->type == VX_LIGHT_RECT) l->tangent[k] = g->tangent[k];
         }
         l->intensity = g->intensity;
-        l->range = l->type == VX_LIGHT_DIRECTIONAL ? 0 : g->range;
+        l->range = l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT ? g->range : 0;
         if (l->type == VX_LIGHT_SPOT) l->inner_cone = g->inner_cone, l->outer_cone = g->outer_cone;
+        if (l->type == VX_LIGHT_POINT || l->type == VX_LIGHT_SPOT || l->type == VX_LIGHT_SPHERE) l->radius = g->radius;
+        if (dir) l->angular_diameter = g->angular_diameter;
+        if (l->type == VX_LIGHT_RECT) l->size[0] = g->size[0], l->size[1] = g->size[1];
         s->light_count = i + 1;
         vx_result r = vx_light_validate(l, i, err);
         if (r) {
@@ -444,8 +452,8 @@ vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, 
         m.origin[1] = -m.origin[2];
         m.origin[2] = oy;
         for (uint32_t i = 0; i < m.light_count; i++) {
-            double* v[2] = {m.lights[i].position, m.lights[i].direction};
-            for (int k = 0; k < 2; k++) {
+            double* v[3] = {m.lights[i].position, m.lights[i].direction, m.lights[i].tangent};
+            for (int k = 0; k < 3; k++) {
                 double y = v[k][1];
                 v[k][1] = -v[k][2];
                 v[k][2] = y;

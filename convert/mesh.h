@@ -96,13 +96,16 @@
  *
  * Lights: KHR_lights_punctual lights become scene lights (vx_light) in the
  * same world frame as the voxels (world_from_grid maps grid cells back to
- * world units: glTF's, turned +Z up as below); a light that
- * vx_light_validate refuses is an error naming it.
+ * world units: glTF's, turned +Z up as below); voxkit's own record in a
+ * light's extras.voxkit_light (formats/gltf.h; what svo_info --to-glb
+ * writes) gives the sphere and rect lights, radii and a sun's angular
+ * diameter back; a light that vx_light_validate refuses is an error naming
+ * it.
  *
  * Up axis: voxkit's world is +Z up (as MagicaVoxel's; svo_render's and
  * svo_view's default camera, the .vox export); glTF's is +Y up. So
- * vx_conv_mesh_file turns the file's positions, and its lights' positions
- * and directions, (x, y, z) into (x, -z, y), a rotation about +X by 90
+ * vx_conv_mesh_file turns the file's positions, and its lights' positions,
+ * directions and tangents, (x, y, z) into (x, -z, y), a rotation about +X by 90
  * degrees (exact in floats), before the grid is made: a model that stands on the glTF ground plane stands on ours, facing
  * the same way (glTF's +Z "front" becomes -Y). desc.y_up keeps the file's
  * axes instead. vx_conv_mesh and vx_conv_mesh_cells voxelize the positions

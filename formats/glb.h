@@ -17,6 +17,11 @@
  * transmission, ior != 1.5). Nodes are all roots of the one scene; a node's
  * matrix is column-major, as glTF stores it.
  *
+ * Lights (vx_glb_light): with light_count > 0, KHR_lights_punctual's light
+ * list (declared in extensionsUsed) and after the scene's nodes one root
+ * node per light placing it (the node's name is the light's). A scene
+ * without lights writes neither (the same bytes as before lights existed).
+ *
  * Errors: VX_ERR_LIMIT when the buffer would pass the GLB's 4 GiB, VX_ERR_IO
  * when the file cannot be written (nothing is left behind: the file is
  * streamed to a temporary name and renamed).
@@ -72,6 +77,37 @@ typedef struct vx_glb_node {
     double matrix[16];      /* column-major 4x4 (last row 0 0 0 1) */
 } vx_glb_node;
 
+/* KHR_lights_punctual's types. */
+typedef enum vx_glb_light_type {
+    VX_GLB_LIGHT_DIRECTIONAL = 0,
+    VX_GLB_LIGHT_POINT,
+    VX_GLB_LIGHT_SPOT,
+    VX_GLB_LIGHT_TYPE_COUNT
+} vx_glb_light_type;
+
+/* A KHR_lights_punctual light, in the extension's terms (the writer checks
+ * them and refuses others with VX_ERR_INVALID_ARG naming the light):
+ *  color       linear RGB, each in [0, 1] (the schema's range)
+ *  intensity   >= 0: candela (point, spot) or lux (directional)
+ *  range       point, spot: > 0 a cut-off distance, 0 none (not written)
+ *  inner_cone, outer_cone  spot: radians, 0 <= inner < outer <= pi/2
+ *  matrix      the node that places it (column-major, as vx_glb_node's);
+ *              the light sits at its origin and shines down its -Z axis
+ *  extras      NULL, or a JSON object (text) written as the light's
+ *              "extras" (svo_info keeps voxkit's own record of the light
+ *              there); anything else is VX_ERR_INVALID_ARG
+ * Values the type does not use are not written. */
+typedef struct vx_glb_light {
+    const char* name;       /* the light's and its node's, may be NULL */
+    vx_glb_light_type type;
+    double color[3];
+    double intensity;
+    double range;
+    double inner_cone, outer_cone;
+    double matrix[16];
+    const char* extras;
+} vx_glb_light;
+
 typedef struct vx_glb_scene {
     uint32_t mesh_count;
     const vx_glb_mesh* meshes;
@@ -80,6 +116,8 @@ typedef struct vx_glb_scene {
     const char* generator;  /* asset.generator, may be NULL */
     uint32_t material_count; /* 0: the one default material (above) */
     const vx_glb_material* materials;
+    uint32_t light_count;   /* 0: no KHR_lights_punctual */
+    const vx_glb_light* lights;
 } vx_glb_scene;
 
 /* desc may be NULL (svo/core.h); its allocator serves the temporary file's

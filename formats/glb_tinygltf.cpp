@@ -7,6 +7,7 @@
 #include <tiny_gltf.h>
 
 #include <cfloat>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <ostream>
@@ -40,6 +41,63 @@ int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t c
     a.count = count;
     m.accessors.push_back(a);
     return int(m.accessors.size() - 1);
+}
+
+bool finite(double x) { return std::isfinite(x) && std::fabs(x) <= 1e30; }
+
+// The extension's rules (glb.h), so that a file we write is one the
+// validator and other readers accept.
+vx_result check_light(const vx_glb_light& l, uint32_t i, vx_error* err) {
+    const char* name = l.name ? l.name : "";
+    if ((unsigned)l.type >= VX_GLB_LIGHT_TYPE_COUNT)
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: light %u ('%.60s'): unknown type %u", i, name,
+                       (unsigned)l.type);
+    for (int k = 0; k < 3; k++)
+        if (!(l.color[k] >= 0 && l.color[k] <= 1))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: light %u ('%.60s'): colour %g outside [0, 1]",
+                           i, name, l.color[k]);
+    if (!(l.intensity >= 0 && finite(l.intensity)) || !(l.range >= 0 && finite(l.range)))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "glb: light %u ('%.60s'): intensity %g and range %g must be finite and >= 0", i, name,
+                       l.intensity, l.range);
+    if (l.type == VX_GLB_LIGHT_SPOT &&
+        !(l.inner_cone >= 0 && l.inner_cone < l.outer_cone && l.outer_cone <= 1.5707963267948966))
+        return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                       "glb: light %u ('%.60s'): spot cones %g, %g must satisfy 0 <= inner < outer <= pi/2", i, name,
+                       l.inner_cone, l.outer_cone);
+    for (int k = 0; k < 16; k++)
+        if (!finite(l.matrix[k]))
+            return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: light %u ('%.60s'): a matrix entry is not finite",
+                           i, name);
+    return VX_OK;
+}
+
+// nlohmann's JSON as tinygltf's Value (a light's extras); false past a depth
+// of 32 (the caller's text, but still no unbounded recursion).
+bool to_value(const nlohmann::json& j, tinygltf::Value* out, int depth) {
+    if (depth > 32) return false;
+    if (j.is_object()) {
+        tinygltf::Value::Object o;
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (!to_value(it.value(), &o[it.key()], depth + 1)) return false;
+        *out = tinygltf::Value(std::move(o));
+    } else if (j.is_array()) {
+        tinygltf::Value::Array a(j.size());
+        for (size_t k = 0; k < j.size(); k++)
+            if (!to_value(j[k], &a[k], depth + 1)) return false;
+        *out = tinygltf::Value(std::move(a));
+    } else if (j.is_string()) {
+        *out = tinygltf::Value(j.get<std::string>());
+    } else if (j.is_boolean()) {
+        *out = tinygltf::Value(j.get<bool>());
+    } else if (j.is_number_integer() && j.get<double>() >= -2147483648.0 && j.get<double>() <= 2147483647.0) {
+        *out = tinygltf::Value(int(j.get<int64_t>()));
+    } else if (j.is_number()) {
+        *out = tinygltf::Value(j.get<double>());
+    } else {
+        *out = tinygltf::Value(); // null
+    }
+    return true;
 }
 
 vx_result check(const vx_glb_scene* s, vx_error* err) {
@@ -76,6 +134,11 @@ vx_result check(const vx_glb_scene* s, vx_error* err) {
     }
     if (s->material_count && !s->materials)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL materials");
+    if (s->light_count && !s->lights) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: NULL lights");
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        vx_result r = check_light(s->lights[i], i, err);
+        if (r) return r;
+    }
     for (uint32_t i = 0; i < s->node_count; i++)
         if (s->nodes[i].mesh < -1 || s->nodes[i].mesh >= (int64_t)s->mesh_count)
             return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: node %u names mesh %d of %u", i,
@@ -234,6 +297,36 @@ extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_s
             if (memcmp(n.matrix, id, sizeof id) != 0) node.matrix.assign(n.matrix, n.matrix + 16);
             m.nodes.push_back(node);
             scene.nodes.push_back(int(i));
+        }
+        static const char* const type_name[VX_GLB_LIGHT_TYPE_COUNT] = {"directional", "point", "spot"};
+        for (uint32_t i = 0; i < s->light_count; i++) {
+            const vx_glb_light& g = s->lights[i];
+            tinygltf::Light L;
+            if (g.name) L.name = g.name;
+            L.type = type_name[g.type];
+            L.color.assign(g.color, g.color + 3);
+            L.intensity = g.intensity;
+            if (g.type != VX_GLB_LIGHT_DIRECTIONAL) L.range = g.range; // tinygltf writes it when > 0
+            if (g.type == VX_GLB_LIGHT_SPOT) {
+                L.spot.innerConeAngle = g.inner_cone;
+                L.spot.outerConeAngle = g.outer_cone;
+            }
+            if (g.extras) {
+                nlohmann::json j = nlohmann::json::parse(g.extras, nullptr, false);
+                if (j.is_discarded() || !j.is_object() || !to_value(j, &L.extras, 0))
+                    return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET,
+                                   "glb: light %u ('%.60s'): extras is not a JSON object", i, g.name ? g.name : "");
+            }
+            m.lights.push_back(L); // tinygltf declares KHR_lights_punctual in extensionsUsed
+            tinygltf::Node node;
+            if (g.name) node.name = g.name;
+            static const double id[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+            if (memcmp(g.matrix, id, sizeof id) != 0) node.matrix.assign(g.matrix, g.matrix + 16);
+            tinygltf::Value::Object ext;
+            ext["light"] = tinygltf::Value(int(i));
+            node.extensions["KHR_lights_punctual"] = tinygltf::Value(ext);
+            m.nodes.push_back(node);
+            scene.nodes.push_back(int(m.nodes.size() - 1));
         }
         m.scenes.push_back(scene);
         m.defaultScene = 0;

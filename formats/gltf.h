@@ -81,23 +81,58 @@ typedef struct vx_gltf_material {
     vx_gltf_tex emissive_tex; /* emissiveTexture */
 } vx_gltf_material;
 
-/* KHR_lights_punctual types (the extension's strings). */
-enum { VX_GLTF_LIGHT_DIRECTIONAL = 0, VX_GLTF_LIGHT_POINT = 1, VX_GLTF_LIGHT_SPOT = 2 };
+/* Light types: KHR_lights_punctual's three (the extension's strings), and
+ * voxkit's sphere and rect, which only extras.voxkit_light gives (below). */
+enum {
+    VX_GLTF_LIGHT_DIRECTIONAL = 0,
+    VX_GLTF_LIGHT_POINT = 1,
+    VX_GLTF_LIGHT_SPOT = 2,
+    VX_GLTF_LIGHT_SPHERE = 3,
+    VX_GLTF_LIGHT_RECT = 4
+};
 
 /* A light placed by a node of the flattened scene (one per node that names
  * one), in world space: the node's world matrix applied to the origin and
  * to -Z, the direction the light points along (normalized). Properties are
- * the extension's, not scaled by the node (as the extension says). */
+ * the extension's, not scaled by the node (as the extension says).
+ *
+ * voxkit's record: svo_info --to-glb writes, where the punctual light is not
+ * voxkit's light (a sphere or rect, a soft-shadow radius or angular
+ * diameter, equal spot cones, a colour over 1), the exact values in the
+ * light's "extras": {"voxkit_light": {"type": T, ...}} with T one of
+ * "directional", "point", "spot" (the punctual type) or "sphere" (on a
+ * point light), "rect" (on a spot), and the members
+ *   "radiance"          sphere, rect (required): W/m^2/sr, the intensity
+ *   "radius"            sphere (required), point, spot: world units
+ *   "size": [w, h]      rect (required): edges along the node's +X (the
+ *                       tangent) and along direction x tangent
+ *   "angular_diameter"  directional: radians, below pi
+ *   "inner_cone", "outer_cone"  spot: radians, 0 <= inner <= outer <= pi/2
+ *   "color": [r, g, b]  the colour (>= 0) where a channel was over 1
+ *   "intensity"         directional, point, spot: the exact intensity
+ * Unless desc.punctual_only, the reader honours it: type, intensity,
+ * colour, cones, radius, angular_diameter, size and tangent are then the
+ * record's (voxkit = true). A member of the wrong type or out of range is
+ * VX_ERR_BAD_FORMAT naming the light; other members are ignored. A record
+ * of an unknown type, or one that does not match the punctual type (a
+ * light retyped in an editor that kept the extras), is ignored with the
+ * warning "gltf.light_extras": the punctual light stands. */
 typedef struct vx_gltf_light {
     uint32_t type;         /* VX_GLTF_LIGHT_* */
     double position[3];
-    double direction[3];   /* where it shines (directional, spot) */
+    double direction[3];   /* where it shines (directional, spot, rect: its normal) */
     double color[3];       /* linear, default 1 1 1 */
-    double intensity;      /* candela (point, spot) or lux (directional), default 1 */
-    double range;          /* 0: none */
+    double intensity;      /* candela (point, spot), lux (directional), radiance (sphere, rect); default 1 */
+    double range;          /* point, spot; 0: none */
     double inner_cone, outer_cone; /* spot, radians: 0 <= inner < outer <= pi/2 (default 0, pi/4) */
     uint32_t index, node;  /* in KHR_lights_punctual.lights, and the node */
     char name[64];         /* truncated */
+    /* voxkit's record only (0 otherwise): */
+    bool voxkit;           /* the values above come from extras.voxkit_light */
+    double radius;         /* sphere: its radius; point, spot: the source's (soft shadows) */
+    double angular_diameter; /* directional: radians */
+    double tangent[3];     /* rect: the node's +X axis (normalized), its first edge */
+    double size[2];        /* rect: the edges along tangent and direction x tangent */
 } vx_gltf_light;
 
 /* Triangle soup of one scene. Per triangle t and corner v (0..2):
@@ -160,6 +195,7 @@ typedef struct vx_gltf_read_desc {
     bool no_external;       /* refuse external files (buffers / images by URI) */
     uint64_t max_triangles; /* 0 == 2^28 */
     uint64_t max_image_pixels; /* per image, 0 == 2^26 */
+    bool punctual_only;     /* ignore extras.voxkit_light: the lights as other glTF readers see them */
 } vx_gltf_read_desc;
 
 /* Parses a .glb or .gltf held in memory. base_dir (may be NULL: no external

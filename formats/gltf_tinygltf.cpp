@@ -436,6 +436,104 @@ vx_result add_primitive(Ctx& c, const tinygltf::Primitive& p, const double* M, u
 
 bool ext_number(const tinygltf::Value& v, double* out);
 
+// n numbers of extras member `key` into out, each in [lo, hi] (hi_open: below
+// hi); false when the member is not that (an array for n > 1).
+bool extras_numbers(const tinygltf::Value& v, const char* key, int n, double lo, double hi, bool hi_open, double* out) {
+    const tinygltf::Value& x = v.Get(key);
+    if (n > 1 && (!x.IsArray() || x.ArrayLen() != (size_t)n)) return false;
+    for (int k = 0; k < n; k++) {
+        double d = 0;
+        if (!ext_number(n > 1 ? x.Get(k) : x, &d) || !(d >= lo && (hi_open ? d < hi : d <= hi))) return false;
+        out[k] = d;
+    }
+    return true;
+}
+
+// voxkit's record of the light in its extras (gltf.h: vx_gltf_light, written
+// by svo_info --to-glb), over the punctual values in *g; M the node's world
+// matrix (a rect's tangent is its +X axis).
+vx_result voxkit_light(Ctx& c, const tinygltf::Light& L, const std::string& who, const double* M, vx_gltf_light* g) {
+    if (c.desc->punctual_only || !L.extras.IsObject() || !L.extras.Has("voxkit_light")) return VX_OK;
+    const tinygltf::Value& v = L.extras.Get("voxkit_light");
+    if (!v.IsObject() || !v.Has("type") || !v.Get("type").IsString())
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: extras.voxkit_light must be an object with a type string", who.c_str());
+    static const char* const names[5] = {"directional", "point", "spot", "sphere", "rect"};
+    // the punctual type svo_info writes each as
+    static const uint32_t punctual[5] = {VX_GLTF_LIGHT_DIRECTIONAL, VX_GLTF_LIGHT_POINT, VX_GLTF_LIGHT_SPOT,
+                                         VX_GLTF_LIGHT_POINT, VX_GLTF_LIGHT_SPOT};
+    const std::string& t = v.Get("type").Get<std::string>();
+    uint32_t type = 5;
+    for (uint32_t k = 0; k < 5; k++)
+        if (t == names[k]) type = k;
+    if (type == 5 || punctual[type] != g->type) {
+        // a newer voxkit's type, or a light retyped by an editor that kept
+        // its extras: the punctual light is what the file says
+        vx_log(c.desc->logger, VX_LOG_WARN, "gltf.light_extras",
+               "%s: extras.voxkit_light of type '%.20s' does not fit a %s light: ignored", who.c_str(), t.c_str(),
+               names[g->type]);
+        return VX_OK;
+    }
+    vx_gltf_light x = *g;
+    x.type = type;
+    x.voxkit = true;
+    const double big = 1e30, half_pi = 1.5707963267948966;
+    struct member {
+        const char* key;
+        bool used, required; // by this type
+        int n;
+        double lo, hi;
+        bool hi_open;
+        double* out;
+        const char* rule;
+    };
+    bool sphere = type == VX_GLTF_LIGHT_SPHERE, rect = type == VX_GLTF_LIGHT_RECT;
+    bool area = sphere || rect;
+    double cones[2] = {g->inner_cone, g->outer_cone};
+    const member ms[] = {
+        {"radiance", area, area, 1, 0, big, false, &x.intensity, "a number >= 0"},
+        {"intensity", !area, false, 1, 0, big, false, &x.intensity, "a number >= 0"},
+        {"radius", sphere || type == VX_GLTF_LIGHT_POINT || type == VX_GLTF_LIGHT_SPOT, sphere, 1, 0, big, false,
+         &x.radius, "a number >= 0"},
+        {"size", rect, rect, 2, 0, big, false, x.size, "two numbers >= 0"},
+        {"angular_diameter", type == VX_GLTF_LIGHT_DIRECTIONAL, false, 1, 0, 3.141592653589793, true,
+         &x.angular_diameter, "a number in [0, pi)"},
+        {"inner_cone", type == VX_GLTF_LIGHT_SPOT, false, 1, 0, half_pi, false, &cones[0], "a number in [0, pi/2]"},
+        {"outer_cone", type == VX_GLTF_LIGHT_SPOT, false, 1, 0, half_pi, false, &cones[1], "a number in [0, pi/2]"},
+        {"color", true, false, 3, 0, big, false, x.color, "three numbers >= 0"},
+    };
+    for (const member& m : ms) {
+        if (!m.used) continue;
+        if (!v.Has(m.key)) {
+            if (m.required)
+                return fail(c, VX_ERR_BAD_FORMAT, "%s: extras.voxkit_light of type %s needs \"%s\"", who.c_str(),
+                            names[type], m.key);
+            continue;
+        }
+        if (!extras_numbers(v, m.key, m.n, m.lo, m.hi, m.hi_open, m.out))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: extras.voxkit_light's \"%s\" must be %s", who.c_str(), m.key, m.rule);
+    }
+    if (type == VX_GLTF_LIGHT_SPOT) {
+        if (!(cones[0] <= cones[1]))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: extras.voxkit_light's cones %g, %g must satisfy inner <= outer",
+                        who.c_str(), cones[0], cones[1]);
+        x.inner_cone = cones[0], x.outer_cone = cones[1];
+    }
+    if (area) { // the punctual light's range and cones are the approximation's
+        x.range = 0;
+        x.inner_cone = x.outer_cone = 0;
+    }
+    if (rect) {
+        double len = 0;
+        for (int k = 0; k < 3; k++) len += M[k] * M[k];
+        len = std::sqrt(len);
+        if (!(len > 0 && std::isfinite(len)))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: the node's transform leaves the rect light no tangent (+X)", who.c_str());
+        for (int k = 0; k < 3; k++) x.tangent[k] = M[k] / len;
+    }
+    *g = x;
+    return VX_OK;
+}
+
 // A KHR_lights_punctual light placed by node (world matrix M, column-major).
 vx_result add_light(Ctx& c, int node, int li, const double* M) {
     const tinygltf::Model& m = *c.m;
@@ -484,6 +582,8 @@ vx_result add_light(Ctx& c, int node, int li, const double* M) {
     if (g.type != VX_GLTF_LIGHT_POINT && !(len > 0 && std::isfinite(len)))
         return fail(c, VX_ERR_BAD_FORMAT, "%s: the node's transform leaves it no direction", who.c_str());
     for (int k = 0; k < 3; k++) g.direction[k] = len > 0 && std::isfinite(len) ? g.direction[k] / len : 0.0;
+    vx_result r = voxkit_light(c, L, who, M, &g);
+    if (r) return r;
     c.lights.push_back(g);
     return VX_OK;
 }

@@ -501,7 +501,8 @@ static PyMethodDef scene_methods[] = {
     {"to_glb", (PyCFunction)(void (*)(void))scene_to_glb, METH_VARARGS | METH_KEYWORDS,
      "to_glb(path, all=False, frame=0): writes the scene as binary glTF (as svo_info --to-glb): one\n"
      "mesh per model (greedy-meshed surface, vertex colours), one node per shown instance, turned\n"
-     "to glTF's +Y up; MATL metal, glass and emission as glTF materials. all=True: hidden\n"
+     "to glTF's +Y up; MATL metal, glass and emission as glTF materials, the lights as\n"
+     "KHR_lights_punctual (voxkit's exact record in their extras). all=True: hidden\n"
      "instances and layers too; frame=N: an animation's frame N."},
     {"to_vdb", (PyCFunction)(void (*)(void))scene_to_vdb, METH_VARARGS | METH_KEYWORDS,
      "to_vdb(path, all=False, models=False, frame=0): writes the scene as OpenVDB grids (as\n"

@@ -5,7 +5,9 @@ OUT.npz, for test_blender.py to compare with the file's contents.
   glb: bpy.ops.import_scene.gltf; per mesh object its vertices in world space
        (Blender's +Z-up world) and each vertex's colour from the imported colour
        attribute (linear RGBA), plus the object count; each material's
-       Principled BSDF inputs (metallic, roughness, transmission, emission).
+       Principled BSDF inputs (metallic, roughness, transmission, emission);
+       each light's type, world position and direction, colour, energy, spot
+       size and blend, and the voxkit_light record's type kept from extras.
   vdb: bpy.ops.object.volume_import; the grids' names, types and channel
        counts, the first grid's index-to-object matrix and the evaluated
        object's bounding box.
@@ -58,9 +60,30 @@ if kind == "glb":
         k = inp["Emission Strength"].default_value
         mats.append((m.name, inp["Metallic"].default_value, inp["Roughness"].default_value,
                      inp["Transmission"].default_value, e[0] * k, e[1] * k, e[2] * k))
+    # the lights: object name, type, world position, where it shines (the
+    # object's -Z, as glTF's), colour, energy (watts), spot size and blend,
+    # and the type of the voxkit_light record Blender keeps from the extras
+    # as a custom property ("" without)
+    lights = [o for o in bpy.context.scene.objects if o.type == "LIGHT"]
+    lpos, ldir, lval, ltype, lname, lrec = [], [], [], [], [], []
+    for o in lights:
+        m = np.array(o.matrix_world)
+        d = -m[:3, 2]
+        lpos.append(m[:3, 3])
+        ldir.append(d / np.linalg.norm(d))
+        li = o.data
+        spot = (li.spot_size, li.spot_blend) if li.type == "SPOT" else (0.0, 0.0)
+        lval.append([li.color[0], li.color[1], li.color[2], li.energy, spot[0], spot[1]])
+        ltype.append(li.type)
+        lname.append(o.name)
+        rec = li.get("voxkit_light")
+        lrec.append(str(rec.get("type", "")) if rec is not None and hasattr(rec, "get") else "")
     np.savez(out, objects=len(meshes), pos=np.concatenate(pos) if pos else np.zeros((0, 3)),
              col=np.concatenate(col) if col else np.zeros((0, 4)),
-             mat_names=np.array([m[0] for m in mats]), mat_values=np.array([m[1:] for m in mats]).reshape(-1, 6))
+             mat_names=np.array([m[0] for m in mats]), mat_values=np.array([m[1:] for m in mats]).reshape(-1, 6),
+             light_names=np.array(lname), light_types=np.array(ltype), light_records=np.array(lrec),
+             light_pos=np.array(lpos).reshape(-1, 3), light_dir=np.array(ldir).reshape(-1, 3),
+             light_values=np.array(lval).reshape(-1, 6))
 elif kind == "vdb":
     bpy.ops.object.volume_import(filepath=src)
     o = bpy.context.scene.objects[0]

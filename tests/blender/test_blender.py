@@ -7,7 +7,11 @@ and with `svo_info --dump`:
     no fewer, at its place once glTF's +Y up is turned into Blender's +Z up
     (x, y, z) -> (x, -z, y), with its colour (to the sRGB byte Blender stores);
     the corpus Duck stands upright in Blender (head above body along +Z); the
-    demo's materials (metal, glass, emission) with the file's values.
+    demo's materials (metal, glass, emission) with the file's values; the
+    lights of tests/glb/lights.gltf (through vox2svo and --to-glb) with their
+    types, places and aims (Blender's +Z-up world is voxkit's: the two turns
+    cancel, so they are the .svo's own), colours, energies (Blender 3.4's
+    conversion: W = lm / 683, 4 pi W/sr per candela) and spot cones.
   - .vdb: a volume with the grids "density" (float) and "color" (vec3), the
     .svo's world_from_grid (svo_info's "world" line) with voxel centres at cell
     centres, and a bounding box around exactly the dumped cells (to OpenVDB's
@@ -16,7 +20,9 @@ Skipped (exit 77) when Blender is not installed.
 
 Usage: python3 test_blender.py BIN_DIR CORPUS_DIR WORK_DIR BLENDER
 """
+import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -105,6 +111,88 @@ def check_materials(name, glb):
               f"(metallic, roughness, transmission, emission) is the file's {np.round(want, 4).tolist()}")
 
 
+# Blender 3.4's glTF importer (io_scene_gltf2/blender/imp/gltf2_blender_light.py,
+# lighting mode "Standard", its default): a sun's strength is lux / 683 W/m^2,
+# a point or spot light's power candela x 4 pi / 683 W
+WATTS_TO_LUMENS = 683.0
+
+
+def svo_lights(svo):
+    """{index: (type, position, where it shines)} from svo_info's light lines (voxkit's +Z up)"""
+    out = {}
+    for line in tool("svo_info", svo, "--models").decode().splitlines():
+        m = re.match(r"light (\d+) +(\w+) ", line)
+        if not m:
+            continue
+
+        def vec(key):
+            v = re.search(key + r" \(([^)]*)\)", line)
+            return np.array([float(x) for x in v.group(1).split()]) if v else None
+        kind = m.group(2)
+        aim = {"sun": lambda: -vec("towards"), "spot": lambda: vec("towards"), "rect": lambda: vec("normal")}.get(kind)
+        d = aim() if aim else None
+        out[int(m.group(1))] = (kind, vec("at") if kind != "sun" else None, d / np.linalg.norm(d) if d is not None else None)
+    return out
+
+
+def check_lights(name, svo, glb):
+    """Blender's lights against the file's KHR_lights_punctual lights (turned +Z up)
+    and the .svo's own lights: type, place, aim, colour, energy, spot cones"""
+    _, _, _, g = read_glb(glb)
+    b = blender("glb", glb)
+    if b is None:
+        return
+    lights = g["extensions"]["KHR_lights_punctual"]["lights"]
+    nodes = [n for n in g["nodes"] if "KHR_lights_punctual" in n.get("extensions", {})]
+    got = {n: k for k, n in enumerate(b["light_names"].tolist())}
+    check(len(got) == len(nodes) > 0, f"{name}.glb: {len(got)} Blender lights for {len(nodes)} light nodes")
+    mine = svo_lights(svo)
+    blender_type = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}
+    voxkit_type = {"directional": "sun", "point": "point", "spot": "spot", "sphere": "sphere", "rect": "rect"}
+    for node in nodes:
+        L = lights[node["extensions"]["KHR_lights_punctual"]["light"]]
+        k = got.get(node["name"])
+        if k is None:
+            check(False, f"{name}.glb: no Blender light '{node['name']}'")
+            continue
+        M = np.array(node.get("matrix", np.eye(4).reshape(-1))).reshape(4, 4).T  # column-major
+        zup = lambda v: np.array([v[0], -v[2], v[1]])  # noqa: E731  glTF +Y up -> Blender +Z up
+        want_pos, want_dir = zup(M[:3, 3]), zup(-M[:3, 2])
+        want_dir /= np.linalg.norm(want_dir)
+        pos, d = b["light_pos"][k], b["light_dir"][k]
+        col, energy, size, blend = b["light_values"][k][:3], b["light_values"][k][3], b["light_values"][k][4], b["light_values"][k][5]
+        t = L["type"]
+        check(b["light_types"][k] == blender_type[t], f"{name}.glb: '{node['name']}' a {t} light, Blender's {b['light_types'][k]}")
+        check(np.allclose(pos, want_pos, atol=1e-5), f"{name}.glb: '{node['name']}' at {np.round(pos, 5).tolist()} in Blender, "
+                                                     f"the file's turned +Z up {np.round(want_pos, 5).tolist()}")
+        if t != "point":
+            check(np.allclose(d, want_dir, atol=1e-5), f"{name}.glb: '{node['name']}' shines along {np.round(d, 5).tolist()}, "
+                                                       f"the file's {np.round(want_dir, 5).tolist()}")
+        check(np.allclose(col, L.get("color", [1, 1, 1]), atol=1e-6), f"{name}.glb: '{node['name']}' colour {np.round(col, 6).tolist()}")
+        I = L.get("intensity", 1.0)
+        want_e = I / WATTS_TO_LUMENS * (1 if t == "directional" else 4 * math.pi)
+        check(abs(energy - want_e) <= 1e-5 * max(1, want_e),
+              f"{name}.glb: '{node['name']}' energy {energy:.6g} W, the file's {I:g} {'lux' if t == 'directional' else 'cd'} "
+              f"as Blender converts it ({want_e:.6g})")
+        if t == "spot":
+            sp = L.get("spot", {})
+            outer, inner = sp.get("outerConeAngle", math.pi / 4), sp.get("innerConeAngle", 0.0)
+            check(abs(size - 2 * outer) < 1e-5 and abs(blend - (1 - inner / outer)) < 1e-5,
+                  f"{name}.glb: '{node['name']}' spot size {size:.6g} blend {blend:.6g} for cones {inner:g}..{outer:g}")
+        # the .svo's own light: Blender's +Z-up world is voxkit's
+        idx = int(node["name"].split()[1])
+        rec = L.get("extras", {}).get("voxkit_light", {}).get("type", "")
+        kind, p, aim = mine.get(idx, (None, None, None))
+        check(kind == voxkit_type[rec or t], f"{name}.glb: '{node['name']}' is the .svo's light {idx} ({kind})")
+        if p is not None:
+            check(np.allclose(pos, p, atol=1e-4 * (1 + np.abs(p).max())),
+                  f"{name}.glb: '{node['name']}' where the .svo puts light {idx} ({p.tolist()})")
+        if aim is not None:
+            check(np.allclose(d, aim, atol=1e-4), f"{name}.glb: '{node['name']}' aimed as the .svo's light {idx} ({np.round(aim, 5).tolist()})")
+        check(b["light_records"][k] == rec, f"{name}.glb: '{node['name']}' keeps voxkit's record '{rec}' as a custom property "
+                                           f"('{b['light_records'][k]}')")
+
+
 def check_vdb(name, svo):
     vdb = os.path.join(WORK, name + ".vdb")
     colours = b"colours" in tool("svo_info", svo, "--to-vdb", vdb)  # "wrote ... (N grids, ..., colours)"
@@ -155,6 +243,13 @@ check_glb("demo", os.path.join(WORK, "demo.glb"))
 # the demo's lamps (emission), greenhouse (glass) and statue (metal) as Blender reads them
 check_materials("demo", os.path.join(WORK, "demo.glb"))
 check_vdb("demo", demo)
+
+# lights: tests/glb/lights.gltf (directional, point, spot and voxkit's sphere and rect) through vox2svo and --to-glb
+lsvo, lglb = os.path.join(WORK, "lights.svo"), os.path.join(WORK, "lights.glb")
+tool("vox2svo", "-q", os.path.join(HERE, "..", "glb", "lights.gltf"), lsvo, "--res", "8")
+tool("svo_info", lsvo, "--to-glb", lglb, "-q")
+check_glb("lights", lglb)
+check_lights("lights", lsvo, lglb)
 
 duck = os.path.join(CORPUS, "gltf", "julian_Duck.glb")
 if os.path.exists(duck):

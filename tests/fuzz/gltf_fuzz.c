@@ -1,9 +1,11 @@
 /* tests/fuzz/gltf_fuzz.c - glTF reader (tinygltf shim) then a tiny
  * voxelization of whatever loaded: read -> voxelize -> free. External files
  * are refused so a mutated URI cannot reach the file system. A mesh with
- * materials is also converted into a scene, so that the materials' plan
- * (textures sampled per cell, their levels and ids, the MATL records:
- * convert/mesh_material.c, mesh.c) runs on every mutated factor and texture. */
+ * materials or lights is also converted into a scene, so that the
+ * materials' plan (textures sampled per cell, their levels and ids, the MATL
+ * records: convert/mesh_material.c, mesh.c) and the lights (voxkit's extras
+ * record included: add_lights) run on every mutated factor, texture and
+ * light. */
 #include <stdlib.h>
 
 #include "convert/mesh.h"
@@ -22,7 +24,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         free(xyz);
         free(rgba);
     }
-    if (m.material_count) {
+    if (m.material_count || m.light_count) {
         vx_svo_scene s;
         if (vx_conv_mesh(&(vx_conv_mesh_desc){.res = 12, .threads = 1}, &m, &s, NULL, NULL) == VX_OK)
             vx_svo_scene_free(&s);

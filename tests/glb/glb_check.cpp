@@ -9,9 +9,13 @@
 // nothing else (no interior faces): the quads' total area equals the
 // brute-force face count. Each node must carry its instance's world matrix (turned +Y up)
 // and its model's mesh; accessors must lie inside their buffer views and
-// POSITION's min/max must be the real bounds. Exit 0 when all holds.
+// POSITION's min/max must be the real bounds. After the instances' nodes, one
+// node per stored light (check_lights: KHR_lights_punctual type, place and
+// aim turned +Y up, a rotation, intensities by glb.h's rules). Exit 0 when
+// all holds.
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -237,6 +241,84 @@ static bool collect(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     return true;
 }
 
+// voxkit's +Z up to glTF's +Y up
+static void turn(const double v[3], double o[3]) { o[0] = v[0], o[1] = v[2], o[2] = -v[1]; }
+static void unit(double v[3]) {
+    double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+
+// The light nodes from node `first` on, one per stored light in order: the
+// KHR_lights_punctual light it names, its type (sphere: point, rect: spot)
+// and intensity (sphere L pi r^2, rect L A, a colour over 1 folded into it),
+// its matrix a rotation placing it at the position turned +Y up with -Z
+// where it shines (and a rect's +X along its tangent), voxkit's record in
+// extras where the punctual light is not the light.
+static void check_lights(const tinygltf::Model& g, const vx_svo_scene& s, size_t first) {
+    static const char* const type[VX_LIGHT_TYPE_COUNT] = {"directional", "point", "spot", "point", "spot"};
+    size_t n = first, j = 0;
+    for (uint32_t i = 0; i < s.light_count; i++) {
+        const vx_light& l = s.lights[i];
+        if (l.flags & VX_LIGHT_FROM_VOXELS) continue;
+        const tinygltf::Node& node = g.nodes[n++];
+        auto e = node.extensions.find("KHR_lights_punctual");
+        if (e == node.extensions.end() || !e->second.Has("light") || e->second.Get("light").GetNumberAsInt() != int(j) ||
+            j >= g.lights.size()) {
+            FAIL("node %zu: not light %zu's node", n - 1, j);
+            return;
+        }
+        const tinygltf::Light& L = g.lights[j++];
+        if (L.type != type[l.type]) FAIL("light %u: a %s, written as '%s'", i, type[l.type], L.type.c_str());
+        double big = std::max(l.color[0], std::max(l.color[1], l.color[2])), scale = big > 1 ? big : 1;
+        double want = l.intensity * scale;
+        if (l.type == VX_LIGHT_SPHERE) want *= 3.141592653589793 * l.radius * l.radius;
+        if (l.type == VX_LIGHT_RECT) want *= l.size[0] * l.size[1];
+        if (std::fabs(L.intensity - want) > 1e-12 * want) FAIL("light %u: intensity %g, expected %g", i, L.intensity, want);
+        for (int k = 0; k < 3 && L.color.size() == 3; k++)
+            if (std::fabs(L.color[size_t(k)] - l.color[k] / scale) > 1e-15) FAIL("light %u: colour %g", i, L.color[size_t(k)]);
+        bool record = l.type == VX_LIGHT_SPHERE || l.type == VX_LIGHT_RECT;
+        if (record && !(L.extras.IsObject() && L.extras.Has("voxkit_light")))
+            FAIL("light %u: no extras.voxkit_light for a %s light", i, l.type == VX_LIGHT_SPHERE ? "sphere" : "rect");
+        std::vector<double> M = node.matrix;
+        if (M.empty()) M = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        if (M.size() != 16) {
+            FAIL("light node %zu: matrix of %zu values", n - 1, M.size());
+            continue;
+        }
+        double p[3];
+        turn(l.position, p);
+        for (int a = 0; a < 3; a++)
+            if (std::fabs(M[size_t(12 + a)] - p[a]) > 1e-9 * (1 + std::fabs(p[a])))
+                FAIL("light %u: at %g %g %g, expected %g %g %g", i, M[12], M[13], M[14], p[0], p[1], p[2]);
+        for (int a = 0; a < 3; a++) // the columns: orthonormal and right-handed
+            for (int b = 0; b < 3; b++) {
+                double d = 0;
+                for (int k = 0; k < 3; k++) d += M[size_t(4 * a + k)] * M[size_t(4 * b + k)];
+                if (std::fabs(d - (a == b)) > 1e-12) FAIL("light %u: the node's matrix is no rotation", i);
+            }
+        double det = M[0] * (M[5] * M[10] - M[6] * M[9]) - M[4] * (M[1] * M[10] - M[2] * M[9]) +
+                     M[8] * (M[1] * M[6] - M[2] * M[5]);
+        if (std::fabs(det - 1) > 1e-12) FAIL("light %u: the node's rotation has determinant %g", i, det);
+        if (l.type == VX_LIGHT_POINT || l.type == VX_LIGHT_SPHERE) continue;
+        double d[3], v[3];
+        for (int k = 0; k < 3; k++) v[k] = l.type == VX_LIGHT_DIRECTIONAL ? -l.direction[k] : l.direction[k];
+        turn(v, d);
+        unit(d);
+        for (int k = 0; k < 3; k++)
+            if (std::fabs(-M[size_t(8 + k)] - d[k]) > 1e-12)
+                FAIL("light %u: shines along %g %g %g, expected %g %g %g", i, -M[8], -M[9], -M[10], d[0], d[1], d[2]);
+        if (l.type == VX_LIGHT_RECT) {
+            double t[3];
+            turn(l.tangent, t);
+            double tn = t[0] * d[0] + t[1] * d[1] + t[2] * d[2];
+            for (int k = 0; k < 3; k++) t[k] -= tn * d[k];
+            unit(t);
+            for (int k = 0; k < 3; k++)
+                if (std::fabs(M[size_t(k)] - t[k]) > 1e-12) FAIL("light %u: +X %g %g %g, not the tangent", i, M[0], M[1], M[2]);
+        }
+    }
+}
+
 static int check_files(const char* svo_path, const char* glb_path, bool all) {
     vx_svo_scene s;
     vx_error err = {};
@@ -261,7 +343,12 @@ static int check_files(const char* svo_path, const char* glb_path, bool all) {
     std::vector<uint32_t> shown;
     for (uint32_t i = 0; i < s.instance_count; i++)
         if (s.instances[i].model < s.model_count && (all || vx_svo_instance_visible(&s, i))) shown.push_back(i);
-    if (g.nodes.size() != shown.size()) FAIL("%zu nodes for %zu shown instances", g.nodes.size(), shown.size());
+    size_t lit = 0; // stored lights (those of emissive voxels are never stored)
+    for (uint32_t i = 0; i < s.light_count; i++) lit += !(s.lights[i].flags & VX_LIGHT_FROM_VOXELS);
+    if (g.nodes.size() != shown.size() + lit)
+        FAIL("%zu nodes for %zu shown instances and %zu lights", g.nodes.size(), shown.size(), lit);
+    else
+        check_lights(g, s, shown.size());
     std::map<uint32_t, int> mesh_of; // model -> mesh
     for (size_t n = 0; n < g.nodes.size() && n < shown.size(); n++) {
         const vx_svo_instance& in = s.instances[shown[n]];

@@ -2,10 +2,12 @@
 # tests/glb/test_glb.sh BIN_DIR GLB_CHECK CORPUS_DIR WORK_DIR - svo_info
 # --to-glb read back by tinygltf (glb_check): the demo scene (hidden layer:
 # default and --all), corpus .vox scenes and a voxelized glTF, each face of
-# the voxel surface covered once and no interior faces; vx_voxmesh's
-# self-test on random sets.
+# the voxel surface covered once and no interior faces; a glTF file's lights
+# through vox2svo, --to-glb (glb_check checks the light nodes) and vox2svo
+# again; vx_voxmesh's self-test on random sets.
 set -u
 BIN=$1 CHECK=$2 CORPUS=${VX_CORPUS_DIR:-$3} T=$4
+HERE=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$T"
 mkdir -p "$T"
 fails=0
@@ -25,6 +27,28 @@ run "demo (hidden kept) to glb" "$BIN/svo_info" -q "$T/demo-h.svo" --to-glb "$T/
 run "demo (hidden kept) glb" "$CHECK" "$T/demo-h.svo" "$T/demo-h.glb"
 run "demo to glb --all" "$BIN/svo_info" -q "$T/demo-h.svo" --to-glb "$T/demo-all.glb" --all
 run "demo glb --all" "$CHECK" "$T/demo-h.svo" "$T/demo-all.glb" --all
+# lights (KHR_lights_punctual, voxkit's sphere and rect records in extras):
+# tests/glb/lights.gltf -> vox2svo -> --to-glb (checked) -> vox2svo lists the same lights
+run "lights to svo" "$BIN/vox2svo" -q "$HERE/lights.gltf" "$T/lights.svo" --res 8
+run "lights to glb" "$BIN/svo_info" "$T/lights.svo" --to-glb "$T/lights.glb"
+run "lights glb" "$CHECK" "$T/lights.svo" "$T/lights.glb"
+"$BIN/svo_info" "$T/lights.svo" --to-glb "$T/lights.glb" >"$T/lights.out" 2>&1
+if grep -q "^lights       5 written (KHR_lights_punctual), 3 approximated" "$T/lights.out" &&
+  grep -q "^  light 0    sun without its angular diameter" "$T/lights.out" &&
+  grep -q "^  light 3    sphere light as a point light" "$T/lights.out" &&
+  grep -q "^  light 4    rect light as a spot" "$T/lights.out"; then
+  echo "ok   --to-glb counts 5 lights, the sun, the sphere and the rect approximated"
+else
+  echo "FAIL --to-glb's light lines"; cat "$T/lights.out"; fails=$((fails + 1))
+fi
+run "lights glb to svo" "$BIN/vox2svo" -q "$T/lights.glb" "$T/lights2.svo" --res 8
+"$BIN/svo_info" "$T/lights.svo" | grep '^light ' >"$T/lights1.txt"
+"$BIN/svo_info" "$T/lights2.svo" | grep '^light ' >"$T/lights2.txt"
+if [ "$(wc -l <"$T/lights1.txt")" = 5 ] && cmp -s "$T/lights1.txt" "$T/lights2.txt"; then
+  echo "ok   glTF -> svo -> glb -> svo: the same 5 lights"
+else
+  echo "FAIL the lights did not come back"; diff "$T/lights1.txt" "$T/lights2.txt"; fails=$((fails + 1))
+fi
 # the checker fails a .glb that does not match (hidden instance missing)
 if "$CHECK" "$T/demo-h.svo" "$T/demo-h.glb" --all >/dev/null 2>&1; then
   echo "FAIL glb_check accepts a .glb without the hidden instance"; fails=$((fails + 1))

@@ -19,7 +19,6 @@
 
 #include "convert/convert.h"
 #include "convert/export.h"
-#include "convert/export_internal.h" /* the cells of the model read back */
 #include "convert/mesh.h"
 #include "formats/gltf.h"
 #include "formats/vox.h"
@@ -27,6 +26,27 @@
 #include "tests/test.h"
 
 enum { BLOCKS = 6 };
+
+/* A model's cells and their attribute records (vx_svo_decode_model). */
+typedef struct cell_list {
+    uint32_t* xyz;
+    uint32_t* attr;
+    size_t n, cap;
+} cell_list;
+static bool add_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    cell_list* c = user;
+    if (c->n == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 256;
+        uint32_t* xyz = realloc(c->xyz, 3 * cap * sizeof *xyz);
+        if (xyz) c->xyz = xyz;
+        uint32_t* at = realloc(c->attr, cap * sizeof *at);
+        if (at) c->attr = at;
+        if (!xyz || !at) return false; /* the decode stops with an error */
+        c->cap = cap;
+    }
+    c->xyz[3 * c->n] = x, c->xyz[3 * c->n + 1] = y, c->xyz[3 * c->n + 2] = z, c->attr[c->n++] = attr;
+    return true;
+}
 
 /* palette index b + 1 per block b; R in the low byte */
 static const uint32_t colour[BLOCKS] = {0xFF808080u, 0xFF808080u, 0xFF808080u,
@@ -231,8 +251,8 @@ static void test_materials_round_trip(void) {
     uint64_t cells = 0;
     size_t wrong = 0;
     for (uint32_t m = 0; m < back.model_count; m++) {
-        vx__export_cells c = {0};
-        REQUIRE(vx__export_cells_decode(NULL, &back, m, &c, &err) == VX_OK);
+        cell_list c = {0};
+        REQUIRE(vx_svo_decode_model(&back.models[m], add_cell, &c, &err) == VX_OK);
         cells += c.n;
         uint32_t lo = UINT32_MAX;
         for (size_t i = 0; i < c.n; i++) lo = c.xyz[3 * i] < lo ? c.xyz[3 * i] : lo;
@@ -250,7 +270,7 @@ static void test_materials_round_trip(void) {
                 fprintf(stderr, "  cell %u %u %u (block %d): type %d, expected %d\n", c.xyz[3 * i], c.xyz[3 * i + 1],
                         c.xyz[3 * i + 2], b, (int)got.type, (int)want.type);
         }
-        vx__export_cells_free(&c);
+        free(c.xyz), free(c.attr);
     }
     CHECKF(cells == 4 * 2 * BLOCKS, "%llu cells back", (unsigned long long)cells);
     CHECKF(wrong == 0, "%zu cells with another block's material", wrong);

@@ -1,7 +1,8 @@
 #!/bin/sh
 # ctest test_gltf_validator: svo_info --to-glb output checked by the Khronos
 # glTF validator (the npm package gltf-validator, run by gltf_validate.js):
-# no errors, warnings or infos (an unused mesh was one). Skipped (exit 77) when node or the package is
+# no errors, warnings or infos (an unused mesh was one); an export with
+# lights among them. Skipped (exit 77) when node or the package is
 # absent; the package is found through NODE_PATH, VX_NODE_PATH (CMake) or
 # npm's global root:  npm install --prefix DIR gltf-validator, then
 # NODE_PATH=DIR/node_modules ctest -R gltf_validator  (nothing is vendored).
@@ -24,7 +25,10 @@ cd "$WORK"
 "$BIN/vox2svo" -q demo.vox demo.svo --keep-hidden
 "$BIN/svo_info" -q demo.svo --to-glb demo.glb
 "$BIN/svo_info" -q demo.svo --to-glb demo-all.glb --all
-set -- demo.glb demo-all.glb
+# lights: tests/glb/lights.gltf's five (KHR_lights_punctual, voxkit's records in extras)
+"$BIN/vox2svo" -q "$HERE/lights.gltf" lights.svo --res 8
+"$BIN/svo_info" -q lights.svo --to-glb lights.glb
+set -- demo.glb demo-all.glb lights.glb
 for spec in vox/ogt_test_multiple_model_scene.vox: gltf/julian_Duck.glb:--res=64 vdb/mjurczyk_sphere.vdb:; do
   rel=${spec%%:*} opt=$(echo "${spec#*:}" | tr = ' ')
   if [ ! -f "$CORPUS/$rel" ]; then echo "skip: $CORPUS/$rel not found"; continue; fi

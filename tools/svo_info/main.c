@@ -53,7 +53,9 @@ _Noreturn static void usage(int status) {
             "                     voxel surface, vertex colours), one node per instance; turned from\n"
             "                     voxkit's +Z up to glTF's +Y up; MATL metal, glass and emission become\n"
             "                     glTF materials (an emission without _emit_color: the mean colour of\n"
-            "                     its cells x strength)\n"
+            "                     its cells x strength); the lights become KHR_lights_punctual lights\n"
+            "                     (sphere: a point, rect: a spot; voxkit's exact record in their extras,\n"
+            "                     which vox2svo reads back); the sky is not exported\n"
             "    --to-vdb OUT     write the scene as OpenVDB grids: by default the flattened scene (the\n"
             "                     --dump cells) as a fog volume 'density' and a vec3 grid 'color' (linear\n"
             "                     RGB), index space = grid cells, transform = world_from_grid (+Z up,\n"
@@ -273,6 +275,20 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
     if (shown < s->light_count) printf("  ... %u more lights (--models lists all)\n", s->light_count - shown);
 }
 
+/* --to-glb's lights: how many, and which other glTF readers see only
+ * approximately (voxkit reads its extras back exactly). */
+static void print_glb_lights(const options* o, const vx_svo_scene* s, const vx_conv_glb_stats* gs) {
+    printf("lights       %u written (KHR_lights_punctual), %u approximated for other glTF readers%s\n", gs->lights,
+           gs->lights_approximated, gs->lights_approximated ? " (exact in extras.voxkit_light)" : "");
+    uint32_t shown = 0, limit = o->models ? UINT32_MAX : 16;
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        const char* why = (s->lights[i].flags & VX_LIGHT_FROM_VOXELS) ? NULL : vx_conv_glb_light_approx(&s->lights[i]);
+        if (!why || shown++ >= limit) continue;
+        printf("  light %-4u %s\n", i, why);
+    }
+    if (shown > limit) printf("  ... %u more approximated lights (--models lists all)\n", shown - limit);
+}
+
 typedef struct dump_ctx {
     const vx_svo_scene* s;
     const vx_svo_model* m;
@@ -380,9 +396,11 @@ int main(int argc, char** argv) {
         r = vx_conv_svo_to_glb_file(&xd, &view, o.to_glb, &gs, &err);
         if (r == VX_ERR_UNSUPPORTED) status = vx_tool_errorf("%s", err.msg);
         else if (r != VX_OK) status = vx_tool_error(o.to_glb, &err);
-        else if (!o.quiet && !o.dump)
+        else if (!o.quiet && !o.dump) {
             printf("wrote        %s (%u meshes, %u nodes, %s quads for %s exposed voxel faces, meshed in %.3f s)\n",
                    o.to_glb, gs.meshes, gs.nodes, vx_tool_num(gs.quads), vx_tool_num(gs.faces), gs.seconds_mesh);
+            if (gs.lights) print_glb_lights(&o, &view, &gs);
+        }
     }
     if (status == 0 && o.to_vdb) {
         vx_conv_vdb_stats vs;
