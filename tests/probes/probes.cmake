@@ -36,8 +36,8 @@ if(VX_WITH_VULKAN)
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # opaque voxels against glass (a slab standing on a floor), seen through it: the passes, the CPU and the
   # GPU path tracers against the closed forms (emission; the sky through the glass)
-  vx_add_test(test_glass_contact SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_contact.c LIBS vx_probes vx_render vx_svo
-              ${CMAKE_DL_LIBS} LABELS probes)
+  vx_add_test(test_glass_contact SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_contact.c LIBS vx_photons vx_probes
+              vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_contact PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT

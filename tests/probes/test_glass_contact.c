@@ -30,6 +30,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "photons/photons.h"
 #include "probes/probes.h"
 #include "render/pipeline.h"
 #include "tests/probes/closed_form.h"
@@ -254,6 +255,70 @@ static void test_floor_lit_through_glass(void) {
     vx_svo_scene_free(&s);
 }
 
+/* Photons from the point light through the slab onto the floor under it:
+ * the caustic power stored on the square [X0 + 4, X1 - 4)^2 of the floor's
+ * top against I x sum over the light's directions (a fine grid over the
+ * slab's top, each direction's solid angle) that refract into the square of
+ * tint x (1 - F_in) x the light's range window. */
+static void test_photons_through_glass(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene s;
+    contact_scene(&s, false);
+    double black[3] = {0, 0, 0};
+    vx_probe_set light = light_only(0, black, 1);
+    vx_light L = point_light();
+    vx_photon_desc d = {.photons = 200000, .bounces = 1, .capacity = 2000000, .lights = &L, .light_count = 1};
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_photon_gi* pg = NULL;
+    vx_gi_method gm;
+    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+    REQUIRE(vx_photon_gi_create(rs, &s, &light, &d, &gm, &pg, &err) == VX_OK);
+    vx_render_desc base = {.width = 4, .height = 4};
+    vx_render_image im = {0};
+    REQUIRE(vx_photon_render(pg, &base, 1, false, &im, &err) == VX_OK);
+    vx_photon_record* ph = NULL;
+    size_t n = 0;
+    REQUIRE(vx_photon_stored(pg, &ph, &n, &err) == VX_OK);
+    double lo = X0 + 4, hi = X1 - 4, got[3] = {0, 0, 0};
+    size_t under = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double* p = ph[i].position;
+        if (!(ph[i].flags & VX_PHOTON_CAUSTIC) || fabs(p[2] - 1) > 0.01 || p[0] < lo || p[0] >= hi || p[1] < lo ||
+            p[1] >= hi)
+            continue;
+        for (int k = 0; k < 3; k++) got[k] += ph[i].power[k];
+        under++;
+    }
+    /* the closed form: rays from the light to points of the top (z = 1 + T) on a fine grid */
+    const double* e = L.position;
+    double want = 0, top = 1 + (double)T, step = 1.0 / 64;
+    for (double y = X0; y < X1; y += step)
+        for (double x = X0; x < X1; x += step) {
+            double a[3] = {x + step / 2, y + step / 2, top}, v[3] = {a[0] - e[0], a[1] - e[1], a[2] - e[2]};
+            double d2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], dist = sqrt(d2), dv[3] = {v[0] / dist, v[1] / dist, v[2] / dist};
+            double c = -dv[2], ei = 1 / IOR, k2 = 1 - ei * ei * (1 - c * c), di[3];
+            for (int k = 0; k < 3; k++) di[k] = ei * dv[k] + (ei * c - sqrt(k2)) * (k == 2 ? 1 : 0);
+            double t1 = (1 - top) / di[2], q[2] = {a[0] + t1 * di[0], a[1] + t1 * di[1]};
+            if (q[0] < lo || q[0] >= hi || q[1] < lo || q[1] >= hi) continue;
+            double qq = (dist / L.range) * (dist / L.range), win = (1 - qq * qq) * (1 - qq * qq);
+            want += L.intensity * (1 - cf_fresnel(c, IOR)) * win * c / d2 * step * step; /* dOmega = cos dA / d^2 */
+        }
+    fprintf(stderr, "  %zu caustic photons on the floor under the glass of %zu stored: power", under, n);
+    for (int k = 0; k < 3; k++) {
+        double tint = ((TINT_RGBA >> (8 * k)) & 255) / 255.0;
+        fprintf(stderr, " %.4g (%.4g)", got[k], want * tint);
+        CHECKF(fabs(got[k] / (want * tint) - 1) < 0.03, "channel %d: %.5g against %.5g", k, got[k], want * tint);
+    }
+    fprintf(stderr, "\n");
+    CHECK(under > 5000);
+    vx_free(NULL, ph);
+    vx_render_image_free(&im);
+    vx_photon_gi_destroy(pg);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model, (void)room_scene, (void)box_scene, (void)cells_scene;
     dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE); /* see test_probes_gpu.c */
@@ -264,6 +329,7 @@ int main(void) {
     }
     RUN(test_emissive_floor_under_glass);
     RUN(test_floor_lit_through_glass);
+    RUN(test_photons_through_glass);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
