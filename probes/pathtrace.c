@@ -253,9 +253,12 @@ static bool dielectric(const double n[3], const double wo_w[3], double eta, doub
  * which knows no collapsed leaves: path_common.glsl). WALK_ABSORBED: the walk
  * limit (render/trace.h vx__glass_walk_steps). WALK_OUT: o/d the ray that
  * left. WALK_STOP: the walk met an opaque voxel across a face of the glass
- * (a glass block on a floor, a voxel set in glass): *stop is that voxel's
- * surface, seen from inside the glass, and the glass cell the walk was in,
- * where a bounce off the surface walks on (vx__path). */
+ * (a glass block on a floor, a voxel set in glass) or, in a scene of several
+ * instances, another instance's voxel inside the glass box (a model placed
+ * overlapping a glass one; found by a cast that passes over the glass
+ * instance, which a ray from inside it would meet at once): *stop is that
+ * voxel's surface, seen from inside the glass, and the glass cell the walk
+ * was in, where a bounce off the surface walks on (vx__path). */
 enum { WALK_ABSORBED, WALK_OUT, WALK_STOP };
 typedef struct glass_stop {
     vx_render_ray_hit h;  /* the opaque voxel: normal facing into the glass, t = 0 at p */
@@ -293,6 +296,20 @@ static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3],
         }
         if (ax < 0 || !isfinite(te)) return WALK_ABSORBED;
         te = fmax(te, t);
+        if (S->instance_count > 1 && te > t) {
+            double a[3] = {p[0] + d[0] * t, p[1] + d[1] * t, p[2] + d[2] * t};
+            vx_render_ray_hit g;
+            if (vx_render_cast_skip(L->caster, a, d, te - t, false, inst, &g)) {
+                const vx_material* gm = vx__light_material(L, g.material);
+                if (!(gm->type == VX_MATERIAL_GLASS && gm->transmission > 0)) {
+                    stop->h = g;
+                    for (int k = 0; k < 3; k++) stop->p[k] = a[k] + d[k] * g.t;
+                    stop->h.t = 0;
+                    stop->inst = inst, stop->cell[0] = c[0], stop->cell[1] = c[1], stop->cell[2] = c[2];
+                    return WALK_STOP;
+                }
+            }
+        }
         double q[3], nf[3], eps = 1e-4 * csize;
         for (int k = 0; k < 3; k++) q[k] = p[k] + d[k] * te, nf[k] = (dm[ax] > 0 ? 1 : -1) * M[4 * ax + k];
         norm3(nf);

@@ -233,11 +233,13 @@ typedef struct cscene {
     uint32_t n;
 } cscene;
 
+/* skip: a scene instance index passed over (UINT32_MAX: none; vx_render_cast_skip) */
 static bool trace_scene(const cscene* cs, const double o[3], const double d[3], bool any, chit* best, uint32_t* which,
-                        uint32_t* steps) {
+                        uint32_t* steps, uint32_t skip) {
     bool found = false;
     for (uint32_t i = 0; i < cs->n; i++) {
         const vx__inst_map* in = &cs->inst[i];
+        if (in->id == skip) continue;
         double om[3], dm[3];
         vx__inst_ray(in, o, d, om, dm);
         chit h = *best;
@@ -331,7 +333,7 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
                 double t_off = vx__frame_ray(&f, u, v, P, o, d);
                 chit h = {.t = INFINITY};
                 uint32_t which = 0, steps = 0;
-                bool hit = trace_scene(&cs, o, d, false, &h, &which, &steps);
+                bool hit = trace_scene(&cs, o, d, false, &h, &which, &steps, UINT32_MAX);
                 double c[4] = {0};
                 double nw[3] = {0};
                 const vx__inst_map* in = hit ? &cs.inst[which] : NULL;
@@ -359,7 +361,7 @@ vx_result vx_render_cpu(const vx_svo_scene* s, const vx_render_desc* desc, const
                                 for (int k = 0; k < 3; k++) ps[k] = o[k] + d[k] * h.t + nw[k] * eps;
                                 chit sh = {.t = INFINITY};
                                 uint32_t sw, ss = 0;
-                                vis = trace_scene(&cs, ps, f.light, true, &sh, &sw, &ss) ? 0 : 1;
+                                vis = trace_scene(&cs, ps, f.light, true, &sh, &sw, &ss, UINT32_MAX) ? 0 : 1;
                             }
                             shade = f.ambient + (1 - f.ambient) * ndl * vis;
                         }
@@ -448,9 +450,14 @@ static bool cell_solid(const cmodel* c, const int64_t cell[3], int a, double ns)
 
 bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
                     vx_render_ray_hit* hit) {
+    return vx_render_cast_skip(c, o, d, tmax, any, VX_RENDER_NO_HIT, hit);
+}
+
+bool vx_render_cast_skip(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
+                         uint32_t skip_instance, vx_render_ray_hit* hit) {
     chit h = {.t = tmax};
     uint32_t which = 0, steps = 0;
-    if (!trace_scene(&c->cs, o, d, any, &h, &which, &steps)) return false;
+    if (!trace_scene(&c->cs, o, d, any, &h, &which, &steps, skip_instance)) return false;
     if (!hit) return true;
     const vx__inst_map* in = &c->cs.inst[which];
     const vx_svo_scene* s = c->cs.s;

@@ -691,6 +691,12 @@ void vx_render_caster_destroy(vx_render_caster* c);
  * then, but hit may be NULL). */
 bool vx_render_cast(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
                     vx_render_ray_hit* hit);
+/* The same with the scene's instance skip_instance passed over
+ * (VX_RENDER_NO_HIT: none): what lies inside that instance's voxels from a
+ * point within one (the path tracer's walk through glass looks for another
+ * instance's voxels inside the glass this way). */
+bool vx_render_cast_skip(const vx_render_caster* c, const double o[3], const double d[3], double tmax, bool any,
+                         uint32_t skip_instance, vx_render_ray_hit* hit);
 
 /* Checks a frame desc (sizes, mode, camera finite); no GPU needed. */
 vx_result vx_render_desc_validate(const vx_render_desc* desc, vx_error* err);

@@ -273,9 +273,11 @@ void trace_photons() {
         bool stopped = false; // h: an opaque voxel's face met from inside glass (WALK_STOP), at o
         if (in_glass) {
             vec3 p = o;
-            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, phi, o, h);
+            uint w_inst;
+            uvec3 w_cell;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, phi, o, h, w_inst, w_cell);
             stopped = wr == WALK_STOP;
-            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
             in_glass = false;
             events++;
             if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) {
@@ -592,10 +594,12 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
             stopped = false;
             if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
                 vec3 p = o;
-                uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+                uint w_inst;
+                uvec3 w_cell;
+                uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h, w_inst, w_cell);
                 in_glass = false;
                 stopped = wr == WALK_STOP;
-            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
                 if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) break;
             } else if (!cast_ray(o, d, BIG, h)) {
                 break;
@@ -681,10 +685,12 @@ void gather_pixel() {
         stopped = false;
         if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
             vec3 p = o;
-            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+            uint w_inst;
+            uvec3 w_cell;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h, w_inst, w_cell);
             in_glass = false;
             stopped = wr == WALK_STOP;
-            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
             if (wr == WALK_ABSORBED) break;
         }
         if (!stopped && !cast_ray(o, d, BIG, h)) {

@@ -249,9 +249,10 @@ uint model_cell_attr(uint mi, uvec3 c) {
 // Inside a glass voxel (cell of instance inst) at p along d: to the face where the glass ends
 // (probes/pathtrace.c glass_walk). WALK_ABSORBED: glass_walk_steps of the model where it starts.
 // WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel across a face of the glass (a glass
-// block on a floor, a voxel set in glass): o the point on that face, sh the face seen from inside the
-// glass (t 0, the voxel's colour and record; inst, cell, axis and sign the glass cell's it was met from,
-// where a bounce off it walks on). Each step leaves the box of the octree leaf that holds the current cell
+// block on a floor, a voxel set in glass) or, where the scene has several instances, another instance's
+// voxel inside the glass box (a model placed overlapping a glass one): o the point on its face, sh that
+// face seen from inside the glass (t 0, the voxel's colour and record, the instance and axis that give
+// its normal), gi and gc the glass cell it was met from, where a bounce off it walks on. Each step leaves the box of the octree leaf that holds the current cell
 // (a uniform glass block at once, cell_leaf.glsl; else the cell), its exit measured along the straight
 // stretch from its start p (t: how far the walk is along it), so the exit from the glass does not depend
 // on the boxes taken on the way: the compact layout, which walks cell by cell, gives the same bits. The
@@ -266,7 +267,7 @@ bool glass_cell_leaf(uint mi, uvec3 c, out uint level) { return is_glass(model_c
 #endif
 const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
 uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d,
-                PT_PREC inout vec3 thr, PT_PREC out vec3 o, out Hit sh) {
+                PT_PREC inout vec3 thr, PT_PREC out vec3 o, out Hit sh, out uint gi, out uvec3 gc) {
     uvec3 c = cell;
     uint lv;
     if (!GLASS_CELL(insts[inst].model, c, lv)) lv = 0u;
@@ -289,6 +290,27 @@ uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
+        if (USE_BVH && te > t) {
+            // another instance's voxel inside the box: the glass's own model says nothing of it, and a ray
+            // from inside the glass meets the glass at once, so the glass instance is passed over
+            Hit g;
+            g.t = te - t;
+            g.inst = NO_HIT;
+            g.color = 0xFFFFFFFFu;
+            g.attr = NO_HIT;
+            g_iter = 0u;
+            g_skip_inst = inst;
+            bool met = trace_scene(p + d * t, d, 0.0, false, g);
+            g_skip_inst = NO_HIT;
+            if (met && !is_glass(g.attr)) {
+                sh = g;
+                o = p + d * (t + g.t);
+                sh.t = 0.0;
+                gi = inst;
+                gc = c;
+                return WALK_STOP;
+            }
+        }
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         PT_PREC vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0);
         PT_PREC vec3 q = p + d * te;
@@ -309,11 +331,12 @@ uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
             if (!is_glass(g.attr)) { // an opaque voxel against the glass: its face, lit only through the glass
                 sh = g;
                 sh.t = 0.0;
-                sh.inst = inst;
-                sh.cell = c;
+                sh.inst = inst; // the face is the glass cell's: its normal from the glass instance's axes
                 sh.axis = ax;
                 sh.nsign = dm[ax] > 0.0 ? -1.0 : 1.0;
                 o = q;
+                gi = inst;
+                gc = c;
                 return WALK_STOP;
             }
             inst = g.inst;

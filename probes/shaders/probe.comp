@@ -325,13 +325,15 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         bool hit, stopped = false; // stopped: h is an opaque voxel's face met from inside glass, at o
         if (in_glass) {
             PT_PREC vec3 p = o;
-            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h);
+            uint w_inst;
+            uvec3 w_cell;
+            uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h, w_inst, w_cell);
             // no light is sampled inside glass (a shadow ray starting in a glass voxel meets it), so what
             // the path finds after a walk counts whole, as after a delta event
             prev_pdf = 0.0;
             if (wr == WALK_ABSORBED) break;
             stopped = wr == WALK_STOP;
-            if (stopped) g_inst = h.inst, g_cell = h.cell; // where a bounce off the voxel walks on
+            if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
             in_glass = false;
             hit = stopped || cast_ray(o, d, BIG, h);
         } else {

@@ -447,9 +447,10 @@ vec3 glass_refract(vec3 wo, vec3 n, float eta) {
 // 0.16% for a slab of ior 1.5 seen head on). WALK_ABSORBED: glass_walk_steps
 // steps. WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel
 // across a face of the glass (a glass block on a floor, a voxel set in
-// glass; the path tracer's walk stops there too): o the point on that face,
-// s1 its G-buffer-like record (the voxel's colour and record, the glass
-// instance's axis and sign, the normal facing into the glass).
+// glass; the path tracer's walk stops there too), or with several instances
+// another instance's voxel inside the glass box: o the point on its face,
+// s1 its G-buffer-like record (the voxel's colour and record, the instance
+// and axis whose normal faces into the glass).
 const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
 uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o, out uvec4 s1) {
     uvec3 c = glass_cell(inst, p);
@@ -477,6 +478,25 @@ uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
+        if (USE_BVH && te > t) {
+            // another instance's voxel inside the box (path_common.glsl glass_walk): the glass instance
+            // passed over, as a ray from inside the glass meets it at once
+            Hit g;
+            g.t = te - t;
+            g.inst = NO_HIT;
+            g.color = 0xFFFFFFFFu;
+            g.attr = NO_HIT;
+            g_iter = 0u;
+            g_skip_inst = inst;
+            bool met = trace_scene(p + d * t, d, 0.0, false, g);
+            g_skip_inst = NO_HIT;
+            vec4 gm;
+            if (met && !glass_of(g.attr, gm)) {
+                o = p + d * (t + g.t);
+                s1 = uvec4(g.color, g.inst, uint(g.axis) | (g.nsign < 0.0 ? 4u : 0u), g.attr);
+                return WALK_STOP;
+            }
+        }
         vec4 row = ax == 0 ? I.r0 : (ax == 1 ? I.r1 : I.r2);
         vec3 nf = normalize(row.xyz) * (dm[ax] > 0.0 ? 1.0 : -1.0); // the exit face's outward normal
         vec3 q = p + d * te;

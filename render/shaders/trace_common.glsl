@@ -218,6 +218,12 @@ struct Hit {
 };
 
 uint g_iter = 0u;
+// An instance slot trace_scene passes over (NO_HIT: none): the glass walks'
+// look for other instances' voxels inside a glass box (probes/shaders/
+// path_common.glsl glass_walk, pass_bodies.glsl glass_pass_walk), where a ray
+// from inside the glass would meet the glass itself at once. Kernels that
+// never set it test a constant.
+uint g_skip_inst = NO_HIT;
 #ifdef TRACE_PATH
 // The start below the root (F.paths) the next model walk may take: a
 // primary ray's (trace.comp), 0xFFFF none
@@ -1393,7 +1399,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
         if (done) break;
         uint it = items[first + k];
         k++;
-        if (trace_instance(it, o, d, t0, any_hit, h)) {
+        if (it != g_skip_inst && trace_instance(it, o, d, t0, any_hit, h)) {
             found = true;
             if (any_hit) return true;
         }
@@ -1405,7 +1411,7 @@ bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
         BVH_NEXT_LEAF
         if (done) break;
         for (uint k = 0u; k < count; k++) {
-            if (trace_instance(items[first + k], o, d, t0, any_hit, h)) {
+            if (items[first + k] != g_skip_inst && trace_instance(items[first + k], o, d, t0, any_hit, h)) {
                 found = true;
                 if (any_hit) return true;
             }

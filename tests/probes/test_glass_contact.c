@@ -22,7 +22,18 @@
  *    back down, or meets the rim, and needs a second bounce), so the pixel
  *    sees F_in L (the sky in the top face) + tint x (1 - F_in) x albedo / pi
  *    x E. Both path tracers by their means (the passes do not follow light
- *    into glass: not checked).
+ *    into glass: not checked);
+ *  - a model placed overlapping a glass one (MagicaVoxel's water model over
+ *    a riverbed): an emissive block of its own instance inside a thick
+ *    uniform glass body, where the walks step over whole leaves of glass,
+ *    must render as the same block set into the glass model itself (one
+ *    model): the passes per pixel, both path tracers by their means (before:
+ *    the block was not seen);
+ *  - photons from the point light above (photon mapping): those that enter
+ *    the slab's top and land on the floor under it are stored there as
+ *    caustic photons, their power over a square of the floor the closed form
+ *    I x the integral over the directions of the light's rays that land in
+ *    it of tint x (1 - F_in) (before: none stored there).
  * Skips without a Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
@@ -255,6 +266,88 @@ static void test_floor_lit_through_glass(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The overlap scenes: a floor (palette 1) at z = 0 and a glass body
+ * (palette 2) x, y in [8, 40), z in [8, 24), whose 8^3 leaves are uniform;
+ * an emissive block (palette 4) at [18, 22) x [18, 22) x [17, 20), inside
+ * the leaf [16, 24)^3: its own model and instance over the glass (overlap),
+ * or the glass model's own cells there (the twin). */
+static void overlap_scene(vx_svo_scene* s, bool twin) {
+    size_t cap = (size_t)S * S + 32 * 32 * 16 + 64, n = 0, nb = 0;
+    uint32_t *xyz = malloc(cap * 12), bxyz[48 * 3];
+    uint8_t *pal = malloc(cap), bpal[48];
+    REQUIRE(xyz && pal);
+    for (uint32_t y = 0; y < S; y++)
+        for (uint32_t x = 0; x < S; x++) xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = 0, pal[n++] = 1;
+    for (uint32_t z = 8; z < 24; z++)
+        for (uint32_t y = 8; y < 40; y++)
+            for (uint32_t x = 8; x < 40; x++) {
+                bool block = x >= 18 && x < 22 && y >= 18 && y < 22 && z >= 17 && z < 20;
+                xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z, pal[n++] = block && twin ? 4 : 2;
+                if (block) bxyz[3 * nb] = x - 18, bxyz[3 * nb + 1] = y - 18, bxyz[3 * nb + 2] = z - 17, bpal[nb++] = 4;
+            }
+    vx_svo_model m[2];
+    uint32_t size[3] = {S, S, 24}, bsize[3] = {4, 4, 3};
+    REQUIRE(ts_model(&m[0], size, xyz, pal, n) == VX_OK);
+    if (!twin) REQUIRE(ts_model(&m[1], bsize, bxyz, bpal, nb) == VX_OK);
+    free(xyz), free(pal);
+    vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, 18, 18, 17)};
+    ts_scene(s, m, twin ? 1 : 2, in, twin ? 1 : 2);
+    s->palette[1] = FLOOR_RGBA, s->palette[2] = TINT_RGBA, s->palette[4] = 0xFF2040F0u;
+    const char* glass[] = {"_type", "_glass", "_trans", "1", "_ior", "0.5", "_rough", "0"};
+    const char* emit[] = {"_type", "_emit", "_emit", "3"};
+    add_material(s, 2, glass, 4);
+    add_material(s, 4, emit, 2);
+}
+
+/* A model overlapping the glass renders as the same voxels set into the
+ * glass model. */
+static void test_overlapping_instance(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    vx_svo_scene ov, tw;
+    overlap_scene(&ov, false);
+    overlap_scene(&tw, true);
+    fprintf(stderr, "  glass model: %u octree nodes for %llu cells\n", ov.models[0].node_count,
+            (unsigned long long)ov.models[0].voxel_count);
+    vx_render_image im[2] = {{0}}, cpu[2] = {{0}}, gpt[2] = {{0}};
+    const vx_svo_scene* sc[2] = {&ov, &tw};
+    for (int i = 0; i < 2; i++) {
+        REQUIRE(frame(sc[i], &im[i]));
+        REQUIRE(pathtrace(sc[i], NULL, 64, 0, 0, true, &cpu[i]));
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        REQUIRE(vx_render_scene_create(gpu, sc[i], &rs, &err) == VX_OK);
+        REQUIRE(pathtrace(sc[i], rs, 64, 0, 0, true, &gpt[i]));
+        vx_render_scene_destroy(rs);
+    }
+    /* the pixels that see the block (bright red in the twin's passes: palette 4 is R 0xF0), and every pixel */
+    double worst = 0, sum[3][2] = {{0}};
+    size_t block = 0;
+    for (size_t p = 0; p < (size_t)W * H; p++) {
+        const float* a = im[0].pixels + 4 * p;
+        const float* b = im[1].pixels + 4 * p;
+        bool sees = b[0] > 1.0f;
+        block += sees;
+        for (int k = 0; k < 3; k++) {
+            worst = fmax(worst, fabs(a[k] - b[k]) / fmax(fabs(b[k]), 1e-3));
+            if (!sees) continue;
+            sum[0][0] += cpu[0].pixels[4 * p + k], sum[0][1] += cpu[1].pixels[4 * p + k];
+            sum[1][0] += gpt[0].pixels[4 * p + k], sum[1][1] += gpt[1].pixels[4 * p + k];
+            sum[2][0] += a[k], sum[2][1] += b[k];
+        }
+    }
+    fprintf(stderr, "  %zu pixels see the block: passes' worst relative difference to the twin %.2e (their block "
+            "pixels' sum %.4g and %.4g); path tracers overlap / twin: CPU %.4f, GPU %.4f\n", block, worst, sum[2][0],
+            sum[2][1], sum[0][0] / sum[0][1], sum[1][0] / sum[1][1]);
+    CHECK(block >= 9);
+    CHECKF(worst < 1e-3, "passes: worst relative difference %.2e", worst);
+    CHECKF(fabs(sum[0][0] / sum[0][1] - 1) < 0.03, "CPU path tracer: %.4f", sum[0][0] / sum[0][1]);
+    CHECKF(fabs(sum[1][0] / sum[1][1] - 1) < 0.03, "GPU path tracer: %.4f", sum[1][0] / sum[1][1]);
+    for (int i = 0; i < 2; i++)
+        vx_render_image_free(&im[i]), vx_render_image_free(&cpu[i]), vx_render_image_free(&gpt[i]);
+    vx_svo_scene_free(&ov);
+    vx_svo_scene_free(&tw);
+}
+
 /* Photons from the point light through the slab onto the floor under it:
  * the caustic power stored on the square [X0 + 4, X1 - 4)^2 of the floor's
  * top against I x sum over the light's directions (a fine grid over the
@@ -329,6 +422,7 @@ int main(void) {
     }
     RUN(test_emissive_floor_under_glass);
     RUN(test_floor_lit_through_glass);
+    RUN(test_overlapping_instance);
     RUN(test_photons_through_glass);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
