@@ -289,7 +289,7 @@ static void test_lights_read_back(void) {
     for (int i = 0; i < NLIGHTS; i++) {
         const vx_light* l = &LIGHTS[i];
         const vx_gltf_light *e = &ex.lights[i], *p = &pu.lights[i];
-        char name[16];
+        char name[24];
         snprintf(name, sizeof name, "light %d", i);
         CHECKF(!strcmp(e->name, name) && !strcmp(p->name, name), "light %d named '%s'", i, e->name);
         /* where it is and where it shines, in glTF's +Y-up world */
@@ -450,7 +450,7 @@ static void test_no_lights_as_before(void) {
     size_t size[3] = {0, 0, 0};
     for (int k = 0; k < 3; k++) {
         char path[512];
-        char tag[8];
+        char tag[24];
         snprintf(tag, sizeof tag, "none%d", k);
         tmp_path(path, sizeof path, tag, "glb");
         if (export_glb(&v[k], path, NULL) == VX_OK) bytes[k] = slurp(path, &size[k]);
