@@ -13,7 +13,8 @@ if(VX_WITH_VULKAN AND TARGET vx_image AND VX_GLFW_FOUND)
   add_executable(svo_view ${_sv}/main.c ${_sv}/options.c ${_sv}/scene.c ${_sv}/probes.c ${_sv}/camera.c
                           ${_sv}/frame.c ${_sv}/input.c ${_sv}/script.c ${_sv}/present.c ${_sv}/editor.c ${_sv}/voxels.c ${_sv}/font.c ${_sv}/settings.c
                           ${_sv}/batch.c)
-  target_link_libraries(svo_view PRIVATE vx_photons vx_cones vx_probes vx_render vx_tool_conv vx_image vx_tool PkgConfig::VX_GLFW m)
+  target_link_libraries(svo_view PRIVATE vx_photons vx_cones vx_probes vx_render vx_tool_conv vx_conv_export vx_image vx_tool
+                        PkgConfig::VX_GLFW m)
   if(VX_WITH_IMGUI AND VX_IMGUI_FOUND)
     target_sources(svo_view PRIVATE ${_sv}/panels.c ${_sv}/ui.cpp)
     target_link_libraries(svo_view PRIVATE PkgConfig::VX_IMGUI)

@@ -21,6 +21,10 @@
 #include <unistd.h>
 
 #include "convert/convert.h"
+#include "convert/export.h"
+#ifdef VX_VIEW_VDB
+#include "convert/volume.h"
+#endif
 #include "formats/image.h"
 #include "formats/vox.h"
 #include "probes/probes.h"
@@ -2643,6 +2647,105 @@ static void test_script_export_split(void) {
     vx_svo_scene_free(&back);
 }
 
+/* `export FILE.glb` and `export FILE.vdb` (convert/export.h through the
+ * editor): after an edit, the .glb is the library's export of the scene the
+ * script then saves, byte for byte (its metal record and its light too), and
+ * the .vdb read back (the OpenVDB import) holds the saved scene's cells. */
+/* A file's bytes with a 0 after them (NULL when it cannot be read). */
+static char* slurp_file(const char* path, size_t* n) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char* b = size >= 0 ? malloc((size_t)size + 1) : NULL;
+    if (b && fread(b, 1, (size_t)size, f) != (size_t)size) free(b), b = NULL;
+    fclose(f);
+    if (b) b[size] = 0, *n = (size_t)size;
+    return b;
+}
+
+static void test_script_export_glb_vdb(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    script_files fs;
+    script_files_init(&fs, "glbvdb", "svo");
+    enum { N = 6 };
+    uint64_t keys[N * N * N];
+    uint8_t pal[N * N * N];
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < N * N * N; k++) {
+        uint32_t x = k % N, y = k / N % N, z = k / (N * N);
+        if ((x + y + z) % 3 == 0) continue;
+        keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + (x + 2 * y + 3 * z) % 4);
+    }
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = vx_calloc(NULL, 1, sizeof *s.models);
+    s.instances = vx_calloc(NULL, 2, sizeof *s.instances);
+    s.materials = vx_calloc(NULL, 1, sizeof *s.materials);
+    s.lights = vx_calloc(NULL, 1, sizeof *s.lights);
+    REQUIRE(s.models && s.instances && s.materials && s.lights);
+    s.model_count = 1, s.instance_count = 2;
+    s.has_palette = true;
+    for (int i = 1; i < 256; i++) s.palette[i] = 0xFF000000u | (uint32_t)(i * 0x3F1F0F);
+    vx_svo_voxels v = {.size = {N, N, N}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
+    for (int i = 0; i < 2; i++) {
+        s.instances[i].xform[0] = s.instances[i].xform[5] = s.instances[i].xform[10] = 1;
+        s.instances[i].xform[3] = 8.0 * i;
+        s.instances[i].layer = UINT32_MAX;
+    }
+    static const char metal[] = "_type\0_metal\0_rough\0" "0.3";
+    s.materials[0] = (vx_svo_material){.id = 2, .dict_size = sizeof metal, .dict = vx_calloc(NULL, 1, sizeof metal)};
+    REQUIRE(s.materials[0].dict);
+    memcpy(s.materials[0].dict, metal, sizeof metal);
+    s.material_count = 1;
+    s.lights[0] = (vx_light){.type = VX_LIGHT_POINT, .position = {7, 3, 12}, .color = {1, 0.9, 0.8}, .intensity = 40};
+    s.light_count = 1;
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, NULL) == VX_OK);
+    vx_svo_scene_free(&s);
+    char glb[1100], vdb[1100], again[1100];
+    snprintf(glb, sizeof glb, "%s/glbvdb_out.glb", g_dir);
+    snprintf(vdb, sizeof vdb, "%s/glbvdb_out.vdb", g_dir);
+    snprintf(again, sizeof again, "%s/glbvdb_again.glb", g_dir);
+    remove(glb), remove(vdb);
+    char* text;
+    int rc = run_script(&fs, "", &text, "select 1\nmove 0 3 0\nexport %s\nexport %s\nsave %s\nquit\n", glb, vdb, fs.out);
+    CHECKF(rc == 0 && text && strstr(text, glb) && strstr(text, vdb), "status %d: %s", rc, text ? text : "(none)");
+    free(text);
+    vx_svo_scene saved;
+    if (rc != 0 || vx_svo_read_file(NULL, fs.out, &saved, NULL) != VX_OK) return;
+    vx_error err = {0};
+    vx_result r = vx_conv_svo_to_glb_file(NULL, &saved, again, NULL, &err);
+    if (r == VX_ERR_UNSUPPORTED) {
+        fprintf(stderr, "  %s: the .glb comparison skipped\n", err.msg);
+    } else {
+        size_t na = 0, nb = 0;
+        char *a = slurp_file(glb, &na), *b = slurp_file(again, &nb);
+        CHECKF(r == VX_OK && a && b, "reading the .glb files: %s", err.msg);
+        CHECKF(a && b && na == nb && !memcmp(a, b, na) && na > 1000,
+               "export FILE.glb: %zu bytes, the library's export of the saved scene %zu", na, nb);
+        CHECKF(a && strstr(a + 20, "KHR_lights_punctual") && strstr(a + 20, "\"metallicFactor\""),
+               "the .glb's JSON holds the light and the metal material");
+        free(a), free(b);
+    }
+#ifdef VX_VIEW_VDB
+    vx_svo_scene back;
+    r = vx_conv_vdb_file(&(vx_conv_vdb_desc){.color_grid = "color"}, vdb, &back, NULL, &err);
+    CHECKF(r == VX_OK, "the .vdb read back: %s", err.msg);
+    if (r == VX_OK) {
+        cells ca = {0}, cb = {0};
+        scene_cells(&saved, &ca);
+        scene_cells(&back, &cb);
+        CHECKF(ca.n == 2 * n && cells_diff(&ca, &cb) == 0, "export FILE.vdb: %zu cells back of the saved %zu", cb.n,
+               ca.n);
+        free(ca.v), free(cb.v);
+        vx_svo_scene_free(&back);
+    }
+#endif
+    vx_svo_scene_free(&saved);
+}
+
 /* More than 255 colours: the viewer's .vox export refused them and named
  * svo_info --to-vox --quantize as the only way; `export FILE quantize` and
  * the Export panel's checkbox now map them to a 255-entry palette (as
@@ -3026,5 +3129,6 @@ int main(int argc, char** argv) {
     RUN(test_script_hidden_layer);
     RUN(test_script_export_split);
     RUN(test_script_export_quantize);
+    RUN(test_script_export_glb_vdb);
     return vx_test_finish();
 }

@@ -4,7 +4,11 @@
 if(TARGET svo_view)
   add_executable(test_view ${CMAKE_CURRENT_LIST_DIR}/test_view.c ${CMAKE_SOURCE_DIR}/tools/svo_view/editor.c ${CMAKE_SOURCE_DIR}/tools/svo_view/settings.c
                          ${CMAKE_SOURCE_DIR}/tools/svo_view/voxels.c ${CMAKE_SOURCE_DIR}/tools/svo_view/batch.c)
-  target_link_libraries(test_view PRIVATE vx_tool vx_probes vx_render vx_convert vx_image vx_svo m) # vx_tool: settings.c's parsing
+  target_link_libraries(test_view PRIVATE vx_tool vx_probes vx_render vx_convert vx_conv_export vx_image vx_svo m) # vx_tool: settings.c's parsing
+  if(TARGET vx_conv_vdb) # export FILE.vdb read back
+    target_link_libraries(test_view PRIVATE vx_conv_vdb)
+    target_compile_definitions(test_view PRIVATE VX_VIEW_VDB=1)
+  endif()
   target_compile_definitions(test_view PRIVATE VX_CORPUS_DIR_DEFAULT="${VX_CORPUS_DIR}" VX_VIEW_PANELS=$<BOOL:$<TARGET_PROPERTY:svo_view,VX_PANELS>>)
   add_dependencies(test_view svo_view)
   add_test(NAME test_view_editor COMMAND test_view --editor)

@@ -211,14 +211,18 @@ void sv_edit_end(app* a, const char* what);
 bool sv_open(app* a, const char* path);
 bool sv_add(app* a, const char* path);
 bool sv_save(app* a, const char* path);
-/* quantize: more than 255 colours are mapped to a 255-entry palette
- * (vx_conv_vox_export_desc), the message a warning giving the count and the
- * colour error; without it such a scene is refused, the message naming the
- * script's and the panel's option. */
+/* By the path's extension: .glb and .vdb through the library's exports
+ * (convert/export.h: what svo_info --to-glb / --to-vdb write from the saved
+ * scene), anything else .vox. quantize (.vox): more than 255 colours are
+ * mapped to a 255-entry palette (vx_conv_vox_export_desc), the message a
+ * warning giving the count and the colour error; without it such a scene is
+ * refused, the message naming the script's and the panel's option. */
 bool sv_export(app* a, const char* path, bool quantize);
 /* Ctrl+E and the Export panel's button: FILE.edited.vox beside the file
- * opened, quantized as the panel's checkbox says. */
+ * opened, quantized as the panel's checkbox says; sv_export_as the same
+ * with the extension ext ("glb", "vdb": the panel's other buttons). */
 bool sv_export_default(app* a);
+bool sv_export_as(app* a, const char* ext);
 void sv_probes(app* a, const char* path);
 /* Starts baking probes over the scene as shown (res, spp, grid probes per
  * axis, 0 0 0: the default spacing) on the GPU, in steps between frames; the

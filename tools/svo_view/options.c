@@ -91,6 +91,7 @@ _Noreturn static void usage(int status) {
             " frame | move DX DY DZ | rotate x|y|z [TURNS] | mirror x|y|z | duplicate | delete |\n"
             "      hide | show | layer N hide|show | add FILE | open FILE | undo | redo |\n"
             "      save FILE.svo | export FILE.vox [quantize] (over 255 colours: a 255-entry palette) |\n"
+            "      export FILE.glb | export FILE.vdb (as svo_info --to-glb / --to-vdb of the saved scene) |\n"
             "      screenshot FILE | wait N | echo TEXT | quit |\n"
             "      anim frame N|step [K]|play|pause|fps X|tick SECONDS | exposure STOPS | panels on|off |\n"
             "      overlay on|off (the text overlay, shown without panels) | vsync on|off | rename NAME |\n"

@@ -116,6 +116,8 @@ static void outliner(app* a) {
     if (ui_collapsing("Export", false)) {
         ui_checkbox("quantize colours (over 255)", &a->export_quantize);
         if (ui_button("export .vox (Ctrl+E)")) sv_export_default(a);
+        if (ui_button("export .glb")) sv_export_as(a, "glb");
+        if (ui_button("export .vdb")) sv_export_as(a, "vdb");
     }
 }
 

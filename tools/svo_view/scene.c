@@ -6,8 +6,10 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "convert/convert.h"
+#include "convert/export.h"
 #include "tools/common/tool.h"
 #include "tools/svo_view/app.h"
 #include "tools/svo_view/camera.h"
@@ -256,7 +258,33 @@ bool sv_save(app* a, const char* path) {
     return !r;
 }
 
+/* The file's extension, lower case ("" when none). */
+static const char* export_kind(const char* path) {
+    const char* dot = strrchr(path, '.');
+    const char* slash = strrchr(path, '/');
+    if (!dot || (slash && dot < slash)) return "";
+    return dot + 1;
+}
+
+/* .glb and .vdb: the library's exports (convert/export.h) of the scene as a
+ * save would write it (svo_info --to-glb / --to-vdb of that file: the same
+ * .glb bytes). */
+static bool export_other(app* a, const char* path, bool glb) {
+    vx_error err = {0};
+    vx_svo_scene fs;
+    vx_result r = vvx_file_scene(&a->ed, &fs, &err);
+    if (!r) {
+        r = glb ? vx_conv_svo_to_glb_file(NULL, &fs, path, NULL, &err) : vx_conv_svo_to_vdb_file(NULL, &fs, path, NULL, &err);
+        vvx_file_scene_free(&a->ed, &fs);
+    }
+    if (r) file_error(a, path, err.msg);
+    else sv_message(a, false, "exported %s", path);
+    return !r;
+}
+
 bool sv_export(app* a, const char* path, bool quantize) {
+    const char* kind = export_kind(path);
+    if (!strcasecmp(kind, "glb") || !strcasecmp(kind, "vdb")) return export_other(a, path, !strcasecmp(kind, "glb"));
     vx_error err = {0};
     vx_vox_scene vs;
     vx_svo_scene fs;
@@ -281,11 +309,13 @@ bool sv_export(app* a, const char* path, bool quantize) {
     return !r;
 }
 
-bool sv_export_default(app* a) {
+bool sv_export_default(app* a) { return sv_export_as(a, "vox"); }
+
+bool sv_export_as(app* a, const char* ext) {
     char path[1024];
     const char* dot = strrchr(a->o.in, '.');
     int n = dot ? (int)(dot - a->o.in) : (int)strlen(a->o.in);
-    snprintf(path, sizeof path, "%.*s.edited.vox", n, a->o.in);
+    snprintf(path, sizeof path, "%.*s.edited.%s", n, a->o.in, ext);
     return sv_export(a, path, a->export_quantize);
 }
 
