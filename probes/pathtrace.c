@@ -296,7 +296,8 @@ static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3],
         }
         if (ax < 0 || !isfinite(te)) return WALK_ABSORBED;
         te = fmax(te, t);
-        if (S->instance_count > 1 && te > t) {
+        /* (a box of one cell: another instance there is met at its faces, below) */
+        if (S->instance_count > 1 && lv != UINT32_MAX && lv > 0 && te > t) {
             double a[3] = {p[0] + d[0] * t, p[1] + d[1] * t, p[2] + d[2] * t};
             vx_render_ray_hit g;
             if (vx_render_cast_skip(L->caster, a, d, te - t, false, inst, &g)) {

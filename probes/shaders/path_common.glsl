@@ -290,7 +290,7 @@ uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
-        if (USE_BVH && te > t) {
+        if (USE_BVH && lv > 0u && te > t) { // (a box of one cell: another instance is met at its faces, below)
             // another instance's voxel inside the box: the glass's own model says nothing of it, and a ray
             // from inside the glass meets the glass at once, so the glass instance is passed over
             Hit g;

@@ -478,7 +478,7 @@ uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
-        if (USE_BVH && te > t) {
+        if (USE_BVH && lv > 0u && te > t) { // (a box of one cell: another instance is met at its faces, below)
             // another instance's voxel inside the box (path_common.glsl glass_walk): the glass instance
             // passed over, as a ray from inside the glass meets it at once
             Hit g;
