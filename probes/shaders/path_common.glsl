@@ -300,11 +300,12 @@ uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
             g.attr = NO_HIT;
             g_iter = 0u;
             g_skip_inst = inst;
-            bool met = trace_scene(p + d * t, d, 0.0, false, g);
+            PT_PREC vec3 a = p + d * t; // (precise: test_spirv_precise checks the walk's every float operation)
+            bool met = trace_scene(a, d, 0.0, false, g);
             g_skip_inst = NO_HIT;
             if (met && !is_glass(g.attr)) {
                 sh = g;
-                o = p + d * (t + g.t);
+                o = a + d * g.t;
                 sh.t = 0.0;
                 gi = inst;
                 gc = c;
