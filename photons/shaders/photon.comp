@@ -270,8 +270,8 @@ void trace_photons() {
             continue;
         }
         Hit h;
-        bool stopped = false; // h: an opaque voxel's face met from inside glass (WALK_STOP), at o
-        if (in_glass) {
+        bool stopped = false, walked = false; // stopped: h an opaque voxel's face met from inside glass, at o
+        if (MATS && in_glass) { // (MATS: a scene without glass compiles none of this)
             vec3 p = o;
             uint w_inst;
             uvec3 w_cell;
@@ -279,14 +279,19 @@ void trace_photons() {
             stopped = wr == WALK_STOP;
             if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
             in_glass = false;
-            events++;
-            if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) {
+            walked = true;
+            if (wr == WALK_ABSORBED) {
                 alive = false;
                 continue;
             }
-        } else if (!cast_ray(o, d, BIG, h)) {
+        }
+        // one cast in the loop's body (lavapipe runs both sides of a branch, masked)
+        if (!stopped && !cast_ray(o, d, BIG, h)) {
             alive = false;
             continue;
+        }
+        if (walked) {
+            events++;
         } else if (events++ == 0) {
             if (range < 0.0 && h.t < -range) { // a buried voxel face
                 alive = false;
@@ -592,18 +597,17 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
         for (int events = 0; events < 32; events++) {
             Hit h;
             stopped = false;
-            if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
+            if (MATS && in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
                 vec3 p = o;
                 uint w_inst;
                 uvec3 w_cell;
                 uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h, w_inst, w_cell);
                 in_glass = false;
                 stopped = wr == WALK_STOP;
-            if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
-                if (wr == WALK_ABSORBED || (wr == WALK_OUT && !cast_ray(o, d, BIG, h))) break;
-            } else if (!cast_ray(o, d, BIG, h)) {
-                break;
+                if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
+                if (wr == WALK_ABSORBED) break;
             }
+            if (!stopped && !cast_ray(o, d, BIG, h)) break; // (one cast in the loop's body)
             g_s = surface(o, d, h);
             Bsdf B2 = bsdf_of(g_s);
             if (B2.kind != B_GLASS) {
@@ -683,7 +687,7 @@ void gather_pixel() {
     for (int events = 0; events < 64; events++) {
         Hit h;
         stopped = false;
-        if (in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
+        if (MATS && in_glass) { // the walk through the glass entered below; it may end on an opaque voxel in it
             vec3 p = o;
             uint w_inst;
             uvec3 w_cell;
