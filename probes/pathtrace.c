@@ -265,6 +265,22 @@ typedef struct glass_stop {
     double p[3];          /* the point on the face between the glass and the voxel */
     uint32_t inst, cell[3]; /* the glass cell it was met from */
 } glass_stop;
+/* Whether a hit's material is glass that transmits (a walk goes on in it). */
+static bool transmits(const vx__light* L, const vx_render_ray_hit* g) {
+    const vx_material* m = vx__light_material(L, g->material);
+    return m->type == VX_MATERIAL_GLASS && m->transmission > 0;
+}
+
+/* A walk's stop (WALK_STOP): the voxel of g met at p, from glass cell c of
+ * instance inst. */
+static int stop_at(glass_stop* stop, const vx_render_ray_hit* g, const double p[3], uint32_t inst, const uint32_t c[3]) {
+    stop->h = *g;
+    stop->h.t = 0;
+    memcpy(stop->p, p, sizeof stop->p);
+    stop->inst = inst, memcpy(stop->cell, c, sizeof stop->cell);
+    return WALK_STOP;
+}
+
 static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3], double csize, double ior, double alpha,
                       double p[3], double d[3], vx__rng* rng, double thr[3], double o[3], glass_stop* stop) {
     uint32_t c[3] = {cell[0], cell[1], cell[2]};
@@ -300,15 +316,9 @@ static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3],
         if (S->instance_count > 1 && lv != UINT32_MAX && lv > 0 && te > t) {
             double a[3] = {p[0] + d[0] * t, p[1] + d[1] * t, p[2] + d[2] * t};
             vx_render_ray_hit g;
-            if (vx_render_cast_skip(L->caster, a, d, te - t, false, inst, &g)) {
-                const vx_material* gm = vx__light_material(L, g.material);
-                if (!(gm->type == VX_MATERIAL_GLASS && gm->transmission > 0)) {
-                    stop->h = g;
-                    for (int k = 0; k < 3; k++) stop->p[k] = a[k] + d[k] * g.t;
-                    stop->h.t = 0;
-                    stop->inst = inst, stop->cell[0] = c[0], stop->cell[1] = c[1], stop->cell[2] = c[2];
-                    return WALK_STOP;
-                }
+            if (vx_render_cast_skip(L->caster, a, d, te - t, false, inst, &g) && !transmits(L, &g)) {
+                double at[3] = {a[0] + d[0] * g.t, a[1] + d[1] * g.t, a[2] + d[2] * g.t};
+                return stop_at(stop, &g, at, inst, c);
             }
         }
         double q[3], nf[3], eps = 1e-4 * csize;
@@ -318,18 +328,14 @@ static int glass_walk(const vx__light* L, uint32_t inst, const uint32_t cell[3],
         double qi[3] = {q[0] + d[0] * eps, q[1] + d[1] * eps, q[2] + d[2] * eps};
         vx_render_ray_hit g;
         if (vx_render_cast(L->caster, qi, d, eps, false, &g)) {
-            const vx_material* gm = vx__light_material(L, g.material);
-            if (gm->type == VX_MATERIAL_GLASS && gm->transmission > 0) {
+            if (transmits(L, &g)) {
                 inst = g.instance, c[0] = g.cell[0], c[1] = g.cell[1], c[2] = g.cell[2];
                 t = te + eps;
                 continue;
             }
-            /* an opaque voxel against the glass: its face, lit only through the glass */
-            stop->h = g;
-            stop->h.t = 0;
-            for (int k = 0; k < 3; k++) stop->h.normal[k] = -nf[k], stop->p[k] = q[k];
-            stop->inst = inst, stop->cell[0] = c[0], stop->cell[1] = c[1], stop->cell[2] = c[2];
-            return WALK_STOP;
+            /* an opaque voxel against the glass: its face (the glass cell's), lit only through the glass */
+            for (int k = 0; k < 3; k++) g.normal[k] = -nf[k];
+            return stop_at(stop, &g, q, inst, c);
         }
         /* glass -> outside: the normal facing the inside */
         double nin[3] = {-nf[0], -nf[1], -nf[2]}, wo[3] = {-d[0], -d[1], -d[2]}, wi[3], w;

@@ -431,14 +431,8 @@ static PyObject* scene_render(Scene* self, PyObject* args, PyObject* kw) {
 /* to_glb / to_vdb: the library's exports (convert/export.h), of the scene
  * or of one animation frame's view, as svo_info --to-glb / --to-vdb write
  * them (the same bytes for a .glb). */
-static PyObject* scene_to_glb(Scene* self, PyObject* args, PyObject* kw) {
-    static char* kwlist[] = {"path", "all", "frame", NULL};
-    PyObject* pathobj;
-    int all = 0;
-    unsigned int frame = 0;
+static PyObject* export_file(Scene* self, PyObject* pathobj, bool glb, vx_conv_export_desc desc, unsigned int frame) {
     vx_svo_scene view;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|pI:to_glb", kwlist, PyUnicode_FSConverter, &pathobj, &all, &frame))
-        return NULL;
     if (!frame_view(self, frame, &view)) {
         Py_DECREF(pathobj);
         return NULL;
@@ -447,11 +441,21 @@ static PyObject* scene_to_glb(Scene* self, PyObject* args, PyObject* kw) {
     vx_error err = {0};
     vx_result r;
     Py_BEGIN_ALLOW_THREADS
-    r = vx_conv_svo_to_glb_file(&(vx_conv_export_desc){.all = all}, &view, path, NULL, &err);
+    r = glb ? vx_conv_svo_to_glb_file(&desc, &view, path, NULL, &err) : vx_conv_svo_to_vdb_file(&desc, &view, path, NULL, &err);
     Py_END_ALLOW_THREADS
     PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
     Py_DECREF(pathobj);
     return out;
+}
+
+static PyObject* scene_to_glb(Scene* self, PyObject* args, PyObject* kw) {
+    static char* kwlist[] = {"path", "all", "frame", NULL};
+    PyObject* pathobj;
+    int all = 0;
+    unsigned int frame = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|pI:to_glb", kwlist, PyUnicode_FSConverter, &pathobj, &all, &frame))
+        return NULL;
+    return export_file(self, pathobj, true, (vx_conv_export_desc){.all = all}, frame);
 }
 
 static PyObject* scene_to_vdb(Scene* self, PyObject* args, PyObject* kw) {
@@ -459,23 +463,10 @@ static PyObject* scene_to_vdb(Scene* self, PyObject* args, PyObject* kw) {
     PyObject* pathobj;
     int all = 0, models = 0;
     unsigned int frame = 0;
-    vx_svo_scene view;
     if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|ppI:to_vdb", kwlist, PyUnicode_FSConverter, &pathobj, &all, &models,
                                      &frame))
         return NULL;
-    if (!frame_view(self, frame, &view)) {
-        Py_DECREF(pathobj);
-        return NULL;
-    }
-    const char* path = PyBytes_AS_STRING(pathobj);
-    vx_error err = {0};
-    vx_result r;
-    Py_BEGIN_ALLOW_THREADS
-    r = vx_conv_svo_to_vdb_file(&(vx_conv_export_desc){.all = all, .vdb_models = models}, &view, path, NULL, &err);
-    Py_END_ALLOW_THREADS
-    PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
-    Py_DECREF(pathobj);
-    return out;
+    return export_file(self, pathobj, false, (vx_conv_export_desc){.all = all, .vdb_models = models}, frame);
 }
 
 static PyMethodDef scene_methods[] = {

@@ -107,6 +107,24 @@ static inline int vx_test_finish(void) {
     return vx_t_fail ? 1 : 0;
 }
 
+/* A file's bytes (free them) with a 0 after them, so that a text file is a
+ * string; *n (may be NULL) their count. NULL when the file cannot be read. */
+static inline char* vx_test_slurp(const char* path, size_t* n) {
+    FILE* f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char* b = size >= 0 ? (char*)malloc((size_t)size + 1) : NULL;
+    if (b && fread(b, 1, (size_t)size, f) != (size_t)size) free(b), b = NULL;
+    fclose(f);
+    if (b) {
+        b[size] = 0;
+        if (n) *n = (size_t)size;
+    }
+    return b;
+}
+
 /* Path of a corpus file, or NULL (the test should SKIP) when absent. */
 static inline const char* vx_test_corpus(const char* rel) {
     static char buf[4096];

@@ -270,7 +270,7 @@ void trace_photons() {
             continue;
         }
         Hit h;
-        bool stopped = false, walked = false; // stopped: h an opaque voxel's face met from inside glass, at o
+        bool stopped = false; // h: an opaque voxel's face met from inside glass (WALK_STOP), at o
         if (MATS && in_glass) { // (MATS: a scene without glass compiles none of this)
             vec3 p = o;
             uint w_inst;
@@ -279,7 +279,6 @@ void trace_photons() {
             stopped = wr == WALK_STOP;
             if (stopped) g_inst = w_inst, g_cell = w_cell; // where a bounce off the voxel walks on
             in_glass = false;
-            walked = true;
             if (wr == WALK_ABSORBED) {
                 alive = false;
                 continue;
@@ -290,9 +289,7 @@ void trace_photons() {
             alive = false;
             continue;
         }
-        if (walked) {
-            events++;
-        } else if (events++ == 0) {
+        if (events++ == 0) { // (never after a walk: the glass was entered at an earlier event)
             if (range < 0.0 && h.t < -range) { // a buried voxel face
                 alive = false;
                 continue;

@@ -290,20 +290,13 @@ uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, P
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
-        if (USE_BVH && lv > 0u && te > t) { // (a box of one cell: another instance is met at its faces, below)
-            // another instance's voxel inside the box: the glass's own model says nothing of it, and a ray
-            // from inside the glass meets the glass at once, so the glass instance is passed over
+        // another instance's voxel inside the box (a box of one cell: met at its faces, below)
+        if (USE_BVH && lv > 0u && te > t) {
             Hit g;
-            g.t = te - t;
-            g.inst = NO_HIT;
-            g.color = 0xFFFFFFFFu;
-            g.attr = NO_HIT;
-            g_iter = 0u;
-            g_skip_inst = inst;
-            PT_PREC vec3 a = p + d * t; // (precise: test_spirv_precise checks the walk's every float operation)
-            bool met = trace_scene(a, d, 0.0, false, g);
-            g_skip_inst = NO_HIT;
-            if (met && !is_glass(g.attr)) {
+            // (precise: test_spirv_precise checks the walk's every float operation)
+            PT_PREC vec3 a = p + d * t;
+            PT_PREC float len = te - t;
+            if (other_instance_hit(inst, a, d, len, g) && !is_glass(g.attr)) {
                 sh = g;
                 o = a + d * g.t;
                 sh.t = 0.0;

@@ -403,10 +403,10 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         // registers); the same numbers and sums
         PT_PREC vec3 sun_f = vec3(0.0), thr_v = thr;
         bool sun_ray = false;
-        if (stopped) { // inside glass no light is sampled (above)
-        } else if (LIGHTS) {
+        // (inside glass, stopped, no light is sampled: above)
+        if (!stopped && LIGHTS) {
             acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
-        } else if (!(indirect && vertex == 1) && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) &&
+        } else if (!stopped && !(indirect && vertex == 1) && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) &&
                    dot(g_s.n, P.light.xyz) > 0.0) {
             float bp;
             sun_f = bsdf_eval(B, wo, P.light.xyz, bp) * P.sun.xyz * dot(g_s.n, P.light.xyz);

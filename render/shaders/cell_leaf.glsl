@@ -9,6 +9,22 @@ uint glass_walk_steps(uint mi) {
     return max(12u * side, 512u);
 }
 
+// The first voxel along a + s d, s in [0, len), of an instance other than inst (g: its hit, t from a): inside
+// a glass box the walks (path_common.glsl glass_walk, pass_bodies.glsl glass_pass_walk) look this way for a
+// model placed overlapping the glass, which the glass's own model says nothing of; a ray from inside the glass
+// would meet the glass itself at once, so inst is passed over (trace_common.glsl g_skip_inst).
+bool other_instance_hit(uint inst, vec3 a, vec3 d, float len, out Hit g) {
+    g.t = len;
+    g.inst = NO_HIT;
+    g.color = 0xFFFFFFFFu;
+    g.attr = NO_HIT;
+    g_iter = 0u;
+    g_skip_inst = inst;
+    bool met = trace_scene(a, d, 0.0, false, g);
+    g_skip_inst = NO_HIT;
+    return met;
+}
+
 // The attribute (index into colors[]) of cell c of model mi, c inside its cube, and the level of the leaf
 // that holds it (0: the cell alone; k: a uniform block of 2^k cells a side, one record, at c rounded down to
 // a multiple of 2^k): NO_HIT (level 0) where the cell is empty or the model has no attributes. A walk down

@@ -478,20 +478,11 @@ uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
         }
         if (ax < 0) return WALK_ABSORBED;
         te = max(te, t);
-        if (USE_BVH && lv > 0u && te > t) { // (a box of one cell: another instance is met at its faces, below)
-            // another instance's voxel inside the box (path_common.glsl glass_walk): the glass instance
-            // passed over, as a ray from inside the glass meets it at once
+        // another instance's voxel inside the box (a box of one cell: met at its faces, below)
+        if (USE_BVH && lv > 0u && te > t) {
             Hit g;
-            g.t = te - t;
-            g.inst = NO_HIT;
-            g.color = 0xFFFFFFFFu;
-            g.attr = NO_HIT;
-            g_iter = 0u;
-            g_skip_inst = inst;
-            bool met = trace_scene(p + d * t, d, 0.0, false, g);
-            g_skip_inst = NO_HIT;
             vec4 gm;
-            if (met && !glass_of(g.attr, gm)) {
+            if (other_instance_hit(inst, p + d * t, d, te - t, g) && !glass_of(g.attr, gm)) {
                 o = p + d * (t + g.t);
                 s1 = uvec4(g.color, g.inst, uint(g.axis) | (g.nsign < 0.0 ? 4u : 0u), g.attr);
                 return WALK_STOP;

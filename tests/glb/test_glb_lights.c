@@ -196,22 +196,6 @@ static vx_result export_glb(const vx_svo_scene* s, const char* path, vx_conv_glb
     return r;
 }
 
-static uint8_t* slurp(const char* path, size_t* n) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long sz = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t* b = sz >= 0 ? malloc((size_t)sz + 1) : NULL;
-    if (b && fread(b, 1, (size_t)sz, f) != (size_t)sz) {
-        free(b);
-        b = NULL;
-    }
-    fclose(f);
-    if (b) b[sz] = 0, *n = (size_t)sz;
-    return b;
-}
-
 /* Two records the same light: directions and tangents as the renderer
  * reads them (unit; a rect's tangent orthogonal to its normal) to 1e-15,
  * every other field exact; want's values its type does not use are 0. */
@@ -453,7 +437,7 @@ static void test_no_lights_as_before(void) {
         char tag[24];
         snprintf(tag, sizeof tag, "none%d", k);
         tmp_path(path, sizeof path, tag, "glb");
-        if (export_glb(&v[k], path, NULL) == VX_OK) bytes[k] = slurp(path, &size[k]);
+        if (export_glb(&v[k], path, NULL) == VX_OK) bytes[k] = (uint8_t*)vx_test_slurp(path, &size[k]);
         remove(path);
     }
     vx_svo_scene_free(&s);

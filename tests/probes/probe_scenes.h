@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include "probes/probes.h"
+#include "render/pipeline.h"
 #include "tests/render/scenes.h"
 
 static inline size_t vx__bsq_test(uint32_t n) { return (size_t)(n + 2) * (n + 2); }
@@ -109,6 +110,50 @@ static inline bool bytes_of(const vx_probe_set* ps, uint8_t** data, size_t* size
         return false;
     }
     return true;
+}
+
+/* The pass pipeline's frame (gbuffer,direct) of s seen as base, with the n
+ * lights L and a black sky (the glass tests' closed forms). */
+static inline bool ps_pass_frame(vx_gpu* gpu, const vx_svo_scene* s, const vx_render_desc* base, const vx_light* L,
+                                 uint32_t n, vx_render_image* out) {
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_frame_renderer* fr = NULL;
+    vx_pass_list list;
+    vx_result r = vx_pass_list_parse("gbuffer,direct", &list, &err);
+    if (!r) r = vx_render_scene_create(gpu, s, &rs, &err);
+    if (!r) r = vx_frame_renderer_create(rs, s, &fr, &err);
+    vx_frame_result res = {0};
+    if (!r) {
+        vx_frame_desc fd = vx_frame_desc_defaults();
+        fd.base = *base;
+        fd.passes = &list;
+        fd.lights = L, fd.light_count = n;
+        fd.sky[0] = fd.sky[1] = fd.sky[2] = 0;
+        r = vx_frame_render(fr, &fd, &res, &err);
+    }
+    if (r) fprintf(stderr, "  frame: %s\n", err.msg);
+    vx_frame_renderer_destroy(fr);
+    vx_render_scene_destroy(rs);
+    *out = res.image;
+    return r == VX_OK;
+}
+
+/* The path tracer's image of s seen as base (GPU with gpu_rs, else CPU; 2
+ * threads, seed 5) at pixel centres: `bounces` diffuse or glossy bounces
+ * (0: direct light and emission only), a constant sky of radiance sky_l, the
+ * n lights L. */
+static inline bool ps_pathtrace(const vx_svo_scene* s, vx_render_scene* gpu_rs, const vx_render_desc* base, uint32_t spp,
+                                uint32_t bounces, double sky_l, const vx_light* L, uint32_t n, vx_render_image* out) {
+    double sky[3] = {sky_l, sky_l, sky_l};
+    vx_probe_set ps = light_only(0, sky, 1);
+    ps.bounces = bounces ? bounces - 1 : UINT32_MAX; /* probes/render_gi.c: the set's + 1 (0 - 1 unsigned: none) */
+    vx_probe_render_desc rd = {.base = base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = spp, .bounces = 0, .seed = 5,
+                               .threads = 2, .lights = L, .light_count = n, .pixel_centre = true};
+    vx_error err = {0};
+    vx_result r = gpu_rs ? vx_probe_render_gpu(gpu_rs, s, &ps, &rd, out, &err) : vx_probe_render(s, &ps, &rd, out, &err);
+    if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
+    return r == VX_OK;
 }
 
 #endif

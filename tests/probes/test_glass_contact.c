@@ -102,46 +102,18 @@ static vx_light point_light(void) {
 
 /* The pass pipeline's frame (gbuffer,direct), the point light, a black sky. */
 static bool frame(const vx_svo_scene* s, vx_render_image* out) {
-    vx_error err = {0};
-    vx_render_scene* rs = NULL;
-    vx_frame_renderer* fr = NULL;
-    vx_pass_list list;
     vx_light L = point_light();
-    vx_result r = vx_pass_list_parse("gbuffer,direct", &list, &err);
-    if (!r) r = vx_render_scene_create(gpu, s, &rs, &err);
-    if (!r) r = vx_frame_renderer_create(rs, s, &fr, &err);
-    vx_frame_result res = {0};
-    if (!r) {
-        vx_frame_desc fd = vx_frame_desc_defaults();
-        fd.base = camera();
-        fd.passes = &list;
-        fd.lights = &L, fd.light_count = 1;
-        fd.sky[0] = fd.sky[1] = fd.sky[2] = 0;
-        r = vx_frame_render(fr, &fd, &res, &err);
-    }
-    if (r) fprintf(stderr, "  frame: %s\n", err.msg);
-    vx_frame_renderer_destroy(fr);
-    vx_render_scene_destroy(rs);
-    *out = res.image;
-    return r == VX_OK;
+    vx_render_desc base = camera();
+    return ps_pass_frame(gpu, s, &base, &L, 1, out);
 }
 
 /* The path tracer (GPU with gpu_rs, else CPU) at pixel centres: `bounces`
  * diffuse bounces, sky radiance `sky`, the point light where lit. */
 static bool pathtrace(const vx_svo_scene* s, vx_render_scene* gpu_rs, uint32_t spp, uint32_t bounces, double sky_l,
                       bool lit, vx_render_image* out) {
-    double sky[3] = {sky_l, sky_l, sky_l};
-    vx_probe_set ps = light_only(0, sky, 1);
-    ps.bounces = bounces ? bounces - 1 : UINT32_MAX; /* probes/render_gi.c: the set's + 1 */
     vx_light L = point_light();
     vx_render_desc base = camera();
-    vx_probe_render_desc rd = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = spp, .bounces = 0, .seed = 5,
-                               .threads = 2, .lights = lit ? &L : NULL, .light_count = lit ? 1 : 0,
-                               .pixel_centre = true};
-    vx_error err = {0};
-    vx_result r = gpu_rs ? vx_probe_render_gpu(gpu_rs, s, &ps, &rd, out, &err) : vx_probe_render(s, &ps, &rd, out, &err);
-    if (r) fprintf(stderr, "  path tracer: %s\n", err.msg);
-    return r == VX_OK;
+    return ps_pathtrace(s, gpu_rs, &base, spp, bounces, sky_l, lit ? &L : NULL, lit ? 1 : 0, out);
 }
 
 static bool inside(double v, double lo, double hi, double margin) { return v > lo + margin && v < hi - margin; }

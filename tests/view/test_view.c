@@ -55,18 +55,7 @@ static int run_cmd(const char* fmt, ...) {
     return WEXITSTATUS(st);
 }
 
-static char* slurp(const char* path) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char* s = malloc((size_t)(n > 0 ? n : 0) + 1);
-    if (s && n > 0 && fread(s, 1, (size_t)n, f) != (size_t)n) n = 0;
-    if (s) s[n > 0 ? n : 0] = 0;
-    fclose(f);
-    return s;
-}
+static char* slurp(const char* path) { return vx_test_slurp(path, NULL); }
 
 static bool load_vox(const char* path, vx_svo_scene* out) {
     vx_vox_scene vs;
@@ -2651,20 +2640,6 @@ static void test_script_export_split(void) {
  * editor): after an edit, the .glb is the library's export of the scene the
  * script then saves, byte for byte (its metal record and its light too), and
  * the .vdb read back (the OpenVDB import) holds the saved scene's cells. */
-/* A file's bytes with a 0 after them (NULL when it cannot be read). */
-static char* slurp_file(const char* path, size_t* n) {
-    FILE* f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char* b = size >= 0 ? malloc((size_t)size + 1) : NULL;
-    if (b && fread(b, 1, (size_t)size, f) != (size_t)size) free(b), b = NULL;
-    fclose(f);
-    if (b) b[size] = 0, *n = (size_t)size;
-    return b;
-}
-
 static void test_script_export_glb_vdb(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     script_files fs;
@@ -2721,7 +2696,7 @@ static void test_script_export_glb_vdb(void) {
         fprintf(stderr, "  %s: the .glb comparison skipped\n", err.msg);
     } else {
         size_t na = 0, nb = 0;
-        char *a = slurp_file(glb, &na), *b = slurp_file(again, &nb);
+        char *a = vx_test_slurp(glb, &na), *b = vx_test_slurp(again, &nb);
         CHECKF(r == VX_OK && a && b, "reading the .glb files: %s", err.msg);
         CHECKF(a && b && na == nb && !memcmp(a, b, na) && na > 1000,
                "export FILE.glb: %zu bytes, the library's export of the saved scene %zu", na, nb);

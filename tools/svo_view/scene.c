@@ -6,7 +6,6 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
-#include <strings.h>
 
 #include "convert/convert.h"
 #include "convert/export.h"
@@ -258,14 +257,6 @@ bool sv_save(app* a, const char* path) {
     return !r;
 }
 
-/* The file's extension, lower case ("" when none). */
-static const char* export_kind(const char* path) {
-    const char* dot = strrchr(path, '.');
-    const char* slash = strrchr(path, '/');
-    if (!dot || (slash && dot < slash)) return "";
-    return dot + 1;
-}
-
 /* .glb and .vdb: the library's exports (convert/export.h) of the scene as a
  * save would write it (svo_info --to-glb / --to-vdb of that file: the same
  * .glb bytes). */
@@ -283,8 +274,8 @@ static bool export_other(app* a, const char* path, bool glb) {
 }
 
 bool sv_export(app* a, const char* path, bool quantize) {
-    const char* kind = export_kind(path);
-    if (!strcasecmp(kind, "glb") || !strcasecmp(kind, "vdb")) return export_other(a, path, !strcasecmp(kind, "glb"));
+    const char* kind = vx_tool_ext(path);
+    if (!strcmp(kind, "glb") || !strcmp(kind, "vdb")) return export_other(a, path, !strcmp(kind, "glb"));
     vx_error err = {0};
     vx_vox_scene vs;
     vx_svo_scene fs;
