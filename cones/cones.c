@@ -70,6 +70,11 @@ struct vx_cone_gi {
     cone_params P;
     uint64_t level0;
     uint32_t features;     /* FEAT_* the scene and options ask for */
+    /* cone.comp's and voxelize.comp's LIGHTS constant (pass_bodies.glsl) where some record is glass that
+     * transmits: the glass lobe through pass_bodies.glsl glass_lobe (its walk, the surface behind lit by the
+     * direct pass's rules, the cones' light there), glass as 1 - transmission of a hit in the volume; 0
+     * without glass */
+    uint32_t glass_lights;
     uint32_t mat_records;  /* attribute records with a material entry (SPEC) */
     uint32_t llist_off[VX_CONE_LEVELS_MAX], llist_n[VX_CONE_LEVELS_MAX]; /* occupied voxels per level (>= 1) */
     bool sparse;           /* the lists are built: relighting filters only occupied voxels */
@@ -200,6 +205,7 @@ static vx_result dispatch(vx_cone_gi* cg, shader_id sh, uint32_t stage, const vx
     memcpy(pd.spec, spec, sizeof spec);
     pd.spec[5] = stage;
     pd.spec[6] = cg->info.entries | (sh == SH_CONE ? cg->features : 0);
+    pd.spec[7] = sh == SH_CONE || sh == SH_VOXELIZE ? cg->glass_lights : 0; /* pass_bodies.glsl LIGHTS */
     vx__render_scene_trace_ids(cg->rs, pd.spec);
     uint64_t key = vx__spec_key(0xC0E5000ull + (uint64_t)sh, pd.spec, VX__SPEC_TRACE_IDS);
     vx__pipeline* p;
@@ -514,17 +520,20 @@ static vx_result layout_volume(vx_cone_gi* cg, vx_error* err) {
 }
 
 /* Per attribute record its material for the specular cones (cone_common.glsl
- * cmat: kind 1 metal, roughness, metalness, specular weight), then the
- * environment BRDF table; only when some record is metal. */
+ * cmat: kind 1 metal, roughness, metalness, specular weight) and the glass
+ * lobe (kind 2, roughness, ior, transmission: render/pipeline.c's records,
+ * which pass_bodies.glsl reads), then the environment BRDF table; only when
+ * some record is metal (the specular cones) or glass that transmits. */
 static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const uint16_t* ids, size_t n,
                            vx_error* err) {
     const vx_material diffuse = vx_material_default(VX_MATERIAL_DIFFUSE);
-    bool metal = false;
-    for (size_t i = 0; t->specular && i < n && !cg->d.no_specular && !metal; i++) {
+    bool metal = false, glass = false;
+    for (size_t i = 0; t->specular && i < n && !(metal && glass); i++) {
         const vx_material* mt = vx_svo_material_table_find(t, ids[i]);
-        metal = mt && mt->type == VX_MATERIAL_METAL;
+        metal |= mt && mt->type == VX_MATERIAL_METAL && !cg->d.no_specular;
+        glass |= mt && mt->type == VX_MATERIAL_GLASS && mt->transmission > 0;
     }
-    if (!metal) return VX_OK;
+    if (!metal && !glass) return VX_OK;
     if (n > UINT32_MAX - ENV_N * ENV_N) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "%zu attribute records", n);
     size_t count = n + ENV_N * ENV_N;
     float* m = vx_calloc(cg->alloc, count, 4 * sizeof(float));
@@ -533,7 +542,11 @@ static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const
         const vx_material* f = vx_svo_material_table_find(t, ids[i]);
         vx_material mt = f ? *f : diffuse;
         float* o = m + 4 * i;
-        o[0] = mt.type == VX_MATERIAL_METAL ? 1.0f : 0.0f;
+        if (mt.type == VX_MATERIAL_GLASS && mt.transmission > 0) {
+            o[0] = 2.0f, o[1] = (float)mt.roughness, o[2] = (float)mt.ior, o[3] = (float)mt.transmission;
+            continue;
+        }
+        o[0] = mt.type == VX_MATERIAL_METAL && metal ? 1.0f : 0.0f;
         o[1] = (float)mt.roughness, o[2] = (float)mt.metalness, o[3] = (float)mt.specular;
     }
     vx_ggx_albedo_table(ENV_N, m + 4 * n); /* render/pipeline.h */
@@ -543,8 +556,11 @@ static vx_result materials(vx_cone_gi* cg, const vx_svo_material_table* t, const
     vx_free(cg->alloc, m);
     if (r) return r;
     cg->P.ctl[3] = (uint32_t)n;
-    cg->features |= FEAT_SPEC;
-    cg->info.specular = true;
+    if (metal) cg->features |= FEAT_SPEC, cg->info.specular = true;
+    /* glass: pass_bodies.glsl's LIGHTS bits 10 (glass) and 2-7 (the lights with a shadow ray, the direct
+     * pass's default), bit 8 where records emit (its emission table is the cones' binding 14) */
+    if (glass)
+        cg->glass_lights = 1u << 10 | (uint32_t)VX_SHADOW_LIGHTS_DEFAULT << 2 | (cg->emit_count ? 1u << 8 : 0u);
     return VX_OK;
 }
 

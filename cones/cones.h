@@ -153,9 +153,13 @@ typedef enum vx_cone_output {
  * environment is exact up to its interpolation). The direct light of a
  * metal stays the direct pass's (diffuse) unless `shadows` is on, where it
  * is also diffuse: a specular highlight of the lights is not drawn. Glass
- * seen directly gets the direct pass's dielectric (render/pipeline.h); the
- * cones light only its Lambert share (1 - transmission). A scene without metal records has no specular path
- * in the shader (specialised out). */
+ * seen directly (render/pipeline.h): the gi image holds its glass lobe, the
+ * direct pass's walk through the glass (render/shaders/pass_bodies.glsl
+ * glass_lobe) with the cones' light added at the surface behind it, plus
+ * the cones' light on its Lambert share (1 - transmission); in the volume a
+ * glass voxel counts 1 - transmission of its opacity (the cones see through
+ * a window). A scene without metal records has no specular path in the
+ * shader, one without glass no glass path (specialised out). */
 typedef struct vx_cone_desc {
     uint32_t res;
     uint32_t samples;

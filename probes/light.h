@@ -135,10 +135,23 @@ void vx__direct(const vx__light* L, const vx__surface* s, double out[3]);
  * Russian roulette after VX__RR_DEPTH bounces. indirect: leave out the first
  * surface's emission and its light from the sun and the frame's lights
  * (what the pass pipeline's direct pass delivers; from the emissive voxels
- * too when a light stands for them), and the background of a primary miss. Returns whether the ray hit a voxel. */
+ * too when a light stands for them), and the background of a primary miss;
+ * where that surface is glass and its glass lobe is drawn, all the path
+ * finds through and off the glass counts (the direct pass gives only the
+ * glass's Lambert share: render/pipeline.h). Returns whether the ray hit a voxel. */
 bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, bool indirect, vx__rng* rng,
               double out[3]);
 #define VX__RR_DEPTH 3
+/* Glass at the camera's first surface s (met by the ray ro + t rd, hit h) in
+ * the probe modes (render_gi.c): s's lobe drawn as the path tracer does;
+ * where it is the glass lobe, the path tracer's events through the glass
+ * (its Fresnel choice, the colour at entry, the walk) up to the first surface
+ * that is not glass, thr the path's weight. Returns -1: the Lambert lobe,
+ * nothing changed; 0: the path left the scene along rd (thr 0 where it was
+ * absorbed or given up); 1: s (and h, ro, rd) is that surface; 2: s is an
+ * opaque voxel met from inside the glass (no light is sampled there). */
+int vx__glass_lobe(const vx__light* L, double ro[3], double rd[3], vx_render_ray_hit* h, vx__surface* s, vx__rng* rng,
+                   double thr[3]);
 /* Cosine-weighted direction around unit n. */
 void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
 

@@ -646,6 +646,9 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             bool refr;
             if (!dielectric(s.n, wo, B.eta, B.alpha, rng, wi, &refr, &w)) break;
             prev_pdf = 0;
+            /* glass at the camera's first surface: the pipeline's direct pass gives only the glass's Lambert
+             * share, so what the glass reflects and transmits is this path's whole (render/pipeline.h) */
+            if (vertex == 1) indirect = false;
             for (int k = 0; k < 3; k++) thr[k] *= w;
             if (!refr) {
                 memcpy(ro, s.p, sizeof ro);
@@ -683,4 +686,45 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
     }
     memcpy(out, acc, sizeof acc);
     return primary_hit;
+}
+
+int vx__glass_lobe(const vx__light* L, double ro[3], double rd[3], vx_render_ray_hit* h, vx__surface* s, vx__rng* rng,
+                   double thr[3]) {
+    bsdf B;
+    bsdf_of(L, s, rng, &B);
+    if (B.kind != B_GLASS) return -1;
+    thr[0] = thr[1] = thr[2] = 1;
+    for (int events = 0; events < 64; events++) { /* vx__path's glass events, the walk at once */
+        double wo[3] = {-rd[0], -rd[1], -rd[2]}, wi[3], w;
+        bool refr;
+        if (!dielectric(s->n, wo, B.eta, B.alpha, rng, wi, &refr, &w)) break;
+        for (int k = 0; k < 3; k++) thr[k] *= w;
+        if (!refr) {
+            memcpy(ro, s->p, 3 * sizeof *ro);
+            memcpy(rd, wi, sizeof wi);
+        } else {
+            if (!L->inst_inv) break;
+            for (int k = 0; k < 3; k++) thr[k] *= B.alb[k];
+            double p[3];
+            for (int k = 0; k < 3; k++) p[k] = ro[k] + rd[k] * h->t - s->n[k] * 1e-6 * h->cell_size;
+            memcpy(rd, wi, sizeof wi);
+            const vx_material* m = vx__light_material(L, s->material);
+            uint32_t cell[3] = {h->cell[0], h->cell[1], h->cell[2]};
+            glass_stop st;
+            int wr = glass_walk(L, h->instance, cell, h->cell_size, m->ior, B.alpha, p, rd, rng, thr, ro, &st);
+            if (wr == WALK_ABSORBED) break;
+            if (wr == WALK_STOP) {
+                *h = st.h;
+                memcpy(ro, st.p, 3 * sizeof *ro);
+                vx__surface_of(L, ro, rd, h, s);
+                return 2;
+            }
+        }
+        if (!vx_render_cast(L->caster, ro, rd, INFINITY, false, h)) return 0;
+        vx__surface_of(L, ro, rd, h, s);
+        bsdf_of(L, s, rng, &B);
+        if (B.kind != B_GLASS) return 1;
+    }
+    thr[0] = thr[1] = thr[2] = 0;
+    return 0;
 }

@@ -417,6 +417,14 @@ typedef enum vx_probe_render_mode {
     VX_PROBE_RENDER_LIGHTFIELD,  /* direct + albedo * one bounce traced through the probes' distance maps */
     VX_PROBE_RENDER_LF_INDIRECT  /* that bounce only (for error measurements) */
 } vx_probe_render_mode;
+/* Glass at the camera's first surface (a record of type glass that transmits,
+ * its lobe drawn by its transmission): in every mode the path tracer's events
+ * through it (Fresnel, the walk, the tint) to the first surface that is not
+ * glass, which gets the mode's whole shading (emission, direct light, the
+ * probes' or the light field's light), or the sky where the path leaves; the
+ * indirect modes give that lobe whole too, which the pass pipeline's gi pass
+ * needs (render/pipeline.h). Metal and the Lambert share of glass are
+ * shaded as diffuse by the probe and light field modes. */
 #define VX_PROBE_RENDER_MODE_COUNT 6
 
 /* What the light field modes did (filled when vx_probe_render_desc.stats is set). */

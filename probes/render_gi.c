@@ -238,20 +238,37 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
         } else {
             vx__surface sf;
             vx__surface_of(J->L, o, d, &h, &sf);
-            if (has_direct(J->mode)) {
-                double dl[3];
-                vx__direct(J->L, &sf, dl);
-                for (int k = 0; k < 3; k++) c[k] += sf.emit[k] + dl[k];
-            }
-            if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_INDIRECT) {
-                double e[3];
-                irradiance_at(J->ps, sf.p, sf.n, d, e);
-                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] / pi * e[k];
-            } else if (is_lf(J->mode)) {
-                double nd[3], li[3];
-                vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
-                vx__lf_radiance(J->lf, sf.p, nd, li, cnt);
-                for (int k = 0; k < 3; k++) c[k] += sf.albedo[k] * li[k];
+            bool full = has_direct(J->mode);
+            if (full) for (int k = 0; k < 3; k++) c[k] += sf.emit[k];
+            /* glass (its glass lobe): the surface the path tracer's events through it reach, shaded whole, in
+             * the indirect modes too (the pass pipeline's direct pass gives only the glass's Lambert share:
+             * render/pipeline.h); a path out of the scene brings the sky */
+            double thr[3] = {1, 1, 1};
+            int at = J->L->materials ? vx__glass_lobe(J->L, o, d, &h, &sf, &rng, thr) : -1;
+            if (at == 0) {
+                double sky[3];
+                vx__sky(J->L, d, sky);
+                for (int k = 0; k < 3; k++) c[k] += thr[k] * sky[k];
+            } else {
+                if (at > 0) {
+                    full = true;
+                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.emit[k];
+                }
+                if (full && at != 2) { /* (no light is sampled inside glass) */
+                    double dl[3];
+                    vx__direct(J->L, &sf, dl);
+                    for (int k = 0; k < 3; k++) c[k] += thr[k] * dl[k];
+                }
+                if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_INDIRECT) {
+                    double e[3];
+                    irradiance_at(J->ps, sf.p, sf.n, d, e);
+                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.albedo[k] / pi * e[k];
+                } else if (is_lf(J->mode)) {
+                    double nd[3], li[3];
+                    vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
+                    vx__lf_radiance(J->lf, sf.p, nd, li, cnt);
+                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.albedo[k] * li[k];
+                }
             }
             acc[3] += 1;
         }

@@ -960,7 +960,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     bool d_tm = dt && run_tm, d_aa = dt && run_aa && !run_tm, d_last = dt && !run_aa && !run_tm;
     uint32_t light_spec = (uint32_t)(cull == VX_LIGHT_CULLING_TILED ? 1 : cull == VX_LIGHT_CULLING_CLUSTERED ? 2 : 0) |
                           shadows << 2 | (emit ? 1u << 8 : 0u) | (metal ? 1u << 9 : 0u) |
-                          (glass ? 1u << 10 : 0u) | (glass && sky ? 1u << 11 : 0u);
+                          (glass ? 1u << 10 : 0u) | (glass && sky ? 1u << 11 : 0u) | (glass && has_gi ? 1u << 12 : 0u);
     vx__pipeline* p_cull[5] = {NULL};
     spec[7] = 0;
     spec[5] = has_dof && !f.ortho, spec[6] = 0;

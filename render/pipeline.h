@@ -60,12 +60,16 @@
  * meet the glass: its emission and sky term). Rough glass takes
  * the smooth directions; internal reflections below the critical angle are
  * not followed; at most 4 glass bodies and 256 cells a body. The direct
- * image holds that radiance, resolve adds it as it is; gi and ao add
- * nothing for the transmitted share (the surface behind is not a pixel of
- * the G-buffer: its gi and ao are not known), the Lambert share 1 -
- * transmission is shaded as diffuse. Bound and specialised as metal (a
- * scene without glass keeps its code); without the direct pass glass is
- * diffuse.
+ * image holds that radiance, resolve adds it as it is; the Lambert share 1 -
+ * transmission is shaded as diffuse. With a gi pass the glass lobe (what
+ * the glass reflects and transmits) is the gi method's instead: its paths,
+ * photon paths or cones go on through the glass and bring the surface
+ * behind it whole, its indirect light included (which the direct pass
+ * cannot know: that surface is not a pixel of the G-buffer); the direct
+ * pass then gives the Lambert share's direct light alone and resolve adds
+ * the gi image as it is (no ao on a glass pixel). Bound and specialised as
+ * metal (a scene without glass keeps its code); without the direct pass
+ * glass is diffuse.
  *
  * A pass the list leaves out is not dispatched and has no buffer; the
  * resolve shader is specialised on what is present (no AO term without ao,

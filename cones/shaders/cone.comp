@@ -28,8 +28,25 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;
 const uint FLAGS = 0u, SHOW = 0u;
+// Glass (pass_bodies.glsl GLASS: LIGHTS bit 10, cones/cones.c glass_lights): the gi image of a glass pixel
+// holds its glass lobe whole (render/pipeline.h), pass_bodies.glsl's glass_lobe with the cones' light added at
+// each surface seen through the glass (GLASS_SEEN_GI). Its records are cone_common.glsl's cmat (binding 15,
+// the same buffer under pass_bodies.glsl's name).
+#define MAT_BINDING 15
+vec3 cone_seen_gi(uvec4 s0, uvec4 s1);
+#define GLASS_SEEN_GI cone_seen_gi
 #include "pass_bodies.glsl"
 #include "cone_common.glsl"
+
+// The cones' indirect light leaving a surface seen through glass (G-buffer-like s0, s1): albedo times the
+// diffuse cones' sum (as a pixel's, without the half-resolution samples).
+vec3 cone_seen_gi(uvec4 s0, uvec4 s1) {
+    vec3 nw = gb_normal(s1);
+    vec3 q = (uintBitsToFloat(s0.xyz) - CP.origin.xyz) / CP.origin.w + nw * CP.cone.y;
+    float ao;
+    vec3 alb = HAS_COLOR ? unpack_rgb(s1.x) : vec3(1.0);
+    return alb * cone_gather(q, nw, float(PC.u0.x) * 2.399963, PC.f2.xyz, ao);
+}
 
 layout(constant_id = 5) const uint STAGE = 0u;
 // STAGE 1's samples: 2 uvec4 per half-resolution pixel (passes_common.glsl's
@@ -162,5 +179,7 @@ void main() {
         }
     }
     if (SHADOWS) g += alb / PI * cone_direct(gb_offset_point(p, nw, g1.y), nw, q, px);
+    vec4 gm;
+    if (GLASS && glass_of(g1.w, gm)) g = (1.0 - gm.w) * g + glass_lobe(px, g0, g1, gm); // the Lambert share, the glass lobe
     gi_img[i] = vec4(g, ao);
 }

@@ -21,8 +21,18 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 #include "passes_common.glsl"
 const bool DOF = false, PHYS = true;
 const uint FLAGS = 0u, SHOW = 0u;
+// Glass (pass_bodies.glsl GLASS, cones/cones.c glass_lights; its records cone_common.glsl's cmat, binding 15):
+// a ray that meets glass counts 1 - transmission of a hit, and the glass is no surface of the voxel, so
+// that the cones see through it (the light of a room behind a window, of the sky through a greenhouse)
+#define MAT_BINDING 15
 #include "pass_bodies.glsl"
 #include "cone_common.glsl"
+
+// What a hit on attribute record attr counts: 1, or 1 - transmission for glass.
+float hit_weight(uint attr) {
+    vec4 gm;
+    return GLASS && glass_of(attr, gm) ? 1.0 - gm.w : 1.0;
+}
 
 layout(constant_id = 5) const uint STAGE = 0u;
 
@@ -53,7 +63,8 @@ void main() {
         vec3 v = axis == 2u ? vec3(0, 1, 0) : vec3(0, 0, 1);
         // the face's plane, EPS outside; rays go -sg along the axis for s
         vec3 face = lo + e * (sg > 0.0 ? s * (1.0 + EPS) : -s * EPS);
-        uint hits = 0u, seen = 0u;
+        float hits = 0.0;
+        uint seen = 0u;
         float tmin = 3.0e38;
         vec3 lat = vec3(0.0), nrm = vec3(0.0), alb = vec3(0.0), emit = vec3(0.0);
         for (uint j = 0u; j < S * S; j++) {
@@ -65,20 +76,23 @@ void main() {
             h.attr = NO_HIT;
             g_iter = 0u; // the traversal's guard counts per ray
             if (!trace_scene(o, -sg * e, 0.0, false, h)) continue;
+            float w = hit_weight(h.attr);
             if (h.t < 0.5 * EPS * s) {
                 // the ray starts inside a solid cell of the neighbour: this
                 // side is covered there; whatever the voxel holds behind it
                 // is an interior (opaque, not seen), if anything: the rest of
-                // the ray from EPS inside the face decides
+                // the ray from EPS inside the face decides (in glass: its
+                // nearest hit, weighed as above)
                 Hit hi;
                 hi.t = s * (1.0 - 2.0 * EPS);
                 hi.inst = NO_HIT;
+                hi.attr = NO_HIT;
                 g_iter = 0u;
-                if (trace_scene(o - sg * e * (2.0 * EPS * s), -sg * e, 0.0, true, hi)) hits++;
+                if (trace_scene(o - sg * e * (2.0 * EPS * s), -sg * e, 0.0, w == 1.0, hi)) hits += w == 1.0 ? 1.0 : hit_weight(hi.attr);
                 continue;
             }
-            hits++;
-            if (STAGE == 0u) continue;
+            hits += w;
+            if (STAGE == 0u || w < 1.0) continue;
             seen++;
             tmin = min(tmin, h.t);
             lat += o;
@@ -88,8 +102,8 @@ void main() {
             // vx_material_emitted_terms; records past the table (one record without emission) emit nothing
             if (h.attr < uint(emit_attr.length())) emit += a * emit_attr[h.attr].w + emit_attr[h.attr].xyz;
         }
-        alpha[side] = float(hits) / float(S * S);
-        any_hit = any_hit || hits > 0u;
+        alpha[side] = hits / float(S * S);
+        any_hit = any_hit || hits > 0.0;
         if (STAGE == 1u) {
             uint r = (gid * 6u + side) * 5u;
             float k = max(float(seen), 1.0);

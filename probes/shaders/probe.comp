@@ -382,6 +382,9 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
             PT_PREC float w;
             if (!dielectric(g_s.n, wo, B.eta, B.alpha, wi, refr, w)) break;
             prev_pdf = 0.0;
+            // glass at the camera's first surface: the pipeline's direct pass gives only the glass's Lambert
+            // share, so what the glass reflects and transmits is this path's whole (render/pipeline.h)
+            if (vertex == 1) indirect = false;
             thr *= w;
             if (!refr) {
                 o = g_s.p;
@@ -1060,6 +1063,45 @@ uint render_row(uint l) {
     return P.rw.x == 0u ? l : uint(outv[1u + l / 4u][l % 4u]);
 }
 
+// Glass at the camera's first surface sf (met along o + t d, hit h) in the probe modes: probes/pathtrace.c
+// vx__glass_lobe, the same events and random numbers. -1: the Lambert lobe, nothing changed; 0: the path
+// left the scene along d (thr 0 where absorbed or given up); 1: sf is the first surface that is not glass;
+// 2: sf is an opaque voxel met from inside the glass.
+int glass_lobe(PT_PREC inout vec3 o, PT_PREC inout vec3 d, inout Hit h, inout Surf sf, PT_PREC out vec3 thr) {
+    thr = vec3(1.0);
+    Bsdf B = bsdf_of(sf);
+    if (B.kind != B_GLASS) return -1;
+    for (int events = 0; events < 64; events++) {
+        vec3 wi;
+        bool refr;
+        PT_PREC float w;
+        if (!dielectric(sf.n, -d, B.eta, B.alpha, wi, refr, w)) break;
+        thr *= w;
+        if (!refr) {
+            o = sf.p;
+            d = wi;
+        } else {
+            thr *= B.alb;
+            PT_PREC vec3 p = o + d * h.t - sf.n * (1e-3 * sf.cell);
+            d = wi;
+            uint w_inst;
+            uvec3 w_cell;
+            uint wr = glass_walk(h.inst, h.cell, mats[2u * sf.attr + 1u].x, B.alpha, p, d, thr, o, h, w_inst, w_cell);
+            if (wr == WALK_ABSORBED) break;
+            if (wr == WALK_STOP) {
+                sf = surface(o, d, h);
+                return 2;
+            }
+        }
+        if (!cast_ray(o, d, BIG, h)) return 0;
+        sf = surface(o, d, h);
+        B = bsdf_of(sf);
+        if (B.kind != B_GLASS) return 1;
+    }
+    thr = vec3(0.0);
+    return 0;
+}
+
 void render() {
     uint W = P.a.x, H = P.a.w;
     uint nrows = P.rw.x == 0u ? H : P.rw.x;
@@ -1118,12 +1160,28 @@ void render() {
             if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
         } else {
             Surf sf = surface(o, d, h);
-            if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c += sf.emit + direct(sf);
-            if (PMODE == P_GI || PMODE == P_GI_IND) {
-                c += sf.alb / PI * irradiance_at(sf.p, sf.n, d);
-            } else if (PMODE == P_LF || PMODE == P_LF_IND) {
-                float u1 = rnd(), u2 = rnd();
-                c += sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2));
+            bool full = PMODE == P_GI || PMODE == P_LF;
+            if (full) c += sf.emit;
+            // glass (its glass lobe): the surface the path tracer's events through it reach, shaded whole, in
+            // the indirect modes too (the pass pipeline's direct pass gives only the glass's Lambert share:
+            // render/pipeline.h); a path out of the scene brings the sky (MATS: a scene without glass or
+            // metal compiles none of this)
+            PT_PREC vec3 thr = vec3(1.0);
+            int at = MATS ? glass_lobe(o, d, h, sf, thr) : -1;
+            if (at == 0) {
+                c += thr * sky_radiance(d);
+            } else {
+                if (at > 0) {
+                    full = true;
+                    c += thr * sf.emit;
+                }
+                if (full && at != 2) c += thr * direct(sf); // (no light is sampled inside glass)
+                if (PMODE == P_GI || PMODE == P_GI_IND) {
+                    c += thr * (sf.alb / PI * irradiance_at(sf.p, sf.n, d));
+                } else if (PMODE == P_LF || PMODE == P_LF_IND) {
+                    float u1 = rnd(), u2 = rnd();
+                    c += thr * (sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2)));
+                }
             }
             acc.w += 1.0;
         }

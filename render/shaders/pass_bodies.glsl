@@ -169,8 +169,16 @@ vec3 metal_brdf(Metal M, vec3 n, vec3 wi) {
 // (LIGHTS bit 11): the frame has the sky term (resolve's HAS_SKY), which the
 // direct pass then adds at the surface seen through the glass. Without
 // GLASS no glass code runs (the SPIR-V path of a scene without glass).
+// GLASS_GI (LIGHTS bit 12): the frame has a gi pass, which gives a glass
+// pixel's glass lobe whole (what the glass reflects and what it transmits:
+// the surface behind it with its direct light, emission and indirect light,
+// by the method's own transport; the path tracer's paths go on through the
+// glass as in the reference); the direct pass then gives only the glass's
+// Lambert share (1 - transmission) and resolve adds the gi image as it is.
+// Without a gi pass the direct pass gives the whole glass radiance.
 const bool GLASS = (((LIGHTS >> 10) | (FLAGS >> 7)) & 1u) != 0u;
 const bool GLASS_SKY = (LIGHTS & 2048u) != 0u;
+const bool GLASS_GI = (LIGHTS & 4096u) != 0u;
 // The limit on glass bodies a pixel's transmitted ray enters (the first
 // included; the surface met after the last is shaded as opaque). The steps a
 // walk takes in one body (with total internal reflections) before it is
@@ -559,6 +567,9 @@ vec3 glass_seen_surface(uvec2 px, uvec4 s0, uvec4 s1, vec3 wo) {
         if (mt) rad += M.kd * frame_sky_irradiance(nw) + frame_sky(reflect(-wo, nw)) * metal_albedo(M, max(dot(nw, wo), 0.0));
         else rad += alb * frame_sky_irradiance(nw);
     }
+#ifdef GLASS_SEEN_GI
+    rad += GLASS_SEEN_GI(s0, s1); // the includer's indirect light there (a gi method's kernel: cone.comp)
+#endif
     return rad;
 }
 
@@ -571,17 +582,14 @@ vec3 glass_seen_surface(uvec2 px, uvec4 s0, uvec4 s1, vec3 wo) {
 // traced to the next surface, which glass_seen_surface shades, or the sky on
 // a miss; a further glass body on the way is entered the same way (its F
 // times the sky along its mirror direction, its transmission weighting what
-// goes on) up to GLASS_BODIES. Transmission t < 1: t times that plus 1 - t
-// times the Lambert radiance alb / pi E (the path tracer's choice of lobe).
-vec3 glass_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
+// goes on) up to GLASS_BODIES. Transmission t < 1: t times that (the glass
+// lobe, glass_lobe) plus 1 - t times the Lambert radiance alb / pi E (the
+// path tracer's choice of lobe; glass_pixel adds it).
+vec3 glass_lobe(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
     vec3 p = uintBitsToFloat(g0.xyz), n = gb_normal(g1);
     vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
     vec3 wo = view_to_eye(p);
     vec3 rad = vec3(0.0);
-    if (m.w < 1.0) {
-        Metal M0;
-        rad = (1.0 - m.w) * alb / PI * direct_light(px, g0, g1, n, false, M0);
-    }
     vec3 thr = vec3(m.w);
     float ior = m.z;
     uint inst = g1.y;
@@ -629,6 +637,19 @@ vec3 glass_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
         break;
     }
     return rad;
+}
+
+// The direct pass's radiance of a glass pixel: the Lambert share's direct
+// light, and the glass lobe where no gi pass gives it (GLASS_GI).
+vec3 glass_pixel(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
+    vec3 rad = vec3(0.0);
+    if (m.w < 1.0) {
+        Metal M0;
+        vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
+        rad = (1.0 - m.w) * alb / PI * direct_light(px, g0, g1, gb_normal(g1), false, M0);
+    }
+    if (GLASS_GI) return rad; // the glass lobe is the gi pass's (above)
+    return rad + glass_lobe(px, g0, g1, m);
 }
 
 // What the direct pass delivers for a G-buffer entry: in the colour model
@@ -692,12 +713,13 @@ vec4 resolve_pixel(uvec4 g0, uvec4 g1, vec4 dir, float ao, vec4 gi) {
         if (HAS_EMIT && g1.w < uint(emit_attr.length())) rad += emitted(alb, emit_attr[g1.w]);
         if (HAS_DIRECT) rad += mt || gl ? dir.xyz : alb / PI * dir.xyz;
         if (gl) {
-            // glass: gi and the sky term only for its Lambert share 1 - transmission (the path tracer's
-            // choice of lobe); none for what the glass transmits: the gi and ao of the surface seen through
-            // it are not known (the direct pass gave that surface's direct light, emission and sky term)
-            float w = 1.0 - gm.w;
-            if (HAS_GI) rad += w * gi.xyz * (HAS_AO ? ao : 1.0);
-            if (HAS_SKY) rad += w * alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0);
+            // glass with a gi pass: its image holds the glass lobe whole and the Lambert share's indirect
+            // light, each weighted by its lobe's share (GLASS_GI above), added as it is (the ao image knows
+            // the glass surface, not what is seen through it); without one the direct pass gave the glass
+            // radiance and the sky term is the Lambert share's (1 - transmission, the path tracer's choice
+            // of lobe)
+            if (HAS_GI) rad += gi.xyz;
+            if (HAS_SKY) rad += (1.0 - gm.w) * alb * frame_sky_irradiance(gb_normal(g1)) * (HAS_AO ? ao : 1.0);
             return vec4(rad, 1.0);
         }
         if (HAS_GI) rad += gi.xyz * (HAS_AO ? ao : 1.0);

@@ -40,6 +40,12 @@ if(VX_WITH_VULKAN)
               vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_contact PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # what every gi method of the pass pipeline brings through glass: a pane of index 1 against no pane, and
+  # gi=pathtrace's frame through a pane of index 1.5 against the reference path tracer
+  vx_add_test(test_glass_gi SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_glass_gi.c LIBS vx_cones vx_photons vx_probes
+              vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_glass_gi PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
