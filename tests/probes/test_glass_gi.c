@@ -183,9 +183,10 @@ static void test_pathtrace_pass_is_the_reference(void) {
 }
 
 /* The probe modes' glass lobe (probes/render_gi.c, probe.comp glass_lobe): the CPU reference's and the GPU's
- * images through the pane of index 1.5, the same probes. (The light field modes are left out: on this scene
- * their CPU and GPU images differ by some 12% with the pane or without it, which is not the glass's; see
- * docs/TESTING.md, stop 72.) */
+ * images through the pane of index 1.5, the same probes. The light field's one bounce finds the small
+ * emitter by chance (a mean over 120 pixels of 256 samples varies by 8% from seed to seed on the CPU, and
+ * the GPU's is 4-6% below the CPU's here with the pane or without it: docs/TESTING.md, stop 72), so its
+ * tolerance is wider; what it checks is that both follow the glass (without the lobe: 0). */
 static void test_probe_modes_cpu_and_gpu(void) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
@@ -197,10 +198,12 @@ static void test_probe_modes_cpu_and_gpu(void) {
     vx_probe_bake_desc bd = {.grid = {4, 4, 4}, .res = 32, .spp = 64, .bounces = 1, .seed = 5, .no_sun = true,
                              .black_sky = true};
     REQUIRE(vx_probe_bake_gpu(rs, &s, &bd, &ps, &err) == VX_OK);
-    static const vx_probe_render_mode modes[] = {VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT};
+    static const vx_probe_render_mode modes[] = {VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT,
+                                                 VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT};
     vx_render_desc base = view();
     for (size_t k = 0; k < sizeof modes / sizeof modes[0]; k++) {
-        vx_probe_render_desc rd = {.base = &base, .mode = modes[k], .spp = 64, .seed = 7, .threads = 2,
+        bool lf = modes[k] == VX_PROBE_RENDER_LIGHTFIELD || modes[k] == VX_PROBE_RENDER_LF_INDIRECT;
+        vx_probe_render_desc rd = {.base = &base, .mode = modes[k], .spp = lf ? 256 : 64, .seed = 7, .threads = 2,
                                    .pixel_centre = true};
         vx_render_image c = {0}, g = {0};
         REQUIRE(vx_probe_render(&s, &ps, &rd, &c, &err) == VX_OK);
@@ -210,7 +213,7 @@ static void test_probe_modes_cpu_and_gpu(void) {
         centre_mean(&g, b);
         fprintf(stderr, "  %-19s through the pane: CPU %.4f, GPU %.4f\n", vx_probe_render_mode_name(modes[k]), a[0], b[0]);
         for (int j = 0; j < 3; j++)
-            CHECKF(a[j] > 0.02 && fabs(b[j] / a[j] - 1) < 0.03, "%s channel %d: GPU %.4f against CPU %.4f",
+            CHECKF(a[j] > 0.02 && fabs(b[j] / a[j] - 1) < (lf ? 0.12 : 0.03), "%s channel %d: GPU %.4f against CPU %.4f",
                    vx_probe_render_mode_name(modes[k]), j, b[j], a[j]);
         vx_render_image_free(&c);
         vx_render_image_free(&g);
