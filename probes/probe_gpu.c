@@ -85,6 +85,7 @@ typedef struct gctx {
     uint32_t spec[VX__SPEC_COUNT + SPEC_EXTRA]; /* the tracer's, then probe.comp's (SPEC_*) */
     uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
+    bool glass_code;  /* probe.comp's GLASS (the render passes only): some record is glass that transmits */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx_probe_bake_kernel kernel; /* the caller's choice (vx_probe_bake_desc.kernel) */
     bool use_one;     /* the bake runs bake_one() (choose_kernel) */
@@ -206,6 +207,7 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
         return r;
     }
     c->lights_code = c->light_count > 0 || c->em_count > 0;
+    c->glass_code = L->inst_inv != NULL; /* (the walks' instance maps: made where some glass transmits) */
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = vx__render_scene_deep(rs);
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
@@ -319,6 +321,7 @@ static bool one_walk_ok(const gctx* c) {
 static uint64_t probe_desc(gctx* c, uint32_t pmode, bool one, vx_gpu_compute_pipeline_desc* pd) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
+        (c->glass_code && pmode != PMODE_BAKE ? 0x400u : 0u) |
         (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
     /* the bake's kernels (bake(), bake_one()) and the render passes' (PT_PRECISE: render()); every float
      * operation of each precise (probe.comp: the same bits whatever the pipeline's constants) */
@@ -1069,6 +1072,7 @@ void vx_probe_baker_destroy(vx_probe_baker* b) {
 vx_result vx_probe_baker_create(vx_render_scene* rs, const vx_svo_scene* scene, const vx_probe_bake_desc* desc,
                                 const vx_probe_set* ps, vx_probe_baker** out, vx_error* err) {
     if (!rs || !scene || !ps || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    *out = NULL;
     double t0 = vx_time_now();
     vx_probe_bake_desc d = desc ? *desc : (vx_probe_bake_desc){0};
     vx_probe_baker* b = vx_calloc(ps->alloc, 1, sizeof *b);
@@ -1178,7 +1182,7 @@ vx_result vx_probe_bake_more_gpu(vx_render_scene* rs, const vx_svo_scene* scene,
     vx_result r = vx__probe_bake_begin(ps, end, &begin, err);
     if (r || end == begin) return r;
     if (!d.host_filter) {
-        vx_probe_baker* b;
+        vx_probe_baker* b = NULL; /* (a failed create leaves it NULL) */
         r = vx_probe_baker_create(rs, scene, &d, ps, &b, err);
         if (!r) r = vx_probe_baker_run(b, &d, ps, end, err);
         vx_probe_baker_destroy(b);

@@ -69,6 +69,11 @@ const bool LIGHTS = (PCONST & 0x100u) != 0u;
 // texel's samples cover the hemisphere evenly, and the bounce rays of a SIMD group leave in nearby
 // directions (bake())
 const bool STRAT = (PCONST & 0x200u) != 0u;
+// bit 10 (GLASS, the render passes only): some record is glass that transmits: render()'s glass events (the
+// probe modes' glass lobe) are compiled in (on lavapipe, which runs every branch's code for every pixel, they
+// cost gi=probes 3x where the scene has glass). Set only with MATS (glass is one of its materials); not
+// `MATS && ...`: glslang 11 emits `&&` of spec constants out of order, and the bake's module came out invalid
+const bool GLASS = (PCONST & 0x400u) != 0u;
 #ifndef PT_PRECISE
 // bits 16-23 (the bake's kernel only, not PT_PRECISE's): its bounces plus one, a constant of the pipeline (0:
 // P.a.z): the path's loop specialised for the bake's count (H200, the Cornell box's goal bake: GPU trace 0.260 ->
@@ -1063,45 +1068,6 @@ uint render_row(uint l) {
     return P.rw.x == 0u ? l : uint(outv[1u + l / 4u][l % 4u]);
 }
 
-// Glass at the camera's first surface sf (met along o + t d, hit h) in the probe modes: probes/pathtrace.c
-// vx__glass_lobe, the same events and random numbers. -1: the Lambert lobe, nothing changed; 0: the path
-// left the scene along d (thr 0 where absorbed or given up); 1: sf is the first surface that is not glass;
-// 2: sf is an opaque voxel met from inside the glass.
-int glass_lobe(PT_PREC inout vec3 o, PT_PREC inout vec3 d, inout Hit h, inout Surf sf, PT_PREC out vec3 thr) {
-    thr = vec3(1.0);
-    Bsdf B = bsdf_of(sf);
-    if (B.kind != B_GLASS) return -1;
-    for (int events = 0; events < 64; events++) {
-        vec3 wi;
-        bool refr;
-        PT_PREC float w;
-        if (!dielectric(sf.n, -d, B.eta, B.alpha, wi, refr, w)) break;
-        thr *= w;
-        if (!refr) {
-            o = sf.p;
-            d = wi;
-        } else {
-            thr *= B.alb;
-            PT_PREC vec3 p = o + d * h.t - sf.n * (1e-3 * sf.cell);
-            d = wi;
-            uint w_inst;
-            uvec3 w_cell;
-            uint wr = glass_walk(h.inst, h.cell, mats[2u * sf.attr + 1u].x, B.alpha, p, d, thr, o, h, w_inst, w_cell);
-            if (wr == WALK_ABSORBED) break;
-            if (wr == WALK_STOP) {
-                sf = surface(o, d, h);
-                return 2;
-            }
-        }
-        if (!cast_ray(o, d, BIG, h)) return 0;
-        sf = surface(o, d, h);
-        B = bsdf_of(sf);
-        if (B.kind != B_GLASS) return 1;
-    }
-    thr = vec3(0.0);
-    return 0;
-}
-
 void render() {
     uint W = P.a.x, H = P.a.w;
     uint nrows = P.rw.x == 0u ? H : P.rw.x;
@@ -1155,23 +1121,81 @@ void render() {
             if (hit) acc.w += 1.0;
             continue;
         }
+        // The camera's first surface and, where it is glass whose glass lobe is drawn, the path tracer's events
+        // through the glass to the first surface that is not glass (probes/pathtrace.c vx__glass_lobe, the
+        // same events and random numbers), shaded whole there, in the indirect modes too (the pass
+        // pipeline's direct pass gives only the glass's Lambert share: render/pipeline.h); a path out of the
+        // scene brings the sky. One loop and one cast in its body: lavapipe runs a branch's code masked for
+        // every pixel, and a second inlined cast for the few glass pixels cost gi=probes 4.4x on a scene
+        // with glass there, 3.2x with one. (GLASS: a scene without glass compiles no glass event.)
+        bool full = PMODE == P_GI || PMODE == P_LF;
+        PT_PREC vec3 thr = vec3(1.0);
+        int at = 1; // 0: the path left the scene along d; 1: sf, a surface; 2: sf met from inside glass
+        bool glass = false, in_glass = false;
+        uint g_inst = 0u;
+        uvec3 g_cell = uvec3(0u);
+        float g_ior = 1.5, g_alpha = 0.0;
         Hit h;
-        if (!cast_ray(o, d, BIG, h)) {
+        Surf sf;
+        for (int ev = 0; ev < 65; ev++) {
+            bool stopped = false;
+            if (GLASS && in_glass) {
+                uint w_inst;
+                uvec3 w_cell;
+                PT_PREC vec3 p = o;
+                uint wr = glass_walk(g_inst, g_cell, g_ior, g_alpha, p, d, thr, o, h, w_inst, w_cell);
+                in_glass = false;
+                if (wr == WALK_ABSORBED) {
+                    at = 0, thr = vec3(0.0);
+                    break;
+                }
+                stopped = wr == WALK_STOP;
+            }
+            if (!stopped && !cast_ray(o, d, BIG, h)) {
+                at = 0;
+                break;
+            }
+            sf = surface(o, d, h);
+            if (ev == 0 && full) c += sf.emit;
+            if (stopped) {
+                at = 2;
+                break;
+            }
+            if (!GLASS) break;
+            Bsdf B = bsdf_of(sf);
+            if (B.kind != B_GLASS) break;
+            if (ev == 64) { // given up (the CPU's 64 glass events)
+                at = 0, thr = vec3(0.0);
+                break;
+            }
+            glass = true;
+            vec3 wi;
+            bool refr;
+            PT_PREC float w;
+            if (!dielectric(sf.n, -d, B.eta, B.alpha, wi, refr, w)) {
+                at = 0, thr = vec3(0.0);
+                break;
+            }
+            thr *= w;
+            if (!refr) {
+                o = sf.p;
+                d = wi;
+                continue;
+            }
+            thr *= B.alb;
+            PT_PREC vec3 pe = o + d * h.t - sf.n * (1e-3 * sf.cell);
+            o = pe;
+            d = wi;
+            in_glass = true;
+            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * sf.attr + 1u].x, g_alpha = B.alpha;
+        }
+        if (at == 0 && !glass) {
             if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
         } else {
-            Surf sf = surface(o, d, h);
-            bool full = PMODE == P_GI || PMODE == P_LF;
-            if (full) c += sf.emit;
-            // glass (its glass lobe): the surface the path tracer's events through it reach, shaded whole, in
-            // the indirect modes too (the pass pipeline's direct pass gives only the glass's Lambert share:
-            // render/pipeline.h); a path out of the scene brings the sky (MATS: a scene without glass or
-            // metal compiles none of this)
-            PT_PREC vec3 thr = vec3(1.0);
-            int at = MATS ? glass_lobe(o, d, h, sf, thr) : -1;
             if (at == 0) {
                 c += thr * sky_radiance(d);
             } else {
-                if (at > 0) {
+                if (glass) {
                     full = true;
                     c += thr * sf.emit;
                 }

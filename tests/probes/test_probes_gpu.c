@@ -13,6 +13,7 @@
 #include "tests/test.h"
 #include "tests/test_vox.h"
 #include "tests/gpu_test.h"
+#include "tests/fail_alloc.h"
 
 static const double PI = 3.14159265358979323846;
 static vx_gpu* gpu;
@@ -1062,6 +1063,48 @@ static void test_gi_pass_equals_renderer(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The GPU bake with its allocations failing one by one (the k-th, then every one after it): each run
+ * returns an error and leaves nothing allocated; none crashes (a failed baker left the bake's pointer to it
+ * unset, which it then freed), and the run with no failure bakes the same bytes as the plain allocator. */
+static void test_gpu_bake_allocation_failures(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    room_scene(&s);
+    vx_render_scene* rs = scene_on_gpu(&s);
+    REQUIRE(rs);
+    vx_probe_bake_desc d = {.grid = {2, 2, 2}, .res = 16, .spp = 1, .bounces = 1, .seed = 3};
+    vx_error err = {0};
+    vx_probe_set want;
+    vx_result r0 = vx_probe_bake_gpu(rs, &s, &d, &want, &err);
+    if (r0) fprintf(stderr, "  bake: %s\n", err.msg);
+    REQUIRE(r0 == VX_OK);
+    uint8_t *wb = NULL, *gb = NULL;
+    size_t wn = 0, gn = 0;
+    REQUIRE(bytes_of(&want, &wb, &wn));
+    bool done = false;
+    long k = 1;
+    for (; k < 400 && !done; k++) {
+        tfail f = {.fail_at = k, .persistent = true};
+        vx_allocator a = {.alloc = tfail_alloc, .free = tfail_free, .user_data = &f};
+        d.alloc = &a;
+        vx_probe_set ps;
+        vx_result r = vx_probe_bake_gpu(rs, &s, &d, &ps, &err);
+        if (r == VX_OK) {
+            CHECKF(!f.failed, "allocation %ld failed and the bake went on as if not", k);
+            done = true;
+            if (bytes_of(&ps, &gb, &gn)) CHECK(gn == wn && !memcmp(gb, wb, wn));
+            vx_probe_set_free(&ps);
+        }
+        CHECKF(f.live == 0, "allocation %ld failing: %ld blocks left", k, f.live);
+    }
+    fprintf(stderr, "  %ld allocation failures, each an error; then baked\n", k - 2);
+    CHECK(done);
+    vx_free(NULL, wb), vx_free(NULL, gb);
+    vx_probe_set_free(&want);
+    vx_render_scene_destroy(rs);
+    vx_svo_scene_free(&s);
+}
+
 int main(void) {
     (void)ts_random_model;
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
@@ -1081,6 +1124,7 @@ int main(void) {
     RUN(test_gpu_lightfield);
     RUN(test_gpu_lightfield_finite);
     RUN(test_gi_pass_equals_renderer);
+    RUN(test_gpu_bake_allocation_failures);
     vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
