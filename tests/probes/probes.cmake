@@ -46,6 +46,11 @@ if(VX_WITH_VULKAN)
               vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_gi PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # allocation failures on the GPU side: the render scene, the passes, the gi methods, the probe renderer
+  vx_add_test(test_gpu_alloc_fail SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_gpu_alloc_fail.c LIBS vx_cones vx_photons
+              vx_probes vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_gpu_alloc_fail PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   set_tests_properties(test_probes_gpu PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # the descriptors' GPU form forced on CPU devices too (tests/render/render.cmake's *_gpu_form)
