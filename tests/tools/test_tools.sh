@@ -33,6 +33,11 @@ cp "$T/out" "$T/out.demo"
 expect_status 0 "svo_info demo" "$BIN/svo_info" "$T/demo.svo"
 grep -q "^model 0" "$T/out" && grep -q "^sections" "$T/out" && ok "svo_info lists sections and models" || bad "svo_info lists sections and models"
 grep -q "3 materials" "$T/out" && ok "demo has lamp, glass and metal materials" || bad "demo has lamp, glass and metal materials"
+# the materials as read (the demo's MATL: _glass with _trans 0.9, _rough 0.05, _ior 0.5 = index 1.5)
+grep -q "^material 14   glass, roughness 0.05, ior 1.5, transmission 0.9$" "$T/out" &&
+    grep -q "^material 15   metal, roughness 0.2, metalness 1, specular 0.5$" "$T/out" &&
+    grep -q "^material 12   emit, emission 3.2 of the voxels' colour$" "$T/out" &&
+    ok "svo_info lists the materials" || bad "svo_info lists the materials"
 nl=$(sed -n 's/^lights       0 stored, \([0-9]*\) from the voxels of 1 emissive materials.*/\1/p' "$T/out")
 [ "${nl:-0}" -ge 5 ] && ok "demo lamps: $nl lights from emissive voxels" || bad "demo lamps: ${nl:-no} lights from emissive voxels"
 expect_status 0 "verify demo" "$BIN/svo_info" "$T/demo.svo" --verify

@@ -38,7 +38,7 @@ _Noreturn static void usage(int status) {
             "    --dump           print every voxel of the scene in grid cells, one per line\n"
             "                     as 'x y z r g b a' (instances applied, colours from the palette)\n"
             "    --all            with --dump, --to-glb and --to-vdb: include hidden instances and layers\n"
-            "    --models         list every model, instance, light and frame (default: the first 16)\n"
+            "    --models         list every model, instance, light, material and frame (default: the first 16)\n"
             "    --frame N        an animation's frame N for --dump, --to-glb, --to-vdb, --to-vox and the\n"
             "                     instance list (default: frame 0; --to-vox: every frame)\n"
             "    --to-vox OUT     write the scene back to a MagicaVoxel .vox file; a model over 256 cells\n"
@@ -273,6 +273,25 @@ static void print_info(const options* o, const vx_svo_file_info* fi, const vx_sv
         printf("light %-6u %s\n", i, line);
     }
     if (shown < s->light_count) printf("  ... %u more lights (--models lists all)\n", s->light_count - shown);
+    /* the materials as the renderers read them (vx_svo_material_resolve: defaults and clamps applied) */
+    shown = o->models ? s->material_count : (s->material_count < 16 ? s->material_count : 16);
+    for (uint32_t i = 0; i < shown; i++) {
+        vx_material m = vx_svo_material_resolve(&s->materials[i]);
+        static const char* const types[] = {"diffuse", "metal", "glass", "emit"};
+        printf("material %-4u %s", s->materials[i].id, (unsigned)m.type < 4 ? types[m.type] : "?");
+        if (m.type == VX_MATERIAL_METAL)
+            printf(", roughness %g, metalness %g, specular %g", m.roughness, m.metalness, m.specular);
+        else if (m.type == VX_MATERIAL_GLASS)
+            printf(", roughness %g, ior %g, transmission %g", m.roughness, m.ior, m.transmission);
+        if (m.emission > 0) {
+            printf(", emission %g", m.emission);
+            const double* c = m.emission_color;
+            if (c[0] > 0 || c[1] > 0 || c[2] > 0) printf(" of colour %g %g %g", c[0], c[1], c[2]);
+            else printf(" of the voxels' colour");
+        }
+        printf("\n");
+    }
+    if (shown < s->material_count) printf("  ... %u more materials (--models lists all)\n", s->material_count - shown);
 }
 
 /* --to-glb's lights: how many, and which other glTF readers see only
