@@ -92,6 +92,19 @@ static inline void add_material(vx_svo_scene* s, uint32_t id, const char* const*
     }
 }
 
+/* The glass room (glass_room_cell) with its materials: a metal floor, a glass
+ * block of index 1.5, an emissive block (every material path of the passes). */
+static inline void glass_room_scene(vx_svo_scene* s) {
+    cells_scene(s, 12, glass_room_cell);
+    s->palette[3] = 0xFF80A0C0u, s->palette[4] = 0xFFE0F0FFu, s->palette[5] = 0xFF4080E0u, s->palette[9] = 0xFFFFFFFFu;
+    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
+    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
+    add_material(s, 4, glass, 3);
+    add_material(s, 3, metal, 3);
+    add_material(s, 9, emit, 2);
+}
+
 /* The light of a render without a probe set: a set of no probes carries
  * sun, sky and bounces (probes.h: "ps giving their light"). */
 static inline vx_probe_set light_only(double sun, const double sky[3], uint32_t bounces) {

@@ -87,14 +87,7 @@ static vx_result run(op o, const vx_svo_scene* s, vx_render_image* img, vx_error
 static void test_gpu_operations(void) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
-    cells_scene(&s, 12, glass_room_cell); /* metal, glass, emission: every material path */
-    s.palette[3] = 0xFF80A0C0u, s.palette[4] = 0xFFE0F0FFu, s.palette[5] = 0xFF4080E0u, s.palette[9] = 0xFFFFFFFFu;
-    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
-    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
-    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
-    add_material(&s, 4, glass, 3);
-    add_material(&s, 3, metal, 3);
-    add_material(&s, 9, emit, 2);
+    glass_room_scene(&s); /* metal, glass, emission: every material path */
     for (int o = 0; o < OP_COUNT; o++) {
         vx_error err = {0};
         vx_render_image want;

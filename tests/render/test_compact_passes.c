@@ -455,14 +455,7 @@ static void room_scenes(int parts) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
     (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes (static there) */
-    cells_scene(&s, 12, glass_room_cell);
-    s.palette[3] = 0xFF80A0C0u, s.palette[4] = 0xFFE0F0FFu, s.palette[5] = 0xFF4080E0u, s.palette[9] = 0xFFFFFFFFu;
-    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
-    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
-    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
-    add_material(&s, 4, glass, 3);
-    add_material(&s, 3, metal, 3);
-    add_material(&s, 9, emit, 2);
+    glass_room_scene(&s);
     check_scene("room (emissive, glass, metal)", &s, 48, 36, VX_RENDER_BRICKS_INLINE, parts);
     vx_svo_scene_free(&s);
 }

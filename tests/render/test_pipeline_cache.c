@@ -244,15 +244,7 @@ static void make_scenes(vx_svo_scene s[2]) {
     ts_scene(&s[0], m, 2, in, 3);
     /* a room with materials (emissive, glass, metal) */
     (void)box_scene, (void)room_scene; /* probe_scenes.h's other scenes */
-    cells_scene(&s[1], 12, glass_room_cell);
-    s[1].palette[3] = 0xFF80A0C0u, s[1].palette[4] = 0xFFE0F0FFu, s[1].palette[5] = 0xFF4080E0u;
-    s[1].palette[9] = 0xFFFFFFFFu;
-    static const char* const glass[] = {"_type", "_glass", "_ri", "1.5", "_rough", "0"};
-    static const char* const metal[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
-    static const char* const emit[] = {"_type", "_emit", "_emit", "2"};
-    add_material(&s[1], 4, glass, 3);
-    add_material(&s[1], 3, metal, 3);
-    add_material(&s[1], 9, emit, 2);
+    glass_room_scene(&s[1]);
 }
 
 /* The scenes and layouts drawn: each pair's variants compiled twice (on
