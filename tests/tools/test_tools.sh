@@ -205,7 +205,8 @@ if [ -x "$BIN/svo_render" ]; then
     expect_status 2 "svo_render unknown gi method" svo_render "$T/demo.svo" "$T/lay_x.png" --passes gbuffer,direct,gi=cone
     grep -q "unknown gi method 'cone' (probes, lightfield, pathtrace, photons, cones)" "$T/err" && ok "unknown gi method named" || bad "unknown gi method named"
     expect_status 2 "svo_render gi=lightfield without probes" svo_render "$T/demo.svo" "$T/lay_x.png" --passes gbuffer,direct,gi=lightfield
-    grep -q "gi=lightfield needs --probes FILE" "$T/err" && ok "probe method asks for probes" || bad "probe method asks for probes"
+    grep -q "gi=lightfield needs --probes FILE (bake them: svo_bake $T/demo.svo OUT.probes)" "$T/err" &&
+        ok "probe method asks for probes, with the bake's command" || bad "probe method asks for probes, with the bake's command"
     expect_status 2 "svo_render bad --page-level" svo_render "$T/demo.svo" "$T/lay_x.png" --page-level 2
     # a storage buffer range below the plain words (the helmet at 32768^3 on a 4 GB range, issue 18):
     # auto takes the compact layout, its attributes (about 20 KB) in two buffers, the plain image

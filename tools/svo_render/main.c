@@ -835,7 +835,7 @@ int main(int argc, char** argv) {
     if (vx_pass_list_has(&passes, VX_PASS_GI) && !vx_tool_gi_method_known(passes.gi))
         usage_error("unknown gi method '%s' (" VX_TOOL_GI_METHODS ")", passes.gi);
     if (vx_pass_list_has(&passes, VX_PASS_GI) && !o.probes && vx_tool_gi_method_needs_probes(passes.gi))
-        usage_error("gi=%s needs --probes FILE", passes.gi);
+        usage_error("gi=%s needs --probes FILE (bake them: svo_bake %s OUT.probes)", passes.gi, o.in);
     if (o.voxel_lights && o.no_scene_lights) usage_error("%s", "--voxel-lights and --no-scene-lights exclude each other");
     vx_show show = o.fd.show;
     bool want_float = o.r.mode == VX_RENDER_DEPTH || o.r.mode == VX_RENDER_NORMAL ||
@@ -851,7 +851,9 @@ int main(int argc, char** argv) {
         usage_error("%s %s writes float data: use an .exr (or .pfm) output", pipeline ? "--show" : "mode",
                     pipeline ? vx_show_name(show) : vx_render_mode_name(o.r.mode));
     bool needs_probes = o.probe_mode && vx_probe_render_mode_uses_probes(o.p.mode);
-    if (needs_probes && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.p.mode));
+    if (needs_probes && !o.probes)
+        usage_error("mode %s needs --probes FILE (bake them: svo_bake %s OUT.probes)", vx_probe_render_mode_name(o.p.mode),
+                    o.in);
     if (o.probe_mode && o.r.lod) usage_error("%s", "--lod is not supported by the probe modes");
     if (o.cpu && o.r.lod) usage_error("%s", "--lod is not supported by the CPU reference");
     if (!o.probe_mode && o.r.spp > 1024) usage_error("--spp %u: at most 1024 outside the probe modes", o.r.spp);

@@ -217,7 +217,9 @@ options sv_options_parse(int argc, char** argv) {
     if (!o.in) usage_error("%s", "no input file given");
     if (o.screenshot && o.script) usage_error("%s", "--screenshot and --script conflict (use the script's screenshot command)");
     if (o.screenshot && o.bench) usage_error("%s", "--screenshot and --bench conflict");
-    if (o.gi && !o.probes) usage_error("mode %s needs --probes FILE", vx_probe_render_mode_name(o.pmode));
+    if (o.gi && !o.probes)
+        usage_error("mode %s needs --probes FILE (bake them: svo_bake %s OUT.probes)", vx_probe_render_mode_name(o.pmode),
+                    o.in);
     if (o.screenshot) {
         const char* ext = vx_tool_ext(o.screenshot);
         if (strcmp(ext, "png") && strcmp(ext, "exr")) usage_error("screenshot '%s' must end in .png or .exr", o.screenshot);
