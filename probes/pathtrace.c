@@ -559,6 +559,25 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
 
 /* ---- the path ------------------------------------------------------------------------ */
 
+/* Where a walk through glass goes on: the glass cell, its cells' size, the
+ * glass's index and roughness. */
+typedef struct glass_at {
+    uint32_t inst, cell[3];
+    double csize, ior, alpha;
+} glass_at;
+
+/* A refraction into the glass of surface s (hit h, met along ro + t rd, its
+ * BSDF B) towards wi: the colour at entry into thr, ro just inside the face,
+ * rd = wi, and *g the cell the walk starts from (vx__path, vx__glass_lobe). */
+static void glass_enter(const vx__light* L, const vx__surface* s, const vx_render_ray_hit* h, const bsdf* B,
+                        const double wi[3], double ro[3], double rd[3], double thr[3], glass_at* g) {
+    for (int k = 0; k < 3; k++) thr[k] *= B->alb[k];
+    for (int k = 0; k < 3; k++) ro[k] = ro[k] + rd[k] * h->t - s->n[k] * 1e-6 * h->cell_size;
+    memcpy(rd, wi, 3 * sizeof *rd);
+    g->inst = h->instance, memcpy(g->cell, h->cell, sizeof g->cell);
+    g->csize = h->cell_size, g->ior = vx__light_material(L, s->material)->ior, g->alpha = B->alpha;
+}
+
 bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t bounces, bool indirect, vx__rng* rng,
               double out[3]) {
     double thr[3] = {1, 1, 1}, acc[3] = {0, 0, 0}, ro[3], rd[3];
@@ -572,15 +591,14 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
      * rd, in glass cell g_cell of instance g_inst (after a refraction into
      * the glass, or a bounce off an opaque voxel met from inside it). */
     bool in_glass = false;
-    uint32_t g_inst = 0, g_cell[3] = {0, 0, 0};
-    double g_csize = 0, g_ior = 1.5, g_alpha = 0;
+    glass_at g = {.ior = 1.5};
     for (int events = 0; events < 1024; events++) {
         vx_render_ray_hit h;
         bool hit, stopped = false; /* stopped: h is an opaque voxel's face met from inside glass, at ro */
         if (in_glass) {
             glass_stop st;
             double p[3] = {ro[0], ro[1], ro[2]};
-            int wr = glass_walk(L, g_inst, g_cell, g_csize, g_ior, g_alpha, p, rd, rng, thr, ro, &st);
+            int wr = glass_walk(L, g.inst, g.cell, g.csize, g.ior, g.alpha, p, rd, rng, thr, ro, &st);
             /* no light is sampled inside glass (a shadow ray starting in a glass voxel meets it), so
              * what the path finds after a walk counts whole, as after a delta event */
             prev_pdf = 0;
@@ -588,7 +606,7 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             if (wr == WALK_STOP) {
                 h = st.h, hit = stopped = true;
                 memcpy(ro, st.p, sizeof ro);
-                g_inst = st.inst, memcpy(g_cell, st.cell, sizeof g_cell);
+                g.inst = st.inst, memcpy(g.cell, st.cell, sizeof g.cell);
             } else {
                 in_glass = false;
                 hit = vx_render_cast(L->caster, ro, rd, INFINITY, false, &h);
@@ -656,13 +674,8 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
                 continue;
             }
             if (!L->inst_inv) break;
-            for (int k = 0; k < 3; k++) thr[k] *= B.alb[k];
-            for (int k = 0; k < 3; k++) ro[k] = ro[k] + rd[k] * h.t - s.n[k] * 1e-6 * h.cell_size;
-            memcpy(rd, wi, sizeof rd);
-            const vx_material* m = vx__light_material(L, s.material);
+            glass_enter(L, &s, &h, &B, wi, ro, rd, thr, &g);
             in_glass = true; /* the walk runs at the next event */
-            g_inst = h.instance, memcpy(g_cell, h.cell, sizeof g_cell);
-            g_csize = h.cell_size, g_ior = m->ior, g_alpha = B.alpha;
             continue;
         }
         if (!stopped) { /* inside glass no light is sampled (above) */
@@ -704,14 +717,11 @@ int vx__glass_lobe(const vx__light* L, double ro[3], double rd[3], vx_render_ray
             memcpy(rd, wi, sizeof wi);
         } else {
             if (!L->inst_inv) break;
-            for (int k = 0; k < 3; k++) thr[k] *= B.alb[k];
-            double p[3];
-            for (int k = 0; k < 3; k++) p[k] = ro[k] + rd[k] * h->t - s->n[k] * 1e-6 * h->cell_size;
-            memcpy(rd, wi, sizeof wi);
-            const vx_material* m = vx__light_material(L, s->material);
-            uint32_t cell[3] = {h->cell[0], h->cell[1], h->cell[2]};
+            glass_at g;
+            glass_enter(L, s, h, &B, wi, ro, rd, thr, &g);
+            double p[3] = {ro[0], ro[1], ro[2]};
             glass_stop st;
-            int wr = glass_walk(L, h->instance, cell, h->cell_size, m->ior, B.alpha, p, rd, rng, thr, ro, &st);
+            int wr = glass_walk(L, g.inst, g.cell, g.csize, g.ior, g.alpha, p, rd, rng, thr, ro, &st);
             if (wr == WALK_ABSORBED) break;
             if (wr == WALK_STOP) {
                 *h = st.h;
