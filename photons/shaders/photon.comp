@@ -316,12 +316,8 @@ void trace_photons() {
                 d = wi;
                 continue;
             }
-            phi *= B.alb;
-            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
-            o = pe;
-            d = wi;
+            glass_enter(h, g_s, B, wi, o, d, phi, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true; // the walk runs at the next event
-            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         // a surface that scatters: the photon is stored (caustic when only glass came before it since
@@ -624,12 +620,8 @@ vec3 final_gather(Bsdf B, vec3 wo, uint rays) {
                 d = wi;
                 continue;
             }
-            thr *= B2.alb;
-            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
-            o = pe;
-            d = wi;
+            glass_enter(h, g_s, B2, wi, o, d, thr, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true;
-            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B2.alpha;
         }
     }
     g_s = s0;
@@ -719,12 +711,8 @@ void gather_pixel() {
                 d = wi;
                 continue;
             }
-            thr *= B.alb;
-            vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
-            o = pe;
-            d = wi;
+            glass_enter(h, g_s, B, wi, o, d, thr, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true; // the walk runs at the next event
-            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         int sel = !first || full ? G_ALL : G_INDIRECT;

@@ -266,6 +266,20 @@ bool glass_cell_leaf(uint mi, uvec3 c, out uint level) { return is_glass(model_c
 #define GLASS_CELL(mi, c, level) glass_cell_leaf(mi, c, level)
 #endif
 const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
+// A refraction into the glass of surface s (hit h, met along o + t d, its BSDF B) towards wi
+// (probes/pathtrace.c glass_enter): the colour at entry into thr, o just inside the face, d = wi, and the
+// glass cell gc of instance gi, the glass's index and roughness, where the walk starts at the next event.
+void glass_enter(Hit h, Surf s, Bsdf B, vec3 wi, PT_PREC inout vec3 o, PT_PREC inout vec3 d, PT_PREC inout vec3 thr,
+                 out uint gi, out uvec3 gc, out float ior, out float alpha) {
+    thr *= B.alb;
+    // (through a temporary: `o = o + ...` sent glslang 11's propagation of precise into an endless growth, 8 GB
+    // in seconds)
+    PT_PREC vec3 pe = o + d * h.t - s.n * (1e-3 * s.cell);
+    o = pe;
+    d = wi;
+    gi = h.inst, gc = h.cell, ior = mats[2u * s.attr + 1u].x, alpha = B.alpha;
+}
+
 uint glass_walk(uint inst, uvec3 cell, float ior, float alpha, PT_PREC vec3 p, PT_PREC inout vec3 d,
                 PT_PREC inout vec3 thr, PT_PREC out vec3 o, out Hit sh, out uint gi, out uvec3 gc) {
     uvec3 c = cell;

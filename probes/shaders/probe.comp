@@ -396,14 +396,8 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
                 d = wi;
                 continue;
             }
-            thr *= B.alb;
-            // (through a temporary: `o = o + ...` sent glslang 11's propagation of precise into an
-            // endless growth, 8 GB in seconds)
-            PT_PREC vec3 pe = o + d * h.t - g_s.n * (1e-3 * g_s.cell);
-            o = pe;
-            d = wi;
+            glass_enter(h, g_s, B, wi, o, d, thr, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true; // the walk runs at the next event
-            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * g_s.attr + 1u].x, g_alpha = B.alpha;
             continue;
         }
         // Without lights nee() is the sun's term alone and draws no random numbers: its shadow ray is traced
@@ -1182,12 +1176,8 @@ void render() {
                 d = wi;
                 continue;
             }
-            thr *= B.alb;
-            PT_PREC vec3 pe = o + d * h.t - sf.n * (1e-3 * sf.cell);
-            o = pe;
-            d = wi;
+            glass_enter(h, sf, B, wi, o, d, thr, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true;
-            g_inst = h.inst, g_cell = h.cell, g_ior = mats[2u * sf.attr + 1u].x, g_alpha = B.alpha;
         }
         if (at == 0 && !glass) {
             if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
