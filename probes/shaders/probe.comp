@@ -626,21 +626,24 @@ int lf_trace_probe(uint k, vec3 o, vec3 d, inout float t, float t_end, out uint 
     texel = 0u;
     vec3 q0 = o - probes[k].xyz;
     g_first = true;
-    float ts[5];
-    int nt = 0;
-    ts[nt++] = t;
+    // the octant segments: [t, t_end] cut where the ray crosses the probe's three axis planes, in order. A
+    // crossing outside (t, t_end) counts as t_end (an empty segment, skipped below). Sorted by a three-element
+    // network of min and max, not the CPU's insertion sort into a run-time-indexed array: lavapipe (Mesa 22.3)
+    // ran that sort wrongly on some rays (a crossing duplicated, another lost, so a segment spanned two
+    // octants and the probe answered "unknown"), which left the light field's GPU image 4-6% below the CPU's
+    // (docs/TESTING.md, stop 73)
+    vec3 cr = vec3(t_end);
     for (int a = 0; a < 3; a++) {
-        if (d[a] == 0.0) continue;
-        float tb = -q0[a] / d[a];
-        if (tb > t && tb < t_end) ts[nt++] = tb;
+        float tb = d[a] == 0.0 ? t_end : -q0[a] / d[a];
+        if (tb > t && tb < t_end) cr[a] = tb;
     }
-    for (int i = 1; i < nt; i++)
-        for (int j = i; j > 0 && ts[j] < ts[j - 1]; j--) {
-            float x = ts[j];
-            ts[j] = ts[j - 1];
-            ts[j - 1] = x;
-        }
-    ts[nt++] = t_end;
+    float c0 = min(cr.x, cr.y), c1 = max(cr.x, cr.y), c2 = cr.z;
+    float m1 = min(c1, c2);
+    c2 = max(c1, c2);
+    c1 = max(c0, m1);
+    c0 = min(c0, m1);
+    float ts[5] = float[5](t, c0, c1, c2, t_end);
+    int nt = 5;
     float fpc = float(n / lr);
     int per = int(n / lr);
     for (int sg = 0; sg + 1 < nt; sg++) {
