@@ -153,12 +153,17 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
     vx_material_emitted(vx__light_material(L, s->material), s->albedo, s->emit);
 }
 
-void vx__direct(const vx__light* L, const vx__surface* s, double out[3]) {
+void vx__direct_f(const vx__light* L, const vx__surface* s, const double f[3], double out[3]) {
     out[0] = out[1] = out[2] = 0;
     double ndl = s->n[0] * L->light_dir[0] + s->n[1] * L->light_dir[1] + s->n[2] * L->light_dir[2];
     if (ndl <= 0 || !(L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0)) return;
     if (vx_render_cast(L->caster, s->p, L->light_dir, INFINITY, true, NULL)) return;
-    for (int k = 0; k < 3; k++) out[k] = s->albedo[k] / pi * L->sun[k] * ndl;
+    for (int k = 0; k < 3; k++) out[k] = f[k] * L->sun[k] * ndl;
+}
+
+void vx__direct(const vx__light* L, const vx__surface* s, double out[3]) {
+    double f[3] = {s->albedo[0] / pi, s->albedo[1] / pi, s->albedo[2] / pi};
+    vx__direct_f(L, s, f, out);
 }
 
 void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]) {

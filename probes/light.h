@@ -128,6 +128,8 @@ void vx__surface_of(const vx__light* L, const double o[3], const double d[3], co
                     vx__surface* s);
 /* Directional light reflected by a surface (albedo/pi * sun * n.l * visibility). */
 void vx__direct(const vx__light* L, const vx__surface* s, double out[3]);
+/* The same with BRDF f in place of albedo/pi (f * sun * n.l * visibility; metal: vx__metal_of). */
+void vx__direct_f(const vx__light* L, const vx__surface* s, const double f[3], double out[3]);
 /* Radiance arriving at o from direction d (the path tracer, pathtrace.c):
  * the first surface's emission and direct light plus up to `bounces` further
  * diffuse or glossy bounces (smooth mirror and glass events do not count),
@@ -152,6 +154,16 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
  * opaque voxel met from inside the glass (no light is sampled there). */
 int vx__glass_lobe(const vx__light* L, double ro[3], double rd[3], vx_render_ray_hit* h, vx__surface* s, vx__rng* rng,
                    double thr[3]);
+/* Metal at a surface s met along unit d in the probe modes (render_gi.c): false where s's material is not
+ * metal. kd: its Lambert lobe's weight (what takes the probes' light where a diffuse surface's albedo
+ * does); fl: its BRDF f(-d, light_dir), Lambert and GGX lobes (vx__direct_f's f). Draws no number. */
+bool vx__metal_of(const vx__light* L, const vx__surface* s, const double d[3], double kd[3], double fl[3]);
+/* A direction wi of metal surface s's specular lobe alone (met along d), by the path tracer's sampler
+ * (visible normals; three numbers), and its weight w = f_spec cos / pdf_spec (F G2 / G1): an unbiased
+ * estimate of the light the lobe reflects is w times the radiance arriving along wi. false: no
+ * direction (below the horizon). */
+bool vx__metal_spec(const vx__light* L, const vx__surface* s, const double d[3], vx__rng* rng, double wi[3],
+                    double w[3]);
 /* Cosine-weighted direction around unit n. */
 void vx__cosine_dir(const double n[3], double u1, double u2, double d[3]);
 

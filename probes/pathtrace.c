@@ -738,3 +738,25 @@ int vx__glass_lobe(const vx__light* L, double ro[3], double rd[3], vx_render_ray
     thr[0] = thr[1] = thr[2] = 0;
     return 0;
 }
+
+bool vx__metal_of(const vx__light* L, const vx__surface* s, const double d[3], double kd[3], double fl[3]) {
+    if (vx__light_material(L, s->material)->type != VX_MATERIAL_METAL) return false;
+    bsdf B;
+    bsdf_of(L, s, NULL, &B); /* (metal draws no number) */
+    double wo[3] = {-d[0], -d[1], -d[2]}, pdf;
+    memcpy(kd, B.kd, sizeof B.kd);
+    bsdf_eval(&B, wo, L->light_dir, fl, &pdf);
+    return true;
+}
+
+bool vx__metal_spec(const vx__light* L, const vx__surface* s, const double d[3], vx__rng* rng, double wi[3],
+                    double w[3]) {
+    bsdf B;
+    bsdf_of(L, s, NULL, &B);
+    /* the specular lobe alone: bsdf_sample's visible normals with probability 1 (its three numbers all
+     * drawn, as probe.comp's), f the GGX term and the pdf the lobe's, so w = F G2 / G1(wo) */
+    B.ps = 1;
+    B.kd[0] = B.kd[1] = B.kd[2] = 0;
+    double wo[3] = {-d[0], -d[1], -d[2]}, pdf;
+    return bsdf_sample(&B, wo, rng, wi, w, &pdf);
+}

@@ -86,6 +86,7 @@ typedef struct gctx {
     uint32_t bounces; /* the bake's bounces plus one (probe.comp's BAKE_BOUNCES; 0: not a constant) */
     bool lights_code; /* probe.comp's LIGHTS: lights of binding 14 or emitters */
     bool glass_code;  /* probe.comp's GLASS (the render passes only): some record is glass that transmits */
+    bool metal_code;  /* probe.comp's METAL (the render passes only): some record is metal */
     bool strat;       /* probe.comp's STRAT (the bake only): stratified first-bounce directions */
     vx_probe_bake_kernel kernel; /* the caller's choice (vx_probe_bake_desc.kernel) */
     bool use_one;     /* the bake runs bake_one() (choose_kernel) */
@@ -208,6 +209,8 @@ static vx_result ctx_init(gctx* c, vx_render_scene* rs, const vx_svo_scene* s, c
     }
     c->lights_code = c->light_count > 0 || c->em_count > 0;
     c->glass_code = L->inst_inv != NULL; /* (the walks' instance maps: made where some glass transmits) */
+    for (size_t i = 0; i < na && L->materials && !c->metal_code; i++)
+        c->metal_code = vx__light_material(L, pal[i])->type == VX_MATERIAL_METAL;
     c->spec[VX__SPEC_COUNT + SPEC_DEEP] = vx__render_scene_deep(rs);
     c->spec[VX__SPEC_COUNT + SPEC_FAR] = vx__render_scene_far(rs);
     c->spec[VX__SPEC_COUNT + SPEC_COMPACT] = vx__render_scene_compact_form(rs);
@@ -321,7 +324,7 @@ static bool one_walk_ok(const gctx* c) {
 static uint64_t probe_desc(gctx* c, uint32_t pmode, bool one, vx_gpu_compute_pipeline_desc* pd) {
     c->spec[VX__SPEC_COUNT + SPEC_PCONST] =
         pmode | (c->lights_code ? 0x100u : 0u) | (c->strat && pmode == PMODE_BAKE ? 0x200u : 0u) |
-        (c->glass_code && pmode != PMODE_BAKE ? 0x400u : 0u) |
+        (c->glass_code && pmode != PMODE_BAKE ? 0x400u : 0u) | (c->metal_code && pmode != PMODE_BAKE ? 0x800u : 0u) |
         (pmode == PMODE_BAKE ? c->bounces << 16 : 0u);
     /* the bake's kernels (bake(), bake_one()) and the render passes' (PT_PRECISE: render()); every float
      * operation of each precise (probe.comp: the same bits whatever the pipeline's constants) */

@@ -242,32 +242,78 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
             if (full) for (int k = 0; k < 3; k++) c[k] += sf.emit[k];
             /* glass (its glass lobe): the surface the path tracer's events through it reach, shaded whole, in
              * the indirect modes too (the pass pipeline's direct pass gives only the glass's Lambert share:
-             * render/pipeline.h); a path out of the scene brings the sky */
+             * render/pipeline.h); a path out of the scene brings the sky. */
             double thr[3] = {1, 1, 1};
             int at = J->L->materials ? vx__glass_lobe(J->L, o, d, &h, &sf, &rng, thr) : -1;
+            bool whole = at > 0;
+            /* Metal (the first metal surface met, directly or through glass; not from inside glass): its
+             * specular lobe's one direction by the path tracer's sampler, and the surface met there (glass
+             * events on the way) shaded whole times the sample's weight, in the indirect modes too (the pass
+             * pipeline's direct pass gives only the metal's own lights); the sky on a miss. The metal surface
+             * itself: its direct light by the BRDF (the full modes), its Lambert lobe the probes' light times kd.
+             * One metal event: a metal surface seen in the metal is shaded as a diffuse one (as before). Both
+             * lobes are shaded in every sample, not one picked as vx__path does: the Lambert lobe's light is a
+             * look-up without a ray, so a pick would only add the choice's noise. The order of events and
+             * numbers is probe.comp render()'s: the lobe's direction, its surface's glass events, then the metal
+             * surface's light field sample, then that surface's. */
+            bool mev = false, m_full = false;
+            vx__surface ms = sf;
+            double m_d[3] = {0, 0, 0}, m_thr[3] = {0, 0, 0}, m_kd[3] = {0, 0, 0}, m_fl[3] = {0, 0, 0};
+            if ((at == -1 || at == 1) && J->L->materials && vx__metal_of(J->L, &sf, d, m_kd, m_fl)) {
+                mev = true, m_full = full || whole, ms = sf;
+                memcpy(m_d, d, sizeof m_d), memcpy(m_thr, thr, sizeof m_thr);
+                if (whole)
+                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.emit[k];
+                whole = true;
+                double wi[3], w[3];
+                if (!vx__metal_spec(J->L, &sf, d, &rng, wi, w)) {
+                    at = 0, thr[0] = thr[1] = thr[2] = 0;
+                } else {
+                    for (int k = 0; k < 3; k++) thr[k] *= w[k];
+                    memcpy(o, sf.p, sizeof o);
+                    memcpy(d, wi, sizeof d);
+                    if (!vx_render_cast(J->L->caster, o, d, INFINITY, false, &h)) {
+                        at = 0;
+                    } else {
+                        vx__surface_of(J->L, o, d, &h, &sf);
+                        double tg[3] = {1, 1, 1};
+                        at = vx__glass_lobe(J->L, o, d, &h, &sf, &rng, tg);
+                        for (int k = 0; k < 3; k++) thr[k] *= tg[k];
+                        if (at < 0) at = 1;
+                    }
+                }
+            }
             if (at == 0) {
                 double sky[3];
                 vx__sky(J->L, d, sky);
                 for (int k = 0; k < 3; k++) c[k] += thr[k] * sky[k];
-            } else {
-                if (at > 0) {
+            }
+            /* round 0 the metal surface, round 1 the surface reached */
+            for (int r = mev ? 0 : 1; r < 2; r++) {
+                bool m = r == 0;
+                if (!m && at == 0) break;
+                if (!m && whole) {
                     full = true;
                     for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.emit[k];
                 }
-                if (full && at != 2) { /* (no light is sampled inside glass) */
+                const vx__surface* x = m ? &ms : &sf;
+                const double *xd = m ? m_d : d, *tk = m ? m_thr : thr, *wl = m ? m_kd : sf.albedo;
+                if ((m ? m_full : full) && (m || at != 2)) { /* (no light is sampled inside glass) */
                     double dl[3];
-                    vx__direct(J->L, &sf, dl);
-                    for (int k = 0; k < 3; k++) c[k] += thr[k] * dl[k];
+                    if (m) vx__direct_f(J->L, x, m_fl, dl);
+                    else vx__direct(J->L, x, dl);
+                    for (int k = 0; k < 3; k++) c[k] += tk[k] * dl[k];
                 }
+                if (m && !(wl[0] > 0 || wl[1] > 0 || wl[2] > 0)) continue; /* (a pure metal: no Lambert lobe) */
                 if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_INDIRECT) {
                     double e[3];
-                    irradiance_at(J->ps, sf.p, sf.n, d, e);
-                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.albedo[k] / pi * e[k];
+                    irradiance_at(J->ps, x->p, x->n, xd, e);
+                    for (int k = 0; k < 3; k++) c[k] += tk[k] * wl[k] / pi * e[k];
                 } else if (is_lf(J->mode)) {
                     double nd[3], li[3];
-                    vx__cosine_dir(sf.n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
-                    vx__lf_radiance(J->lf, sf.p, nd, li, cnt);
-                    for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.albedo[k] * li[k];
+                    vx__cosine_dir(x->n, vx__rng_next(&rng), vx__rng_next(&rng), nd);
+                    vx__lf_radiance(J->lf, x->p, nd, li, cnt);
+                    for (int k = 0; k < 3; k++) c[k] += tk[k] * wl[k] * li[k];
                 }
             }
             acc[3] += 1;

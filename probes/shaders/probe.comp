@@ -74,6 +74,9 @@ const bool STRAT = (PCONST & 0x200u) != 0u;
 // cost gi=probes 3x where the scene has glass). Set only with MATS (glass is one of its materials); not
 // `MATS && ...`: glslang 11 emits `&&` of spec constants out of order, and the bake's module came out invalid
 const bool GLASS = (PCONST & 0x400u) != 0u;
+// bit 11 (METAL, the render passes only): some record is metal: render()'s metal event (the probe modes'
+// metal lobes) is compiled in; set only with MATS. A scene without metal compiles the code it ran before.
+const bool METAL = (PCONST & 0x800u) != 0u;
 #ifndef PT_PRECISE
 // bits 16-23 (the bake's kernel only, not PT_PRECISE's): its bounces plus one, a constant of the pipeline (0:
 // P.a.z): the path's loop specialised for the bake's count (H200, the Cornell box's goal bake: GPU trace 0.260 ->
@@ -164,6 +167,14 @@ PT_PREC vec3 direct(Surf s) {
     if (ndl <= 0.0 || !(P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0)) return vec3(0.0);
     if (occluded(s.p, P.light.xyz)) return vec3(0.0);
     return s.alb / PI * P.sun.xyz * ndl;
+}
+// direct() with the BRDF f in place of alb / pi where own (metal: probes/light.c vx__direct_f); one shadow
+// ray either way (render() inlines it once)
+PT_PREC vec3 direct_f(Surf s, bool own, vec3 f) {
+    float ndl = dot(s.n, P.light.xyz);
+    if (ndl <= 0.0 || !(P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0)) return vec3(0.0);
+    if (occluded(s.p, P.light.xyz)) return vec3(0.0);
+    return (own ? f : s.alb / PI) * P.sun.xyz * ndl;
 }
 
 Surf g_s; // the vertex being shaded (GLSL passes structs by value; one copy)
@@ -1125,6 +1136,13 @@ void render() {
         // scene brings the sky. One loop and one cast in its body: lavapipe runs a branch's code masked for
         // every pixel, and a second inlined cast for the few glass pixels cost gi=probes 4.4x on a scene
         // with glass there, 3.2x with one. (GLASS: a scene without glass compiles no glass event.)
+        // Metal (METAL; probes/render_gi.c render_pixel, the same events and numbers): the first metal surface
+        // met (directly or through glass) is one more event of the loop: its specular lobe's one direction
+        // (the path tracer's sampler) leads the loop's next cast to the surface there (glass events may
+        // follow), shaded whole times the sample's weight; the metal surface itself (its direct light by the
+        // BRDF, its Lambert lobe's probe light times kd) is shaded after the loop by the same code as that
+        // surface, in a loop of two rounds (the kernel inlines the shading once). Wrapping the event loop in
+        // a second loop instead cost the demo island's gi=probes pass 5x on lavapipe even at one round.
         bool full = PMODE == P_GI || PMODE == P_LF;
         PT_PREC vec3 thr = vec3(1.0);
         int at = 1; // 0: the path left the scene along d; 1: sf, a surface; 2: sf met from inside glass
@@ -1134,7 +1152,12 @@ void render() {
         float g_ior = 1.5, g_alpha = 0.0;
         Hit h;
         Surf sf;
-        for (int ev = 0; ev < 65; ev++) {
+        // the metal event (METAL): whether it happened, the metal surface, the ray that met it, the weight
+        // then, its Lambert lobe's kd and its BRDF towards the sun, and whether its direct light counts
+        bool metal_ev = false, m_full = false;
+        Surf ms;
+        PT_PREC vec3 m_d = vec3(0.0), m_thr = vec3(0.0), m_kd = vec3(0.0), m_fl = vec3(0.0);
+        for (int ev = 0; ev < 65 + int((PCONST >> 11) & 1u); ev++) {
             bool stopped = false;
             if (GLASS && in_glass) {
                 uint w_inst;
@@ -1158,10 +1181,33 @@ void render() {
                 at = 2;
                 break;
             }
+            if (METAL && !metal_ev && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
+                Bsdf MB = bsdf_of(sf); // (metal draws no number)
+                float pdf;
+                metal_ev = true;
+                ms = sf, m_d = d, m_thr = thr, m_full = full || glass, m_kd = MB.kd;
+                m_fl = bsdf_eval(MB, -d, P.light.xyz, pdf);
+                if (glass) c += thr * sf.emit; // (seen through glass: shaded whole)
+                glass = true;                  // what the lobe meets is shaded whole
+                // the specular lobe alone (probes/pathtrace.c vx__metal_spec): bsdf_sample's visible
+                // normals with probability 1, the lobe's own pdf: w = F G2 / G1(wo)
+                MB.ps = 1.0;
+                MB.kd = vec3(0.0);
+                vec3 wi;
+                PT_PREC vec3 w;
+                if (!bsdf_sample(MB, -d, wi, w, pdf)) {
+                    at = 0, thr = vec3(0.0);
+                    break;
+                }
+                thr *= w;
+                o = sf.p;
+                d = wi;
+                continue;
+            }
             if (!GLASS) break;
             Bsdf B = bsdf_of(sf);
             if (B.kind != B_GLASS) break;
-            if (ev == 64) { // given up (the CPU's 64 glass events)
+            if (ev == ((METAL && metal_ev) ? 65 : 64)) { // given up (the CPU's 64 glass events)
                 at = 0, thr = vec3(0.0);
                 break;
             }
@@ -1182,25 +1228,53 @@ void render() {
             glass_enter(h, sf, B, wi, o, d, thr, g_inst, g_cell, g_ior, g_alpha);
             in_glass = true;
         }
-        if (at == 0 && !glass) {
-            if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
-        } else {
-            if (at == 0) {
-                c += thr * sky_radiance(d);
+        if (METAL) {
+            // round 0 the metal surface (after a metal event), round 1 the surface the loop ended at
+            if (at == 0 && !glass) {
+                if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
             } else {
-                if (glass) {
-                    full = true;
-                    c += thr * sf.emit;
+                if (at == 0) c += thr * sky_radiance(d);
+                for (int k = metal_ev ? 0 : 1; k < 2; k++) {
+                    bool m = k == 0;
+                    if (!m && at == 0) break;
+                    if (!m && glass) {
+                        full = true;
+                        c += thr * sf.emit;
+                    }
+                    Surf x = m ? ms : sf;
+                    PT_PREC vec3 xd = m ? m_d : d, tk = m ? m_thr : thr, wl = m ? m_kd : sf.alb;
+                    if ((m ? m_full : full) && (m || at != 2)) c += tk * direct_f(x, m, m_fl);
+                    if (m && !(wl.x > 0.0 || wl.y > 0.0 || wl.z > 0.0)) continue; // (a pure metal: no Lambert lobe)
+                    if (PMODE == P_GI || PMODE == P_GI_IND) {
+                        c += tk * (wl / PI * irradiance_at(x.p, x.n, xd));
+                    } else if (PMODE == P_LF || PMODE == P_LF_IND) {
+                        float u1 = rnd(), u2 = rnd();
+                        c += tk * (wl * lf_radiance(x.p, cosine_dir(x.n, u1, u2)));
+                    }
                 }
-                if (full && at != 2) c += thr * direct(sf); // (no light is sampled inside glass)
-                if (PMODE == P_GI || PMODE == P_GI_IND) {
-                    c += thr * (sf.alb / PI * irradiance_at(sf.p, sf.n, d));
-                } else if (PMODE == P_LF || PMODE == P_LF_IND) {
-                    float u1 = rnd(), u2 = rnd();
-                    c += thr * (sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2)));
-                }
+                acc.w += 1.0;
             }
-            acc.w += 1.0;
+        } else { // a scene without metal: the code it ran before
+            if (at == 0 && !glass) {
+                if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
+            } else {
+                if (at == 0) {
+                    c += thr * sky_radiance(d);
+                } else {
+                    if (glass) {
+                        full = true;
+                        c += thr * sf.emit;
+                    }
+                    if (full && at != 2) c += thr * direct(sf); // (no light is sampled inside glass)
+                    if (PMODE == P_GI || PMODE == P_GI_IND) {
+                        c += thr * (sf.alb / PI * irradiance_at(sf.p, sf.n, d));
+                    } else if (PMODE == P_LF || PMODE == P_LF_IND) {
+                        float u1 = rnd(), u2 = rnd();
+                        c += thr * (sf.alb * lf_radiance(sf.p, cosine_dir(sf.n, u1, u2)));
+                    }
+                }
+                acc.w += 1.0;
+            }
         }
         acc.xyz += c;
     }

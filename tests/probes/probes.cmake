@@ -46,6 +46,12 @@ if(VX_WITH_VULKAN)
               vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)
   set_tests_properties(test_glass_gi PROPERTIES ENVIRONMENT
                        "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
+  # metal's specular lobe in the probe modes: a mirror and a rough metal against the path tracer (CPU, GPU,
+  # the pass pipeline's gi=probes and gi=lightfield)
+  vx_add_test(test_metal_gi SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_metal_gi.c LIBS vx_probes vx_render vx_svo
+              ${CMAKE_DL_LIBS} LABELS probes)
+  set_tests_properties(test_metal_gi PROPERTIES ENVIRONMENT
+                       "LSAN_OPTIONS=suppressions=${CMAKE_SOURCE_DIR}/tests/render/lsan.supp")
   # allocation failures on the GPU side: the render scene, the passes, the gi methods, the probe renderer
   vx_add_test(test_gpu_alloc_fail SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_gpu_alloc_fail.c LIBS vx_cones vx_photons
               vx_probes vx_render vx_svo ${CMAKE_DL_LIBS} LABELS probes)

@@ -249,10 +249,10 @@ static const spec_row spec_rows[] = {
     /* compact_gpu.c: the paged layout's page count; the attribute words' parts of 2^ATTR_SHIFT words (attr_parts) */
     {"trace_compact.comp.h", "PAGES", 4, {0, 1, 33, 100000}},
     {"trace_compact.comp.h", "ATTR_SHIFT", 3, {0, 20, 30}},
-    /* probe_gpu.c probe_desc: the pass | 0x100 lights | 0x200 strata (the bake) | the bake's bounces + 1 << 16; the
-     * bake's kernels pass 0, the render passes' (probe_pt) 1-6 */
+    /* probe_gpu.c probe_desc: the pass | 0x100 lights | 0x200 strata (the bake) | 0x400 glass and 0x800 metal (the
+     * render passes) | the bake's bounces + 1 << 16; the bake's kernels pass 0, the render passes' (probe_pt) 1-6 */
     {"probe.comp.h probe_one.comp.h", "PCONST", 5, {0x0u, 0x10000u, 0x30100u, 0x90300u, 0xFF0200u}},
-    {"probe_pt.comp.h", "PCONST", 8, {1, 2, 3, 4, 5, 6, 0x101, 0x106}},
+    {"probe_pt.comp.h", "PCONST", 10, {1, 2, 3, 4, 5, 6, 0x101, 0x106, 0x803, 0xD05}},
     /* pipeline.c: resolve's and the merged frame's inputs (bits 1-32), the intermediate shown (vx_show), the light
      * culling (0-2) | shadow slots (0-63) << 2 | emitters 0x100 in direct and the merged frame (0 elsewhere), post's op,
      * the light culling's steps */
