@@ -105,6 +105,25 @@ static inline void glass_room_scene(vx_svo_scene* s) {
     add_material(s, 9, emit, 2);
 }
 
+/* A render description of w x h pixels seen from eye towards at. */
+static inline vx_render_desc ps_view(uint32_t w, uint32_t h, const double eye[3], const double at[3]) {
+    vx_render_desc d = {.width = w, .height = h};
+    d.camera.set = true;
+    memcpy(d.camera.eye, eye, 3 * sizeof *eye), memcpy(d.camera.target, at, 3 * sizeof *at);
+    return d;
+}
+
+/* The mean colour of the central 12 x 10 pixels of an image (test_glass_gi, test_metal_gi: the pixels through
+ * the pane, on the mirror). */
+static inline void ps_centre_mean(const vx_render_image* im, double m[3]) {
+    m[0] = m[1] = m[2] = 0;
+    int n = 0;
+    for (uint32_t y = im->height / 2 - 5; y < im->height / 2 + 5; y++)
+        for (uint32_t x = im->width / 2 - 6; x < im->width / 2 + 6; x++, n++)
+            for (int k = 0; k < 3; k++) m[k] += im->pixels[4 * ((size_t)y * im->width + x) + k];
+    for (int k = 0; k < 3; k++) m[k] /= n;
+}
+
 /* The light of a render without a probe set: a set of no probes carries
  * sun, sky and bounces (probes.h: "ps giving their light"). */
 static inline vx_probe_set light_only(double sun, const double sky[3], uint32_t bounces) {

@@ -44,22 +44,12 @@ static void pane_scene(vx_svo_scene* s, bool pane, const char* ior) {
 }
 
 static vx_render_desc view(void) {
-    vx_render_desc d = {.width = W, .height = H};
-    d.camera.set = true;
-    double eye[3] = {8, -10, 5}, at[3] = {8, 15, 5};
-    memcpy(d.camera.eye, eye, sizeof eye), memcpy(d.camera.target, at, sizeof at);
-    return d;
+    static const double eye[3] = {8, -10, 5}, at[3] = {8, 15, 5};
+    return ps_view(W, H, eye, at);
 }
 
 /* The mean of the central 12 x 10 pixels (all of them through the pane). */
-static void centre_mean(const vx_render_image* im, double m[3]) {
-    m[0] = m[1] = m[2] = 0;
-    int n = 0;
-    for (uint32_t y = H / 2 - 5; y < H / 2 + 5; y++)
-        for (uint32_t x = W / 2 - 6; x < W / 2 + 6; x++, n++)
-            for (int k = 0; k < 3; k++) m[k] += im->pixels[4 * ((size_t)y * W + x) + k];
-    for (int k = 0; k < 3; k++) m[k] /= n;
-}
+static void centre_mean(const vx_render_image* im, double m[3]) { ps_centre_mean(im, m); }
 
 enum { M_PATHTRACE, M_PROBES, M_LIGHTFIELD, M_PHOTONS, M_CONES, M_COUNT };
 static const char* const names[M_COUNT] = {"pathtrace", "probes", "lightfield", "photons", "cones"};

@@ -43,22 +43,12 @@ static void mirror_scene(vx_svo_scene* s, const char* rough) {
 }
 
 static vx_render_desc view(void) {
-    vx_render_desc d = {.width = W, .height = H};
-    d.camera.set = true;
-    double eye[3] = {5, 8, 8}, at[3] = {15, 8, 7};
-    memcpy(d.camera.eye, eye, sizeof eye), memcpy(d.camera.target, at, sizeof at);
-    return d;
+    static const double eye[3] = {5, 8, 8}, at[3] = {15, 8, 7};
+    return ps_view(W, H, eye, at);
 }
 
 /* The mean of the central 12 x 10 pixels (all on the mirror, seeing the wall's reflection). */
-static void centre_mean(const vx_render_image* im, double m[3]) {
-    m[0] = m[1] = m[2] = 0;
-    int n = 0;
-    for (uint32_t y = H / 2 - 5; y < H / 2 + 5; y++)
-        for (uint32_t x = W / 2 - 6; x < W / 2 + 6; x++, n++)
-            for (int k = 0; k < 3; k++) m[k] += im->pixels[4 * ((size_t)y * W + x) + k];
-    for (int k = 0; k < 3; k++) m[k] /= n;
-}
+static void centre_mean(const vx_render_image* im, double m[3]) { ps_centre_mean(im, m); }
 
 /* The bake's light: the sun from +x and above (it lights the wall's face and the floor, not the mirror's),
  * no sky; one bounce. */
