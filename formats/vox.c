@@ -7,10 +7,14 @@
  * keeps is copied. */
 #include "formats/vox.h"
 
+#include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define ZLIB_CONST /* next_in as a const pointer: the input is borrowed */
+#include <zlib.h>
 
 /* Longest STRING accepted: names and values in real files are a few dozen
  * bytes; a cap keeps a corrupt length from being treated as text. */
@@ -32,6 +36,9 @@
 #define VOX_MAX_EXTRA_WORK ((uint64_t)1 << 26)
 /* Rotation byte of the identity: row 0 -> column 0, row 1 -> column 1. */
 #define VOX_ROT_IDENTITY 4u
+/* Cells a TDCZ stream is inflated into at a time: the grid itself (up to
+ * 16 MiB at 256^3) is never held, only its voxels. */
+#define TDCZ_WINDOW ((size_t)1 << 16)
 
 const uint32_t vx_vox_default_palette[256] = {
     0x00000000, 0xffffffff, 0xffccffff, 0xff99ffff, 0xff66ffff, 0xff33ffff, 0xff00ffff, 0xffffccff, 0xffccccff, 0xff99ccff, 0xff66ccff, 0xff33ccff, 0xff00ccff, 0xffff99ff, 0xffcc99ff, 0xff9999ff,
@@ -318,7 +325,7 @@ static vx_result grow(vox_ctx* c, void** p, size_t* cap, size_t count, size_t mo
 
 static vx_result chunk_size(vox_ctx* c, vx_rd* r) {
     if (c->size_pending)
-        return cfail(c, VX_ERR_BAD_FORMAT, c->chunk_off, "the SIZE chunk at byte %llu has no XYZI chunk",
+        return cfail(c, VX_ERR_BAD_FORMAT, c->chunk_off, "the SIZE chunk at byte %llu has no XYZI or TDCZ chunk",
                      (unsigned long long)c->pending_off);
     uint32_t v[3];
     TRY(rd_u32(c, r, &v[0], "size x"));
@@ -377,11 +384,158 @@ static vx_result chunk_xyzi(vox_ctx* c, vx_rd* r) {
     return VX_OK;
 }
 
+/* ---- Teardown's TDCZ ------------------------------------------------------------ */
+
+/* zlib's own state (about 40 KiB a stream) comes from the reader's
+ * allocator, so a --max-memory budget counts it as well. */
+static voidpf tdcz_zalloc(voidpf opaque, uInt items, uInt size) {
+    void* p = vx_calloc(((const vox_ctx*)opaque)->a, items, size);
+    return p ? p : Z_NULL;
+}
+
+static void tdcz_zfree(voidpf opaque, voidpf p) { vx_free(((const vox_ctx*)opaque)->a, p); }
+
+/* One inflation of a TDCZ stream (src, n at byte src_off) of the grid
+ * size[0..2], x fastest, one colour index a cell. The cells come out TDCZ_WINDOW
+ * at a time into win; the non-zero ones are counted (*found) and, with out
+ * (room for cap records), written as x, y, z, i records. The stream is whole
+ * once it has given `cells` bytes: Teardown's writer stops there, with no
+ * final block and no Adler-32, so inflate never says Z_STREAM_END; whatever
+ * follows those bytes is not read. */
+static vx_result tdcz_pass(vox_ctx* c, const uint8_t* src, size_t n, uint64_t src_off, const uint32_t size[3],
+                           size_t cells, uint8_t* win, uint8_t* out, uint64_t cap, uint64_t* found) {
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    z.zalloc = tdcz_zalloc;
+    z.zfree = tdcz_zfree;
+    z.opaque = c;
+    *found = 0;
+    int zr = inflateInit(&z);
+    if (zr == Z_MEM_ERROR) return nomem(c, "the zlib inflater");
+    if (zr != Z_OK) return cfail(c, VX_ERR_UNSUPPORTED, VX_NO_OFFSET, "zlib's inflateInit failed (%d)", zr);
+    z.next_in = src;
+    /* a chunk's content is at most UINT32_MAX bytes, which uInt holds */
+    z.avail_in = n > UINT_MAX ? UINT_MAX : (uInt)n;
+    size_t done = 0;
+    uint64_t k = 0;
+    uint32_t x = 0, y = 0, zz = 0;
+    vx_result res = VX_OK;
+    while (done < cells) {
+        size_t want = cells - done < TDCZ_WINDOW ? cells - done : TDCZ_WINDOW;
+        z.next_out = win;
+        z.avail_out = (uInt)want;
+        zr = inflate(&z, Z_NO_FLUSH);
+        /* the bytes inflate gave are good even where it then stopped on
+         * what follows them (a corrupt tail after the last cell) */
+        size_t got = want - z.avail_out;
+        for (size_t i = 0; i < got; i++) {
+            if (win[i]) {
+                if (out && k < cap) {
+                    uint8_t* p = out + k * 4;
+                    p[0] = (uint8_t)x, p[1] = (uint8_t)y, p[2] = (uint8_t)zz, p[3] = win[i];
+                }
+                k++;
+            }
+            if (++x == size[0]) {
+                x = 0;
+                if (++y == size[1]) y = 0, zz++;
+            }
+        }
+        done += got;
+        /* a refused allocation fails the read even where the cells came
+         * out (inflate's window is allocated as it returns), so that a
+         * memory budget refuses a file the same way every time */
+        if (zr == Z_MEM_ERROR) {
+            res = nomem(c, "the zlib inflater");
+            break;
+        }
+        if (done == cells || zr == Z_OK) continue;
+        uint64_t at = src_off + (n - z.avail_in);
+        if (zr == Z_STREAM_END || zr == Z_BUF_ERROR)
+            res = cfail(c, VX_ERR_TRUNCATED, at, "the compressed voxels end after %zu of %zu cells", done, cells);
+        else
+            res = cfail(c, VX_ERR_BAD_FORMAT, at, "zlib error in the compressed voxels after %zu of %zu cells: %s", done,
+                        cells, z.msg ? z.msg : zr == Z_NEED_DICT ? "a preset dictionary is needed" : "invalid stream");
+        break;
+    }
+    inflateEnd(&z);
+    *found = k;
+    return res;
+}
+
+/* TDCZ (Teardown): the model of the SIZE chunk before it as a dense grid,
+ * content = its three sizes again (u32 each), then a zlib stream of
+ * size_x * size_y * size_z colour indices, cell x + y sx + z sx sy, 0 empty.
+ * Two inflations: the first counts the voxels, so max_voxels and the
+ * allocator's budget see the exact record size before it is allocated. */
+static vx_result chunk_tdcz(vox_ctx* c, vx_rd* r) {
+    if (!c->size_pending)
+        return cfail(c, VX_ERR_BAD_FORMAT, c->chunk_off, "voxels without a preceding SIZE chunk");
+    c->size_pending = false;
+    uint64_t at = vx_rd_pos(r);
+    uint32_t v[3];
+    TRY(rd_u32(c, r, &v[0], "size x"));
+    TRY(rd_u32(c, r, &v[1], "size y"));
+    TRY(rd_u32(c, r, &v[2], "size z"));
+    if (memcmp(v, c->pending, sizeof v) != 0)
+        return cfail(c, VX_ERR_BAD_FORMAT, at, "sizes %u x %u x %u differ from the %u x %u x %u of the SIZE chunk at byte %llu",
+                     v[0], v[1], v[2], c->pending[0], c->pending[1], c->pending[2], (unsigned long long)c->pending_off);
+    /* the records hold coordinates in bytes, as XYZI's do (max_dim may be set higher) */
+    if (v[0] > 256 || v[1] > 256 || v[2] > 256)
+        return cfail(c, VX_ERR_LIMIT, at, "model size %u x %u x %u: cells beyond 256 a side do not fit the voxel records",
+                     v[0], v[1], v[2]);
+    size_t cells;
+    if (!vx_mul_size(v[0], v[1], &cells) || !vx_mul_size(cells, v[2], &cells))
+        return cfail(c, VX_ERR_LIMIT, at, "model size %u x %u x %u: the cell count overflows", v[0], v[1], v[2]);
+    uint64_t src_off = vx_rd_pos(r);
+    const uint8_t* src = r->p + r->off;
+    size_t n = vx_rd_left(r);
+    r->off += n;
+    TRY(grow(c, (void**)&c->s.models, &c->model_cap, c->s.model_count, 1, sizeof(vx_vox_model), "models"));
+    uint8_t* win = (uint8_t*)vx_alloc(c->a, cells < TDCZ_WINDOW ? cells : TDCZ_WINDOW);
+    if (!win) return nomem(c, "the voxel window");
+    vx_vox_model m = {{v[0], v[1], v[2]}, 0, NULL};
+    uint64_t count = 0, again = 0;
+    size_t bytes = 0;
+    vx_result res = tdcz_pass(c, src, n, src_off, v, cells, win, NULL, 0, &count);
+    if (res == VX_OK && count > c->d.max_voxels - c->voxels_total)
+        res = cfail(c, VX_ERR_LIMIT, src_off, "%llu more voxels exceed max_voxels %llu in all models",
+                    (unsigned long long)count, (unsigned long long)c->d.max_voxels);
+    if (res == VX_OK && count > 0) {
+        if (!vx_mul_size((size_t)count, 4, &bytes) || !(m.xyzi = (uint8_t*)vx_alloc(c->a, bytes)))
+            res = nomem(c, "voxels");
+        else
+            res = tdcz_pass(c, src, n, src_off, v, cells, win, m.xyzi, count, &again);
+        /* inflate is deterministic; a difference would be a zlib fault */
+        if (res == VX_OK && again != count)
+            res = cfail(c, VX_ERR_BAD_FORMAT, src_off, "the stream gave %llu voxels, then %llu", (unsigned long long)count,
+                        (unsigned long long)again);
+    }
+    vx_free(c->a, win);
+    if (res != VX_OK) {
+        vx_free(c->a, m.xyzi);
+        return res;
+    }
+    m.voxel_count = (uint32_t)count; /* at most 256^3 cells */
+    c->voxels_total += count;
+    c->s.models[c->s.model_count++] = m;
+    return VX_OK;
+}
+
+/* RGBA entry i-1 is colour index i. MagicaVoxel writes 256 entries (the
+ * last one unused); Teardown writes 255 (1020 bytes), which still give
+ * every index. A shorter palette leaves the indices it lacks at the
+ * default palette's colours, as ogt_vox does; only a partial entry is
+ * refused. */
 static vx_result chunk_rgba(vox_ctx* c, vx_rd* r) {
-    if (vx_rd_left(r) < 1024)
-        return cfail(c, VX_ERR_TRUNCATED, vx_rd_pos(r), "palette needs 1024 bytes, chunk has %zu", vx_rd_left(r));
+    size_t n = vx_rd_left(r);
+    if (n < 1024 && n % 4 != 0)
+        return cfail(c, VX_ERR_TRUNCATED, vx_rd_pos(r) + n - n % 4,
+                     "palette of %zu bytes ends inside an entry (4 bytes each, 256 at most)", n);
+    size_t entries = n / 4 < 255 ? n / 4 : 255;
+    memcpy(c->s.palette, vx_vox_default_palette, sizeof c->s.palette);
     c->s.palette[0] = 0;
-    for (int i = 1; i < 256; i++) vx_rd_u32le(r, &c->s.palette[i]);
+    for (size_t i = 1; i <= entries; i++) vx_rd_u32le(r, &c->s.palette[i]);
     c->s.has_rgba = true;
     return VX_OK;
 }
@@ -648,8 +802,9 @@ static vx_result chunk_note(vox_ctx* c, vx_rd* r) {
 static vx_result read_chunk(vox_ctx* c, const uint8_t id[4], vx_rd* r) {
     if (!memcmp(id, "SIZE", 4)) return chunk_size(c, r);
     if (!memcmp(id, "XYZI", 4)) return chunk_xyzi(c, r);
+    if (!memcmp(id, "TDCZ", 4)) return chunk_tdcz(c, r);
     if (c->size_pending)
-        return cfail(c, VX_ERR_BAD_FORMAT, c->chunk_off, "expected the XYZI chunk of the SIZE chunk at byte %llu",
+        return cfail(c, VX_ERR_BAD_FORMAT, c->chunk_off, "expected the XYZI or TDCZ chunk of the SIZE chunk at byte %llu",
                      (unsigned long long)c->pending_off);
     if (!memcmp(id, "RGBA", 4)) return chunk_rgba(c, r);
     if (!memcmp(id, "nTRN", 4)) return chunk_ntrn(c, r);
@@ -707,7 +862,7 @@ static vx_result read_children(vox_ctx* c, vx_rd* r) {
     if (c->size_pending) {
         c->chunk_off = c->pending_off;
         memcpy(c->chunk_id, "SIZE", 5);
-        return cfail(c, VX_ERR_BAD_FORMAT, c->pending_off, "no XYZI chunk follows");
+        return cfail(c, VX_ERR_BAD_FORMAT, c->pending_off, "no XYZI or TDCZ chunk follows");
     }
     return VX_OK;
 }

@@ -2,7 +2,12 @@
  *
  * Reads versions 150 and 200: MAIN, PACK, SIZE, XYZI, RGBA, MATT, MATL, nTRN,
  * nGRP, nSHP, LAYR, IMAP, rOBJ, rCAM, NOTE, META; unknown chunks are skipped
- * by their declared sizes.
+ * by their declared sizes. Teardown's variant too: a model's voxels in a
+ * TDCZ chunk after its SIZE (the sizes again, then a zlib stream of one
+ * colour index per cell, x fastest, 0 empty; accepted once it has given
+ * every cell, as Teardown leaves it unterminated; refused when its sizes
+ * differ from SIZE's or it ends early), and an RGBA chunk of fewer than 256
+ * entries (Teardown writes 255): indices it lacks keep the default colours.
  *
  * Data model (as MagicaVoxel shows the scene):
  *  - Models hold voxels as (x, y, z, i) bytes; z is up; i in 1..255 is the

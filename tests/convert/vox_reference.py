@@ -26,6 +26,14 @@ Conventions, as MagicaVoxel's notes and its editor have them:
     frame and the nSHP model whose _f is the largest <= f (the first if none).
   - Without nTRN/nGRP/nSHP: model 0 (model f of a PACK sequence) at the
     identity, same pivot.
+  - Teardown's .vox: a model's voxels in a TDCZ chunk after its SIZE instead
+    of XYZI: the three sizes again (refused unless they are SIZE's), then a
+    zlib stream of one colour index per cell, x fastest (x + y sx + z sx sy),
+    0 empty. Teardown stops the stream after the last cell (no final block, no
+    Adler-32), so it counts as whole once it has given every cell, whatever
+    follows; one that gives fewer is refused. Its RGBA chunk has 255 entries
+    (1020 bytes); any whole number of entries up to 256 is read, the indices
+    it lacks keeping the default palette's colours (as ogt_vox does).
 
 The files checked: every .vox of CORPUS/vox (skipped with a message where
 absent; files over VX_REF_MAX_BYTES, default 1 MiB, are left out, said so),
@@ -35,9 +43,14 @@ scenes this script writes itself: all 48 rotation bytes (24 turns, 24
 mirrored) on models of odd, even and unequal sides, turned and mirrored nested
 groups, group instances (several transforms on one group), models of side
 256, hidden nodes, groups and layers (also with --keep-hidden against
---dump --all), a default-palette model without a scene graph, and keyframes
-(_f) on a transform and a shape. An animated file is also checked at frames 1,
-2 and its last, a file with hidden parts also with --keep-hidden.
+--dump --all), a default-palette model without a scene graph, keyframes
+(_f) on a transform and a shape, one scene written with XYZI and with TDCZ
+(unterminated, terminated with bytes after it), RGBA chunks of 255 and 16
+entries, and files both must refuse (a TDCZ stream short of its cells, TDCZ
+sizes that are not SIZE's, an RGBA chunk ending inside an entry: vox2svo
+exits 1 naming the file and the chunk, and writes no file). An animated file
+is also checked at frames 1, 2 and its last, a file with hidden parts also
+with --keep-hidden.
 Each generated scene is checked twice: the cells against the reader, and the
 reader's cells against ones computed here from the scene's own description
 (so a reader mistake cannot hide a converter one of the same kind).
@@ -50,6 +63,7 @@ import struct
 import subprocess
 import sys
 import time
+import zlib
 
 # ---- the default palette (MagicaVoxel-file-format-vox.txt, section 8) -------
 # 0xAABBGGRR values, index i is colour index i; [0] is 0.
@@ -139,6 +153,39 @@ def mat_vec(a, v):
 IDENTITY = [1, 0, 0, 0, 1, 0, 0, 0, 1]
 
 
+def inflate_cells(stream, cells):
+    """the first `cells` bytes of a zlib stream, or what it gives before it
+    ends or breaks (fewer): Teardown's streams stop after the last cell with
+    no final block and no Adler-32, and what follows the cells is not read"""
+    try:
+        return zlib.decompressobj().decompress(stream, cells)
+    except zlib.error:
+        pass
+    # broken somewhere: fed a byte at a time, so that a break after the last
+    # cell (bytes after the stream that are no deflate data) does not count
+    d, out = zlib.decompressobj(), b""
+    for k in range(len(stream)):
+        try:
+            out += d.decompress(stream[k:k + 1], cells - len(out))
+        except zlib.error:
+            break
+        if len(out) == cells:
+            break
+    return out
+
+
+def tdcz_voxels(size, stream, where):
+    sx, sy, sz = size
+    if min(size) < 1:
+        raise VoxError(f"{where}: size {size} has a side below 1")
+    cells = sx * sy * sz
+    out = inflate_cells(stream, cells)
+    if len(out) < cells:
+        raise VoxError(f"{where}: the compressed voxels end after {len(out)} of {cells} cells")
+    sxy = sx * sy
+    return [(k % sx, (k // sx) % sy, k // sxy, i) for k, i in enumerate(out) if i]
+
+
 def parse(data):
     """the file's chunks: models [(size, [(x,y,z,i)...])], palette (256 RGBA
     tuples by colour index), nodes {id: (kind, ...)}, layers {id: dict}"""
@@ -168,9 +215,25 @@ def parse(data):
             raw = c.take(4 * count)
             models.append((pending_size, list(struct.iter_unpack("4B", raw))))
             pending_size = None
+        elif cid == b"TDCZ":
+            where = f"TDCZ chunk at byte {c.p - 12}"
+            if pending_size is None:
+                raise VoxError(f"{where}: no SIZE before it")
+            sizes = (c.i32(), c.i32(), c.i32())
+            if sizes != pending_size:
+                raise VoxError(f"{where}: sizes {sizes} are not SIZE's {pending_size}")
+            models.append((pending_size, tdcz_voxels(pending_size, c.take(c.end - c.p), where)))
+            pending_size = None
         elif cid == b"RGBA":
-            raw = c.take(1024)
-            rgba = [(0, 0, 0, 0)] + [tuple(raw[4 * k:4 * k + 4]) for k in range(255)]
+            # entry k is colour index k + 1; a 256th entry is not used
+            n = c.end - c.p
+            if n < 1024 and n % 4:
+                raise VoxError(f"RGBA chunk at byte {c.p - 12}: {n} bytes, not whole 4-byte entries")
+            raw = c.take(min(n, 1020))
+            rgba = [tuple((v >> s) & 255 for s in (0, 8, 16, 24)) for v in DEFAULT_PALETTE]
+            rgba[0] = (0, 0, 0, 0)
+            for k in range(len(raw) // 4):
+                rgba[k + 1] = tuple(raw[4 * k:4 * k + 4])
         elif cid == b"nTRN":
             nid, attr = c.i32(), c.dict()
             child, _reserved, layer, nf = c.i32(), c.i32(), c.i32(), c.i32()
@@ -320,15 +383,34 @@ def _chunk(cid, content, children=b""):
     return cid + struct.pack("<ii", len(content), len(children)) + content + children
 
 
-def write_vox(path, models, nodes=(), layers=(), rgba=None, pack=False):
+def tdcz_content(size, voxels, finish=False, cells=None, sizes=None, tail=b""):
+    """a TDCZ chunk's content: the sizes (`sizes`, else SIZE's), then the
+    model's grid deflated (its first `cells` cells when given); finish False
+    ends with a sync flush only, as Teardown's streams end (no final block, no
+    Adler-32); tail follows the stream"""
+    sx, sy, sz = size
+    grid = bytearray(sx * sy * sz)
+    for x, y, z, i in voxels:
+        grid[x + y * sx + z * sx * sy] = i
+    co = zlib.compressobj(9)
+    data = co.compress(bytes(grid[:cells])) + co.flush(zlib.Z_FINISH if finish else zlib.Z_SYNC_FLUSH)
+    return struct.pack("<iii", *(sizes or size)) + data + tail
+
+
+def write_vox(path, models, nodes=(), layers=(), rgba=None, pack=False, tdcz=None):
     """models: [(size, voxels)]; nodes: [(kind, id, ...)] as in parse();
-    layers: [(id, dict)]; rgba: 256 RGBA tuples (file order) or None"""
+    layers: [(id, dict)]; rgba: RGBA tuples (file order, 256 as MagicaVoxel
+    writes them, or fewer) or None; tdcz: None for XYZI chunks, else
+    tdcz(model index, size, voxels) gives each model's TDCZ content"""
     body = b""
     if pack:
         body += _chunk(b"PACK", struct.pack("<i", len(models)))
-    for size, vox in models:
+    for mi, (size, vox) in enumerate(models):
         body += _chunk(b"SIZE", struct.pack("<iii", *size))
-        body += _chunk(b"XYZI", struct.pack("<i", len(vox)) + bytes(c for v in vox for c in v))
+        if tdcz:
+            body += _chunk(b"TDCZ", tdcz(mi, size, vox))
+        else:
+            body += _chunk(b"XYZI", struct.pack("<i", len(vox)) + bytes(c for v in vox for c in v))
     for nd in nodes:
         if nd[0] == "T":
             _, nid, attr, child, layer, frames = nd
@@ -528,6 +610,49 @@ def generated_scenes(work):
     out.append((p, 0, expect(models, [(0, IDENTITY, [1, 2, 3])])))
     out.append((p, 1, expect(models, [(0, IDENTITY, [1, 2, 3])])))
     out.append((p, 2, expect(models, [(1, rot_from_byte(0b0010110), [-5, 0, 4])])))
+
+    # 7. Teardown's TDCZ: one scene written with XYZI and with TDCZ, the
+    # same voxels from both; its streams unterminated (a sync flush, as
+    # Teardown's), terminated, and unterminated with bytes after it
+    models = [_model((7, 5, 3), 14), _model((4, 4, 4), 15), _model((2, 9, 5), 16)]
+    rt = 0b0100110
+    nodes = [("T", 0, {}, 1, -1, [{}]), ("G", 1, {}, [2, 4, 6]),
+             ("T", 2, {}, 3, 0, [{"_t": "0 0 0"}]), ("S", 3, {}, [(0, {})]),
+             ("T", 4, {}, 5, 0, [{"_r": str(rt), "_t": "9 -3 2"}]), ("S", 5, {}, [(1, {})]),
+             ("T", 6, {}, 7, 0, [{"_t": "-6 8 1"}]), ("S", 7, {}, [(2, {})])]
+    placed = [(0, IDENTITY, [0, 0, 0]), (1, rot_from_byte(rt), [9, -3, 2]), (2, IDENTITY, [-6, 8, 1])]
+
+    def teardown_streams(mi, size, vox):
+        return tdcz_content(size, vox, finish=mi == 1, tail=b"\x03\x00 bytes after the cells" if mi == 2 else b"")
+    for name, how in [("gen_tdcz_as_xyzi.vox", None), ("gen_tdcz.vox", teardown_streams)]:
+        p = os.path.join(work, name)
+        write_vox(p, models, nodes, [(0, {})], rgba, tdcz=how)
+        out.append((p, 0, expect(models, placed)))
+
+    # 8. RGBA chunks of 255 entries (Teardown's) and of 16: the indices
+    # beyond them keep the default palette's colours; every index 1..255 used
+    size = (16, 16, 1)
+    vox = [(k % 16, k // 16, 0, k) for k in range(1, 256)]
+    dpal = [tuple((v >> s) & 255 for s in (0, 8, 16, 24)) for v in DEFAULT_PALETTE]
+    for entries, how in [(255, lambda mi, sz, v: tdcz_content(sz, v)), (16, None)]:
+        p = os.path.join(work, f"gen_rgba_{entries}.vox")
+        write_vox(p, [(size, vox)], rgba=rgba[:entries], tdcz=how)
+        epal = [(0, 0, 0, 0)] + rgba[:entries] + dpal[entries + 1:]
+        out.append((p, 0, sorted(place(IDENTITY, [0, 0, 0], size, v[:3]) + epal[v[3]] for v in vox)))
+
+    # 9. files both readers refuse: vox2svo exits 1 naming the file and the
+    # chunk, and writes no file
+    size, vox = _model((6, 5, 4), 17)
+    for name, content, chunk in [
+            ("gen_refuse_tdcz_short.vox", tdcz_content(size, vox, cells=6 * 5 * 4 - 9), "TDCZ chunk at byte 44"),
+            ("gen_refuse_tdcz_sizes.vox", tdcz_content(size, vox, sizes=(6, 4, 5)), "TDCZ chunk at byte 44"),
+            ("gen_refuse_rgba_partial.vox", None, "RGBA chunk at byte")]:
+        p = os.path.join(work, name)
+        if content is None:
+            write_vox(p, [(size, vox)], rgba=rgba[:100] + [(1, 2)])
+        else:
+            write_vox(p, [(size, vox)], tdcz=lambda mi, sz, v, content=content: content)
+        out.append((p, 0, ("refuse", chunk)))
     return out
 
 
@@ -602,6 +727,8 @@ def main():
     for k, (path, frame, expected) in enumerate(files):
         label = os.path.basename(path) + ("" if frame == 0 else f" (frame {frame})" if frame != "all" else " (--all)")
         svo = os.path.join(work, f"ref{k}.svo")
+        if os.path.exists(svo):
+            os.remove(svo)
         conv = [os.path.join(bin_dir, "vox2svo"), path, svo]
         if frame == "all":
             conv += ["--keep-hidden", "--keep-unused"]
@@ -609,11 +736,18 @@ def main():
         try:
             want = world_voxels(path, 0 if frame == "all" else frame, frame == "all")
         except VoxError as e:
-            # not a file the notes describe (another program's .vox): vox2svo must refuse it too
-            ok = r.returncode == 1 and "vox2svo: " + path in r.stderr
+            # not a file the notes describe (another program's .vox): vox2svo must refuse it too,
+            # naming the file (and the chunk, for the generated ones) and writing nothing
+            ok = r.returncode == 1 and "vox2svo: " + path in r.stderr and not os.path.exists(svo)
+            if isinstance(expected, tuple):
+                ok = ok and expected[1] in r.stderr
             print(f"{'ok  ' if ok else 'FAIL'} {label}: the reader refuses it ({e}); "
                   f"vox2svo: exit {r.returncode} {r.stderr.strip()[-200:]}")
             failed += not ok
+            continue
+        if isinstance(expected, tuple):
+            print(f"FAIL {label}: the reader reads a file it must refuse; vox2svo: exit {r.returncode}")
+            failed += 1
             continue
         if r.returncode != 0:
             print(f"FAIL {label}: vox2svo exit {r.returncode}: {(r.stderr or r.stdout).strip()[-300:]}")

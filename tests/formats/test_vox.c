@@ -10,6 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <zlib.h>
+
 #include "formats/vox.h"
 #include "tests/fail_alloc.h"
 #include "tests/test.h"
@@ -1142,10 +1144,11 @@ static void test_bad_input(void) {
         vx_buf_free(&b);
         tb_file(&b, 150);
         at = tb_begin(&b, "RGBA");
-        tb_u32(&b, 0);
+        for (int i = 0; i < 255; i++) tb_u32(&b, 0);
+        vx_buf_u8(&b, 1); /* 1021 bytes: a short palette must end on an entry */
         tb_end(&b, at);
         tb_finish(&b);
-        expect_fail(&b, VX_ERR_TRUNCATED, "RGBA", "short RGBA");
+        expect_fail(&b, VX_ERR_TRUNCATED, "RGBA", "RGBA ending inside an entry");
         vx_buf_free(&b);
         tb_file(&b, 150);
         at = tb_begin(&b, "nTRN");
@@ -1251,6 +1254,171 @@ static void oom_loop(const char* what, const uint8_t* d, size_t n, bool persiste
     }
 }
 
+/* ---- Teardown's TDCZ -------------------------------------------------------------------------- */
+
+/* SIZE s, then TDCZ declaring sizes t and the first `ncomp` cells of grid
+ * (x fastest) deflated; finish false stops after a sync flush, as Teardown
+ * leaves its streams (no final block, no Adler-32); junk follows the stream. */
+static void tb_tdcz(vx_buf* b, const uint32_t s[3], const uint32_t t[3], uint8_t* grid, size_t ncomp, bool finish,
+                    const char* junk) {
+    size_t at = tb_begin(b, "SIZE");
+    for (int k = 0; k < 3; k++) tb_u32(b, s[k]);
+    tb_end(b, at);
+    at = tb_begin(b, "TDCZ");
+    for (int k = 0; k < 3; k++) tb_u32(b, t[k]);
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    REQUIRE(deflateInit(&z, 9) == Z_OK);
+    uLong bound = deflateBound(&z, (uLong)ncomp) + 64;
+    uint8_t* out = (uint8_t*)malloc(bound);
+    z.next_in = grid;
+    z.avail_in = (uInt)ncomp;
+    z.next_out = out;
+    z.avail_out = (uInt)bound;
+    int zr = deflate(&z, finish ? Z_FINISH : Z_SYNC_FLUSH);
+    CHECK(zr == (finish ? Z_STREAM_END : Z_OK) && z.avail_in == 0);
+    vx_buf_append(b, out, bound - z.avail_out);
+    deflateEnd(&z);
+    free(out);
+    if (junk) vx_buf_append(b, junk, strlen(junk));
+    tb_end(b, at);
+}
+
+/* An RGBA chunk of n entries, entry e = 0xff000000 | e * 0x010203 */
+static void tb_rgba(vx_buf* b, int n) {
+    size_t at = tb_begin(b, "RGBA");
+    for (int e = 0; e < n; e++) tb_u32(b, 0xff000000u | (uint32_t)e * 0x010203u);
+    tb_end(b, at);
+}
+
+#define TD_X 5
+#define TD_Y 3
+#define TD_Z 4
+#define TD_CELLS (TD_X * TD_Y * TD_Z)
+
+static void td_grid(uint8_t g[TD_CELLS]) {
+    for (int k = 0; k < TD_CELLS; k++) g[k] = (k * 7) % 3 ? (uint8_t)(1 + (k * 37) % 255) : 0;
+}
+
+/* Two models: an unterminated stream, and a terminated one with bytes after it. */
+static void td_file(vx_buf* b, int rgba_entries) {
+    static const uint32_t sz[3] = {TD_X, TD_Y, TD_Z}, one[3] = {2, 1, 1};
+    uint8_t g[TD_CELLS], g2[2] = {0, 200};
+    td_grid(g);
+    tb_file(b, 150);
+    tb_tdcz(b, sz, sz, g, TD_CELLS, false, NULL);
+    tb_tdcz(b, one, one, g2, 2, true, "trailing bytes");
+    if (rgba_entries >= 0) tb_rgba(b, rgba_entries);
+    tb_finish(b);
+}
+
+static void test_teardown(void) {
+    static const uint32_t sz[3] = {TD_X, TD_Y, TD_Z}, other[3] = {TD_X, TD_Z, TD_Y};
+    uint8_t g[TD_CELLS];
+    td_grid(g);
+    const int entries[] = {255, 16, 256, 0};
+    for (int ei = 0; ei < 4; ei++) {
+        vx_buf b;
+        td_file(&b, entries[ei]);
+        vx_vox_scene s;
+        vx_error e = {0};
+        vx_result r = read_buf(&b, NULL, &s, &e);
+        CHECKF(r == VX_OK, "TDCZ with %d RGBA entries: %s", entries[ei], e.msg);
+        vx_buf_free(&b);
+        if (r != VX_OK) continue;
+        CHECK(s.model_count == 2 && s.instance_count == 1);
+        /* the voxels in x-fastest order, index 0 left out */
+        uint32_t n = 0;
+        bool same = s.models[0].size[0] == TD_X && s.models[0].size[1] == TD_Y && s.models[0].size[2] == TD_Z;
+        for (int k = 0; k < TD_CELLS && same; k++) {
+            if (!g[k]) continue;
+            const uint8_t* p = s.models[0].xyzi + (size_t)n++ * 4;
+            same = n <= s.models[0].voxel_count && p[0] == k % TD_X && p[1] == (k / TD_X) % TD_Y &&
+                   p[2] == k / (TD_X * TD_Y) && p[3] == g[k];
+        }
+        CHECK(same && n == s.models[0].voxel_count);
+        CHECK(s.models[1].voxel_count == 1 && !memcmp(s.models[1].xyzi, (uint8_t[]){1, 0, 0, 200}, 4));
+        /* entry e is colour index e + 1; the rest keep the default colours */
+        bool pal = s.has_rgba && s.palette[0] == 0;
+        for (int i = 1; i < 256; i++)
+            pal = pal && s.palette[i] == (i <= entries[ei] ? 0xff000000u | (uint32_t)(i - 1) * 0x010203u
+                                                             : vx_vox_default_palette[i]);
+        CHECKF(pal, "palette of %d entries", entries[ei]);
+        CHECK(vx_vox_validate(&s, NULL) == VX_OK);
+        vx_vox_scene_free(&s);
+    }
+
+    vx_buf b;
+    tb_file(&b, 150);
+    tb_tdcz(&b, sz, sz, g, TD_CELLS - 7, false, NULL);
+    tb_finish(&b);
+    expect_fail(&b, VX_ERR_TRUNCATED, "TDCZ chunk at byte 44: the compressed voxels end after 53 of 60 cells",
+                "TDCZ stream short of its cells");
+    vx_buf_free(&b);
+    tb_file(&b, 150);
+    tb_tdcz(&b, sz, other, g, TD_CELLS, false, NULL);
+    tb_finish(&b);
+    expect_fail(&b, VX_ERR_BAD_FORMAT, "sizes 5 x 4 x 3 differ from the 5 x 3 x 4 of the SIZE chunk", "TDCZ sizes not SIZE's");
+    vx_buf_free(&b);
+    tb_file(&b, 150);
+    tb_tdcz(&b, sz, sz, g, TD_CELLS, false, NULL);
+    b.data[20 + 24 + 12 + 12] ^= 0x20; /* the zlib header's first byte */
+    tb_finish(&b);
+    expect_fail(&b, VX_ERR_BAD_FORMAT, "TDCZ chunk at byte 44: zlib error", "TDCZ not a zlib stream");
+    vx_buf_free(&b);
+    tb_file(&b, 150);
+    size_t at = tb_begin(&b, "SIZE");
+    for (int k = 0; k < 3; k++) tb_u32(&b, 2);
+    tb_end(&b, at);
+    at = tb_begin(&b, "TDCZ");
+    tb_u32(&b, 2);
+    tb_u32(&b, 2);
+    tb_end(&b, at);
+    tb_finish(&b);
+    expect_fail(&b, VX_ERR_TRUNCATED, "TDCZ", "TDCZ without its sizes");
+    vx_buf_free(&b);
+    tb_file(&b, 150);
+    at = tb_begin(&b, "TDCZ");
+    tb_end(&b, at);
+    tb_finish(&b);
+    expect_fail(&b, VX_ERR_BAD_FORMAT, "TDCZ chunk at byte 20: voxels without a preceding SIZE", "TDCZ without SIZE");
+    vx_buf_free(&b);
+
+    /* limits: max_voxels counts TDCZ voxels; sides over 256 (max_dim raised) cannot be records */
+    td_file(&b, -1);
+    vx_vox_scene s;
+    vx_error e = {0};
+    CHECK(read_buf(&b, &(vx_vox_read_desc){.max_voxels = 20}, &s, &e) == VX_ERR_LIMIT && strstr(e.msg, "TDCZ"));
+    /* allocation failures at every step, then every prefix and random flips */
+    oom_loop("TDCZ", b.data, b.size, false);
+    oom_loop("TDCZ persistent", b.data, b.size, true);
+    uint8_t* c = (uint8_t*)malloc(b.size);
+    for (size_t len = 20; len < b.size; len++) {
+        memcpy(c, b.data, len);
+        vx_buf_put_u32le(c + 16, (uint32_t)(len - 20));
+        read_must_not_crash(c, len);
+    }
+    for (int it = 0; it < 3000; it++) {
+        memcpy(c, b.data, b.size);
+        for (int k = 1 + (int)(rng() % 3); k > 0; k--) {
+            size_t p = 20 + (size_t)(rng() % (b.size - 20));
+            c[p] = (rng() & 1) ? (uint8_t)rng() : (uint8_t)(c[p] ^ (1u << (rng() % 8)));
+        }
+        read_must_not_crash(c, b.size);
+    }
+    free(c);
+    vx_buf_free(&b);
+    static const uint32_t wide[3] = {257, 1, 1};
+    uint8_t gw[257] = {1};
+    tb_file(&b, 150);
+    tb_tdcz(&b, wide, wide, gw, 257, false, NULL);
+    tb_finish(&b);
+    e.msg[0] = 0;
+    CHECK(read_buf(&b, &(vx_vox_read_desc){.max_dim = 300}, &s, &e) == VX_ERR_LIMIT && strstr(e.msg, "beyond 256"));
+    fprintf(stderr, "  side 257: %s\n", e.msg);
+    vx_buf_free(&b);
+}
+
 static void test_oom(void) {
     static const char* files[] = {"eph_chr_knight.vox", "ogt_test_groups.vox"};
     int found = 0;
@@ -1288,6 +1456,7 @@ int main(void) {
     RUN(test_validate_and_write_errors);
     RUN(test_truncations);
     RUN(test_byte_flips);
+    RUN(test_teardown);
     RUN(test_oom);
     return vx_test_finish();
 }

@@ -52,7 +52,8 @@ _Noreturn static void usage(int status) {
 #endif
             "Which: converts a voxel scene, a triangle mesh or a volume into a compact sparse voxel\n"
             "       octree file (.svo): one Laine-Karras octree per model after tree minimization,\n"
-            "       instances with their transforms. The reader is picked by the file extension.\n"
+            "       instances with their transforms. The reader is picked by the file extension;\n"
+            "       .vox is MagicaVoxel's, or Teardown's variant (TDCZ voxel chunks, 255-entry RGBA).\n"
             "Lights and materials: glTF KHR_lights_punctual lights are stored (node transforms\n"
             "       applied; voxkit's record in a light's extras, as svo_info --to-glb writes it,\n"
             "       gives sphere and rect lights back exactly); glTF metallic, glass (KHR_materials_transmission, _ior) and emissive\n"
