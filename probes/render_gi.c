@@ -297,14 +297,20 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
                     for (int k = 0; k < 3; k++) c[k] += thr[k] * sf.emit[k];
                 }
                 const vx__surface* x = m ? &ms : &sf;
-                const double *xd = m ? m_d : d, *tk = m ? m_thr : thr, *wl = m ? m_kd : sf.albedo;
+                const double *xd = m ? m_d : d, *tk = m ? m_thr : thr, *wl = m ? m_kd : sf.albedo, *fl = m_fl;
+                /* a metal the lobe met (a voxel statue's lobe meets the statue): its own BRDF towards the sun
+                 * and its Lambert lobe's kd, no second lobe (shaded as a diffuse surface, its whole colour lit
+                 * by the sun, the demo island's statue came out 5-10x the path tracer's) */
+                double s_kd[3], s_fl[3];
+                bool xm = m || (mev && vx__metal_of(J->L, &sf, d, s_kd, s_fl));
+                if (!m && xm) wl = s_kd, fl = s_fl;
                 if ((m ? m_full : full) && (m || at != 2)) { /* (no light is sampled inside glass) */
                     double dl[3];
-                    if (m) vx__direct_f(J->L, x, m_fl, dl);
+                    if (xm) vx__direct_f(J->L, x, fl, dl);
                     else vx__direct(J->L, x, dl);
                     for (int k = 0; k < 3; k++) c[k] += tk[k] * dl[k];
                 }
-                if (m && !(wl[0] > 0 || wl[1] > 0 || wl[2] > 0)) continue; /* (a pure metal: no Lambert lobe) */
+                if (xm && !(wl[0] > 0 || wl[1] > 0 || wl[2] > 0)) continue; /* (a pure metal: no Lambert lobe) */
                 if (J->mode == VX_PROBE_RENDER_GI || J->mode == VX_PROBE_RENDER_INDIRECT) {
                     double e[3];
                     irradiance_at(J->ps, x->p, x->n, xd, e);

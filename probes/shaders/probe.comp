@@ -1242,9 +1242,20 @@ void render() {
                         c += thr * sf.emit;
                     }
                     Surf x = m ? ms : sf;
-                    PT_PREC vec3 xd = m ? m_d : d, tk = m ? m_thr : thr, wl = m ? m_kd : sf.alb;
-                    if ((m ? m_full : full) && (m || at != 2)) c += tk * direct_f(x, m, m_fl);
-                    if (m && !(wl.x > 0.0 || wl.y > 0.0 || wl.z > 0.0)) continue; // (a pure metal: no Lambert lobe)
+                    PT_PREC vec3 xd = m ? m_d : d, tk = m ? m_thr : thr, wl = m ? m_kd : sf.alb, fl = m_fl;
+                    bool xm = m;
+                    if (!m && metal_ev && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
+                        // a metal the lobe met (a voxel statue's lobe meets the statue): its own BRDF towards
+                        // the sun and its Lambert lobe's kd, no second lobe (render_gi.c: shaded as a diffuse
+                        // surface, its whole colour lit by the sun, it came out 5-10x the path tracer's)
+                        Bsdf SB = bsdf_of(sf); // (metal draws no number)
+                        float pdf;
+                        fl = bsdf_eval(SB, -d, P.light.xyz, pdf);
+                        wl = SB.kd;
+                        xm = true;
+                    }
+                    if ((m ? m_full : full) && (m || at != 2)) c += tk * direct_f(x, xm, fl);
+                    if (xm && !(wl.x > 0.0 || wl.y > 0.0 || wl.z > 0.0)) continue; // (a pure metal: no Lambert lobe)
                     if (PMODE == P_GI || PMODE == P_GI_IND) {
                         c += tk * (wl / PI * irradiance_at(x.p, x.n, xd));
                     } else if (PMODE == P_LF || PMODE == P_LF_IND) {

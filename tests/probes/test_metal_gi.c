@@ -32,6 +32,9 @@ static uint8_t mirror_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
     return 0;
 }
 
+/* The red wall metal too (test_lobe_meets_metal). */
+static bool wall_metal;
+
 /* The room with the mirror's record: metal of roughness `rough`, or (rough NULL) diffuse. */
 static void mirror_scene(vx_svo_scene* s, const char* rough) {
     cells_scene(s, N, mirror_cell);
@@ -40,6 +43,8 @@ static void mirror_scene(vx_svo_scene* s, const char* rough) {
     const char* const diffuse[] = {"_type", "_diffuse"};
     if (rough) add_material(s, 6, metal, 3);
     else add_material(s, 6, diffuse, 1);
+    const char* const wall[] = {"_type", "_metal", "_metal", "1", "_rough", "0.3"};
+    if (wall_metal) add_material(s, 4, wall, 3);
 }
 
 static vx_render_desc view(void) {
@@ -215,6 +220,39 @@ static void check_metal(const char* rough, double tol, const double far[2], doub
 static void test_polished_mirror(void) { check_metal("0.05", 0.10, (const double[2]){0.35, 0.35}, 0.04); }
 static void test_rough_metal(void) { check_metal("0.6", 0.13, (const double[2]){0.25, 0}, 0.08); }
 
+/* The mirror's lobe meets a metal: the red wall made a rough metal (0.3) too, lit by the sun. Where the lobe meets
+ * a metal the probe modes shade it by its own BRDF towards the sun and its Lambert lobe's kd, and follow no
+ * second lobe (the light beyond one metal bounce is dropped: darker than the path tracer, whose paths go on).
+ * Before, that metal was shaded as a diffuse surface, its whole colour lit by the sun: 6.5x the path tracer's
+ * red here (gi 0.381, lightfield 0.448 against 0.0585), and the demo island's statue, whose lobe mostly meets
+ * the statue, 5-10x (docs/TESTING.md, stop 73); now 0.22x (0.013). Checked: every probe mode's red between 0.1
+ * and 1.15 of the path tracer's (never brighter than the paths that go on), CPU and GPU within 8%. */
+static void test_lobe_meets_metal(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    wall_metal = true;
+    ctx c;
+    bool made = ctx_make(&c, "0.05");
+    wall_metal = false;
+    REQUIRE(made);
+    fprintf(stderr, "  a metal wall in the mirror: path tracer %.4f %.4f %.4f\n", c.pt[0], c.pt[1], c.pt[2]);
+    CHECKF(c.pt[0] > 0.005, "the mirror shows light (%g)", c.pt[0]);
+    static const vx_probe_render_mode modes[] = {VX_PROBE_RENDER_GI, VX_PROBE_RENDER_LIGHTFIELD};
+    for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++) {
+        const char* name = vx_probe_render_mode_name(modes[i]);
+        double cpu[3], gp[3];
+        REQUIRE(mode_mean(&c, &c.s, NULL, modes[i], cpu));
+        REQUIRE(mode_mean(&c, &c.s, c.rs, modes[i], gp));
+        fprintf(stderr, "  %-10s CPU %.4f %.4f %.4f, GPU %.4f %.4f %.4f\n", name, cpu[0], cpu[1], cpu[2], gp[0], gp[1],
+                gp[2]);
+        CHECKF(cpu[0] > 0.1 * c.pt[0] && cpu[0] < 1.15 * c.pt[0], "%s CPU red %.4f against the path tracer's %.4f", name,
+               cpu[0], c.pt[0]);
+        CHECKF(gp[0] > 0.1 * c.pt[0] && gp[0] < 1.15 * c.pt[0], "%s GPU red %.4f against the path tracer's %.4f", name,
+               gp[0], c.pt[0]);
+        CHECKF(rel(gp, cpu, 0) < 0.08, "%s red: GPU %.4f against CPU %.4f", name, gp[0], cpu[0]);
+    }
+    ctx_free(&c);
+}
+
 int main(void) {
     (void)ts_random_model, (void)room_scene, (void)box_scene, (void)glass_room_cell;
     dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_NODELETE); /* see test_probes_gpu.c */
@@ -225,6 +263,7 @@ int main(void) {
     }
     RUN(test_polished_mirror);
     RUN(test_rough_metal);
+    RUN(test_lobe_meets_metal);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }
