@@ -251,7 +251,7 @@ static void render_pixel(const rjob* J, uint32_t x, uint32_t y, float* px, vx__l
              * events on the way) shaded whole times the sample's weight, in the indirect modes too (the pass
              * pipeline's direct pass gives only the metal's own lights); the sky on a miss. The metal surface
              * itself: its direct light by the BRDF (the full modes), its Lambert lobe the probes' light times kd.
-             * One metal event: a metal surface seen in the metal is shaded as a diffuse one (as before). Both
+             * One metal event: a metal surface the lobe meets is shaded by its own BRDF and kd (below). Both
              * lobes are shaded in every sample, not one picked as vx__path does: the Lambert lobe's light is a
              * look-up without a ray, so a pick would only add the choice's noise. The order of events and
              * numbers is probe.comp render()'s: the lobe's direction, its surface's glass events, then the metal

@@ -1246,7 +1246,7 @@ void render() {
                     bool xm = m;
                     if (!m && metal_ev && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
                         // a metal the lobe met (a voxel statue's lobe meets the statue): its own BRDF towards
-                        // the sun and its Lambert lobe's kd, no second lobe (render_gi.c: shaded as a diffuse
+                        // the sun and its Lambert lobe's kd, no second lobe (render_gi.c; shaded as a diffuse
                         // surface, its whole colour lit by the sun, it came out 5-10x the path tracer's)
                         Bsdf SB = bsdf_of(sf); // (metal draws no number)
                         float pdf;
