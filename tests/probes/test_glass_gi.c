@@ -172,6 +172,16 @@ static void test_pathtrace_pass_is_the_reference(void) {
     vx_svo_scene_free(&s);
 }
 
+/* The pane scene (pane_scene), its render scene and its probes (4^3, R 32, 64 samples, one bounce, no sun, a
+ * black sky: the emitter's light only), as the probe modes' tests below use them. */
+static bool pane_probes(bool pane, const char* ior, vx_svo_scene* s, vx_render_scene** rs, vx_probe_set* ps,
+                        vx_error* err) {
+    pane_scene(s, pane, ior);
+    vx_probe_bake_desc bd = {.grid = {4, 4, 4}, .res = 32, .spp = 64, .bounces = 1, .seed = 5, .no_sun = true,
+                             .black_sky = true};
+    return vx_render_scene_create(gpu, s, rs, err) == VX_OK && vx_probe_bake_gpu(*rs, s, &bd, ps, err) == VX_OK;
+}
+
 /* The probe modes' glass lobe (probes/render_gi.c, probe.comp glass_lobe): the CPU reference's and the GPU's
  * images through the pane of index 1.5, the same probes. The light field's one bounce finds the small
  * emitter by chance (a mean over 120 pixels of 256 samples varies by 8% from seed to seed), so its tolerance is
@@ -180,14 +190,10 @@ static void test_pathtrace_pass_is_the_reference(void) {
 static void test_probe_modes_cpu_and_gpu(void) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
-    pane_scene(&s, true, "1.5");
     vx_render_scene* rs = NULL;
-    vx_error err = {0};
     vx_probe_set ps = {0};
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    vx_probe_bake_desc bd = {.grid = {4, 4, 4}, .res = 32, .spp = 64, .bounces = 1, .seed = 5, .no_sun = true,
-                             .black_sky = true};
-    REQUIRE(vx_probe_bake_gpu(rs, &s, &bd, &ps, &err) == VX_OK);
+    vx_error err = {0};
+    REQUIRE(pane_probes(true, "1.5", &s, &rs, &ps, &err));
     static const vx_probe_render_mode modes[] = {VX_PROBE_RENDER_GI, VX_PROBE_RENDER_INDIRECT,
                                                  VX_PROBE_RENDER_LIGHTFIELD, VX_PROBE_RENDER_LF_INDIRECT};
     vx_render_desc base = view();
@@ -222,14 +228,10 @@ static void test_probe_modes_cpu_and_gpu(void) {
 static void test_light_field_gpu_is_the_cpu_walk(void) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
-    pane_scene(&s, false, "1");
     vx_render_scene* rs = NULL;
-    vx_error err = {0};
     vx_probe_set ps = {0};
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    vx_probe_bake_desc bd = {.grid = {4, 4, 4}, .res = 32, .spp = 64, .bounces = 1, .seed = 5, .no_sun = true,
-                             .black_sky = true};
-    REQUIRE(vx_probe_bake_gpu(rs, &s, &bd, &ps, &err) == VX_OK);
+    vx_error err = {0};
+    REQUIRE(pane_probes(false, "1", &s, &rs, &ps, &err));
     vx_render_desc base = view();
     vx_probe_render_desc rd = {.base = &base, .mode = VX_PROBE_RENDER_LF_INDIRECT, .spp = 2048, .seed = 3,
                                .threads = 2, .pixel_centre = true};
