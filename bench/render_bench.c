@@ -86,6 +86,7 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "bench/esvo.h"
+#include "bench/mipgrid.h"
 #include "bench/tree64.h"
 #include "render/pipeline.h"
 #include "render/gpu.h" /* vx__render_scene_far */
@@ -469,6 +470,34 @@ static int esvo_variant(bench_esvo* es, const uint32_t* spv, size_t bytes, const
     return fail;
 }
 
+/* The occupancy pyramid prototype (--mip) on view d, variant v: out as
+ * esvo_variant's. */
+static int mip_variant(bench_mip* m, uint32_t v, const vx_svo_scene* s, vx_render_desc d, uint32_t runs, double warmup,
+                       const vx_render_hit* vx_hits, double out[4], vx_error* err) {
+    size_t npx = (size_t)d.width * d.height;
+    float* depth = malloc(npx * sizeof *depth);
+    uint32_t* steps = malloc(npx * sizeof *steps);
+    double sec, t0;
+    int fail = !depth || !steps || bench_mip_frame(m, v, s, &d, 1, &sec, depth, steps, err);
+    t0 = vx_time_now();
+    while (!fail && vx_time_now() - t0 < warmup) fail = bench_mip_frame(m, v, s, &d, 32, &sec, NULL, NULL, err) != VX_OK;
+    if (!fail) fail = bench_mip_frame(m, v, s, &d, runs, &out[1], NULL, NULL, err) != VX_OK;
+    if (!fail) {
+        double st = 0;
+        size_t agree = 0;
+        for (size_t i = 0; i < npx; i++) {
+            st += steps[i] & 0x7FFFFFFFu;
+            bool hv = vx_hits && vx_hits[i].instance != VX_RENDER_NO_HIT, he = isfinite(depth[i]);
+            if (vx_hits && hv == he && (!hv || fabs((double)vx_hits[i].t - depth[i]) <= 1e-4 * fmax(fabs((double)vx_hits[i].t), 1.0)))
+                agree++;
+        }
+        uint32_t full[4] = {0, 0, d.width, d.height};
+        out[0] = st / npx, out[2] = vx_hits ? (double)agree / npx : -1, out[3] = warp_use(steps, d.width, full);
+    }
+    free(depth), free(steps);
+    return fail;
+}
+
 int main(int argc, char** argv) {
     const char* device = NULL;
     const char* sizes = "1920x1080";
@@ -495,7 +524,7 @@ int main(int argc, char** argv) {
     size_t ev_bytes[8] = {0};
     const char* ev_name[8] = {NULL};
     int nev = 0;
-    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, stats = false, mrays = false, cpu = false;
+    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, use_mip = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
     int variant = -1;
@@ -632,6 +661,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--mrays")) mrays = true;
         else if (!strcmp(argv[i], "--cpu-time")) cpu = true;
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
+        else if (!strcmp(argv[i], "--mip")) use_mip = true;
         else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
@@ -718,6 +748,7 @@ int main(int argc, char** argv) {
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
+        bench_mip mip = {0}, *mipp = NULL;
         if (use_esvo && !is_deep && !vx_render_scene_precise(rs)) {
             if (bench_esvo_create(gpu, &s, &es, &err))
                 fprintf(stderr, "render_bench: %s: no ESVO baseline: %s\n", name, err.msg);
@@ -728,6 +759,12 @@ int main(int argc, char** argv) {
                     fprintf(stderr, "render_bench: %s: no 64-tree: %s\n", name, err.msg);
                 else
                     t6p = &t6;
+            }
+            if (esp && use_mip) {
+                if (bench_mip_create(gpu, &s, 10, &mip, &err))
+                    fprintf(stderr, "render_bench: %s: no occupancy pyramid: %s\n", name, err.msg);
+                else
+                    mipp = &mip;
             }
         }
         vx_render_camera cams[4] = {{0}};
@@ -849,6 +886,19 @@ int main(int argc, char** argv) {
                            px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64, cp,
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
+                    for (uint32_t mv = 0; mipp && ki == 0 && bi == 0 && si == 0 && mv < BENCH_MIP_VARIANTS; mv++) {
+                        double ev[4];
+                        if (mip_variant(mipp, mv, &s, d, runs, warmup, ref.hits, ev, &err)) {
+                            fprintf(stderr, "render_bench: %s %s: occupancy pyramid %u: %s\n", name, vnames[v], mv, err.msg);
+                            failed = 1;
+                            break;
+                        }
+                        printf("mip-variant  %-20.20s %-8s %-9s %6.1f %7.2f %7.0f MIP/ES %.3f MIP/VX %.3f depth= %.3f%%  "
+                               "[warps: lane use %.1f%%]  [probe %u, %.2f MiB]\n",
+                               name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
+                               r.sec_vx / ev[1], 100 * ev[2], 100 * ev[3], mv, bench_mip_bytes(mipp) / 1048576.0);
+                        fflush(stdout);
+                    }
                     for (int ei = 0; esp && ki == 0 && bi == 0 && si == 0 && ei < nev; ei++) {
                         double ev[4];
                         if (esvo_variant(esp, ev_spv[ei], ev_bytes[ei], &s, d, runs, warmup, ref.hits, ev, &err)) {
@@ -883,6 +933,10 @@ int main(int argc, char** argv) {
         if (t6p)
             fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
                     (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);
+        if (mipp)
+            fprintf(stderr, "  (%s: occupancy pyramid 2^%u cells wide, %llu cells, build %.2f s)\n", name, mip.depth,
+                    (unsigned long long)mip.cells, mip.build_seconds);
+        bench_mip_destroy(&mip);
         bench_tree64_destroy(&t6);
         bench_esvo_destroy(&es);
         vx_render_scene_destroy(rs);
