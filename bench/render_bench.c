@@ -7,7 +7,7 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup,sky] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--no-esvo] [--tree64] [--mip] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
  *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
@@ -39,7 +39,11 @@
  * --tree64: also the 64-tree prototype (bench/tree64.h; with ESVO only), its
  * kernel variants 0 and 1 (tree64.comp's SKIP): steps per ray, rays/s,
  * steps/s, rays/s over ESVO's, depth agreement with ESVO, and its GPU MiB,
- * timed like ESVO (columns ...T64). --grid-world: world_from_grid of every
+ * timed like ESVO (columns ...T64). --mip: also the occupancy pyramid
+ * prototype (bench/mipgrid.h; with ESVO only, cubes up to 2^10 cells wide),
+ * its kernel variants 0-2 (mipgrid.comp's PROBE) after each view's row, a
+ * line "mip-variant" each: steps per ray, rays/s, steps/s, rays/s over
+ * ESVO's and voxkit's, depth agreement with voxkit's hits, GPU MiB. --grid-world: world_from_grid of every
  * file set to the identity (a converted mesh in cells, so that the baselines,
  * which need world cells = grid cells, apply). --kernels FILE.spv,...: voxkit's
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
@@ -143,7 +147,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
