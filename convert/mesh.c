@@ -441,6 +441,22 @@ vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, 
     vx_gltf_mesh m;
     vx_result r = vx_gltf_read_file(&rd, path, &m, err);
     if (r) return r;
+    if (m.tri_count == 0) {
+        /* say why there is nothing to voxelize (a glTF may hold meshes that no node of its scene places, as
+         * glTF-Validator's samples do, or only points and lines) rather than the voxelizer's bare "no triangles" */
+        char sc[48] = "the file's root nodes (it has no scene)";
+        bool one = m.scene != UINT32_MAX; /* a scene places, root nodes place */
+        if (one) snprintf(sc, sizeof sc, "scene %u", m.scene);
+        uint32_t inst = m.instance_count;
+        vx_gltf_mesh_free(&m);
+        if (inst == 0)
+            return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "no triangles to voxelize: %s place%s no mesh", sc,
+                           one ? "s" : "");
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET,
+                       "no triangles to voxelize: %s place%s %u mesh instance%s, none with triangle primitives "
+                       "(points and lines are not voxelized)",
+                       sc, one ? "s" : "", inst, inst == 1 ? "" : "s");
+    }
     if (!desc.y_up) { /* glTF's +Y up to voxkit's +Z up: (x, y, z) -> (x, -z, y) */
         for (size_t v = 0; v < 3 * m.tri_count; v++) {
             float* p = m.pos + 3 * v;

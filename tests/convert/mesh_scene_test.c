@@ -1,9 +1,12 @@
 /* tests/convert/mesh_scene_test.c - mesh -> svo scene: the decoded models,
  * placed by their instances, give exactly the voxelizer's cells and colours
  * (several regions -> several models); grid transform; corpus files. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "convert/mesh.h"
 #include "tests/convert/mesh_tex_gltf.h"
@@ -736,6 +739,60 @@ static void test_helmet_materials(void) {
     vx_gltf_mesh_free(&m);
 }
 
+/* A glTF with nothing to voxelize says why: meshes that no node of the scene
+ * places (as many of glTF-Validator's samples: meshes, no scenes, no nodes),
+ * a scene whose nodes place none, or mesh instances holding only points and
+ * lines; before, each gave the voxelizer's bare "mesh has no triangles". */
+static const char* kNoTriGltf =
+    "{\"asset\":{\"version\":\"2.0\"},%s"
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}%s}]}],"
+    "\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"
+    "AAAAAAAAgD8AAAAA\"}],"
+    "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+    "\"max\":[1,1,0]}]}";
+
+static void test_nothing_to_voxelize(void) {
+    static const struct {
+        const char *nodes, *prim, *want;
+    } cases[] = {
+        {"", "", "the file's root nodes (it has no scene) place no mesh"},
+        {"\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"name\":\"empty\"}],", "",
+         "scene 0 places no mesh"},
+        {"\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"mesh\":0},{\"mesh\":0}],", ",\"mode\":1",
+         "scene 0 places 2 mesh instances, none with triangle primitives"},
+        {"\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],", "", NULL}, /* one triangle: read */
+    };
+    char dir[] = "/tmp/vx_mesh_scene_test_XXXXXX";
+    REQUIRE(mkdtemp(dir) != NULL);
+    char path[64];
+    snprintf(path, sizeof path, "%s/t.gltf", dir);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        FILE* f = fopen(path, "wb");
+        REQUIRE(f != NULL);
+        fprintf(f, kNoTriGltf, cases[i].nodes, cases[i].prim);
+        fclose(f);
+        vx_gltf_mesh m;
+        vx_error err = {0};
+        vx_result r = vx_conv_mesh_read(NULL, path, &m, &err);
+        if (!cases[i].want) {
+            CHECKF(r == VX_OK && m.tri_count == 1, "case %zu: result %d (%s)", i, (int)r, err.msg);
+            if (r == VX_OK) vx_gltf_mesh_free(&m);
+            continue;
+        }
+        CHECKF(r == VX_ERR_BAD_FORMAT, "case %zu: result %d (%s)", i, (int)r, err.msg);
+        CHECKF(strstr(err.msg, cases[i].want) != NULL, "case %zu: message: %s", i, err.msg);
+        if (r == VX_OK) vx_gltf_mesh_free(&m);
+        vx_svo_scene s;
+        r = vx_conv_mesh_file(NULL, path, &s, NULL, &err); /* the whole conversion says the same */
+        CHECKF(r == VX_ERR_BAD_FORMAT && strstr(err.msg, cases[i].want) != NULL, "case %zu: file: %d %s", i, (int)r,
+               err.msg);
+        if (r == VX_OK) vx_svo_scene_free(&s);
+    }
+    remove(path);
+    rmdir(dir);
+}
+
 int main(void) {
     RUN(test_regions_match_cells);
     RUN(test_files);
@@ -746,5 +803,6 @@ int main(void) {
     RUN(test_unsampled_emission_unchanged);
     RUN(test_uniform_textures);
     RUN(test_helmet_materials);
+    RUN(test_nothing_to_voxelize);
     return vx_test_finish();
 }
