@@ -442,6 +442,23 @@ static int run_view(vx_render_scene* rs, bench_esvo* es, bench_tree64* t6, uint3
     return 0;
 }
 
+/* A baseline variant's frame (depth, steps of each pixel) against voxkit's
+ * hits: out[0] steps per ray, out[2] the share of pixels whose depth agrees
+ * (as run_view's test; -1 without hits), out[3] its warps' lane use. */
+static void variant_stats(const float* depth, const uint32_t* steps, uint32_t width, uint32_t height,
+                          const vx_render_hit* vx_hits, double out[4]) {
+    size_t npx = (size_t)width * height, agree = 0;
+    double st = 0;
+    for (size_t i = 0; i < npx; i++) {
+        st += steps[i] & 0x7FFFFFFFu;
+        bool hv = vx_hits && vx_hits[i].instance != VX_RENDER_NO_HIT, he = isfinite(depth[i]);
+        if (vx_hits && hv == he && (!hv || fabs((double)vx_hits[i].t - depth[i]) <= 1e-4 * fmax(fabs((double)vx_hits[i].t), 1.0)))
+            agree++;
+    }
+    uint32_t full[4] = {0, 0, width, height};
+    out[0] = st / npx, out[2] = vx_hits ? (double)agree / npx : -1, out[3] = warp_use(steps, width, full);
+}
+
 /* An ESVO kernel variant (--esvo-kernels) on view d after the baseline:
  * out[0] steps per ray, [1] seconds per frame (median of runs), [2] the
  * share of pixels whose depth agrees with voxkit's hits (as run_view's
@@ -458,18 +475,7 @@ static int esvo_variant(bench_esvo* es, const uint32_t* spv, size_t bytes, const
     int fail = !depth || !steps || bench_esvo_frame(es, s, &d, 1, &sec, depth, steps, err) ||
                warm(NULL, es, NULL, 0, s, &d, warmup, err) || bench_esvo_frame(es, s, &d, runs, &out[1], NULL, NULL, err);
     es->spv = spv0, es->spv_bytes = bytes0;
-    if (!fail) {
-        double st = 0;
-        size_t agree = 0;
-        for (size_t i = 0; i < npx; i++) {
-            st += steps[i] & 0x7FFFFFFFu;
-            bool hv = vx_hits && vx_hits[i].instance != VX_RENDER_NO_HIT, he = isfinite(depth[i]);
-            if (vx_hits && hv == he && (!hv || fabs((double)vx_hits[i].t - depth[i]) <= 1e-4 * fmax(fabs((double)vx_hits[i].t), 1.0)))
-                agree++;
-        }
-        uint32_t full[4] = {0, 0, d.width, d.height};
-        out[0] = st / npx, out[2] = vx_hits ? (double)agree / npx : -1, out[3] = warp_use(steps, d.width, full);
-    }
+    if (!fail) variant_stats(depth, steps, d.width, d.height, vx_hits, out);
     free(depth), free(steps);
     return fail;
 }
@@ -486,18 +492,7 @@ static int mip_variant(bench_mip* m, uint32_t v, const vx_svo_scene* s, vx_rende
     t0 = vx_time_now();
     while (!fail && vx_time_now() - t0 < warmup) fail = bench_mip_frame(m, v, s, &d, 32, &sec, NULL, NULL, err) != VX_OK;
     if (!fail) fail = bench_mip_frame(m, v, s, &d, runs, &out[1], NULL, NULL, err) != VX_OK;
-    if (!fail) {
-        double st = 0;
-        size_t agree = 0;
-        for (size_t i = 0; i < npx; i++) {
-            st += steps[i] & 0x7FFFFFFFu;
-            bool hv = vx_hits && vx_hits[i].instance != VX_RENDER_NO_HIT, he = isfinite(depth[i]);
-            if (vx_hits && hv == he && (!hv || fabs((double)vx_hits[i].t - depth[i]) <= 1e-4 * fmax(fabs((double)vx_hits[i].t), 1.0)))
-                agree++;
-        }
-        uint32_t full[4] = {0, 0, d.width, d.height};
-        out[0] = st / npx, out[2] = vx_hits ? (double)agree / npx : -1, out[3] = warp_use(steps, d.width, full);
-    }
+    if (!fail) variant_stats(depth, steps, d.width, d.height, vx_hits, out);
     free(depth), free(steps);
     return fail;
 }
