@@ -77,6 +77,9 @@ const bool GLASS = (PCONST & 0x400u) != 0u;
 // bit 11 (METAL, the render passes only): some record is metal: render()'s metal event (the probe modes'
 // metal lobes) is compiled in; set only with MATS. A scene without metal compiles the code it ran before.
 const bool METAL = (PCONST & 0x800u) != 0u;
+// the most metal events of a render sample's chain (probes/light.h VX__METAL_CHAIN, the same number and why):
+// the size of render()'s arrays of the chain's metal surfaces
+const int METAL_CHAIN = 4;
 #ifndef PT_PRECISE
 // bits 16-23 (the bake's kernel only, not PT_PRECISE's): its bounces plus one, a constant of the pipeline (0:
 // P.a.z): the path's loop specialised for the bake's count (H200, the Cornell box's goal bake: GPU trace 0.260 ->
@@ -1136,13 +1139,15 @@ void render() {
         // scene brings the sky. One loop and one cast in its body: lavapipe runs a branch's code masked for
         // every pixel, and a second inlined cast for the few glass pixels cost gi=probes 4.4x on a scene
         // with glass there, 3.2x with one. (GLASS: a scene without glass compiles no glass event.)
-        // Metal (METAL; probes/render_gi.c render_pixel, the same events and numbers): the first metal surface
-        // met (directly or through glass) is one more event of the loop: its specular lobe's one direction
-        // (the path tracer's sampler) leads the loop's next cast to the surface there (glass events may
-        // follow), shaded whole times the sample's weight; the metal surface itself (its direct light by the
-        // BRDF, its Lambert lobe's probe light times kd) is shaded after the loop by the same code as that
-        // surface, in a loop of two rounds (the kernel inlines the shading once). Wrapping the event loop in
-        // a second loop instead cost the demo island's gi=probes pass 5x on lavapipe even at one round.
+        // Metal (METAL; probes/render_gi.c render_pixel, the same events and numbers): a metal surface met
+        // (directly, through glass, or by a metal's lobe; not from inside glass) is one more event of the
+        // loop, up to METAL_CHAIN of them: its specular lobe's one direction (the path tracer's sampler) leads
+        // the loop's next cast to the surface there (glass events may follow; a metal there is the chain's
+        // next event), shaded whole times the samples' weights; the chain stops where its weight is zero.
+        // Each metal surface itself (its direct light by the BRDF, its Lambert lobe's probe light times kd)
+        // is kept in the arrays below and shaded after the loop by the same code as the last surface, in a
+        // loop of rounds (the kernel inlines the shading once). Wrapping the event loop in a second loop
+        // instead cost the demo island's gi=probes pass 5x on lavapipe even at one round.
         bool full = PMODE == P_GI || PMODE == P_LF;
         PT_PREC vec3 thr = vec3(1.0);
         int at = 1; // 0: the path left the scene along d; 1: sf, a surface; 2: sf met from inside glass
@@ -1152,12 +1157,13 @@ void render() {
         float g_ior = 1.5, g_alpha = 0.0;
         Hit h;
         Surf sf;
-        // the metal event (METAL): whether it happened, the metal surface, the ray that met it, the weight
-        // then, its Lambert lobe's kd and its BRDF towards the sun, and whether its direct light counts
-        bool metal_ev = false, m_full = false;
-        Surf ms;
-        PT_PREC vec3 m_d = vec3(0.0), m_thr = vec3(0.0), m_kd = vec3(0.0), m_fl = vec3(0.0);
-        for (int ev = 0; ev < 65 + int((PCONST >> 11) & 1u); ev++) {
+        // the metal events (METAL): their count, and per event the metal surface, the ray that met it, the
+        // weight then, its Lambert lobe's kd and its BRDF towards the sun, and whether its direct light counts
+        int nm = 0;
+        bool m_full[METAL_CHAIN];
+        Surf ms[METAL_CHAIN];
+        PT_PREC vec3 m_d[METAL_CHAIN], m_thr[METAL_CHAIN], m_kd[METAL_CHAIN], m_fl[METAL_CHAIN];
+        for (int ev = 0; ev < 65 + METAL_CHAIN * int((PCONST >> 11) & 1u); ev++) {
             bool stopped = false;
             if (GLASS && in_glass) {
                 uint w_inst;
@@ -1181,13 +1187,13 @@ void render() {
                 at = 2;
                 break;
             }
-            if (METAL && !metal_ev && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
+            if (METAL && nm < METAL_CHAIN && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
                 Bsdf MB = bsdf_of(sf); // (metal draws no number)
                 float pdf;
-                metal_ev = true;
-                ms = sf, m_d = d, m_thr = thr, m_full = full || glass, m_kd = MB.kd;
-                m_fl = bsdf_eval(MB, -d, P.light.xyz, pdf);
-                if (glass) c += thr * sf.emit; // (seen through glass: shaded whole)
+                ms[nm] = sf, m_d[nm] = d, m_thr[nm] = thr, m_full[nm] = full || glass, m_kd[nm] = MB.kd;
+                m_fl[nm] = bsdf_eval(MB, -d, P.light.xyz, pdf);
+                nm++;
+                if (glass) c += thr * sf.emit; // (seen through glass or by a lobe: shaded whole)
                 glass = true;                  // what the lobe meets is shaded whole
                 // the specular lobe alone (probes/pathtrace.c vx__metal_spec): bsdf_sample's visible
                 // normals with probability 1, the lobe's own pdf: w = F G2 / G1(wo)
@@ -1200,6 +1206,10 @@ void render() {
                     break;
                 }
                 thr *= w;
+                if (!(thr.x > 0.0 || thr.y > 0.0 || thr.z > 0.0)) { // (nothing more reaches the eye)
+                    at = 0, thr = vec3(0.0);
+                    break;
+                }
                 o = sf.p;
                 d = wi;
                 continue;
@@ -1207,7 +1217,7 @@ void render() {
             if (!GLASS) break;
             Bsdf B = bsdf_of(sf);
             if (B.kind != B_GLASS) break;
-            if (ev == ((METAL && metal_ev) ? 65 : 64)) { // given up (the CPU's 64 glass events)
+            if (ev == (METAL ? 64 + nm : 64)) { // given up (the CPU's 64 glass events)
                 at = 0, thr = vec3(0.0);
                 break;
             }
@@ -1229,32 +1239,34 @@ void render() {
             in_glass = true;
         }
         if (METAL) {
-            // round 0 the metal surface (after a metal event), round 1 the surface the loop ended at
+            // round k < nm the chain's k-th metal surface, round nm the surface the loop ended at
             if (at == 0 && !glass) {
                 if (PMODE == P_GI || PMODE == P_PT || PMODE == P_LF) c = P.sky.xyz;
             } else {
                 if (at == 0) c += thr * sky_radiance(d);
-                for (int k = metal_ev ? 0 : 1; k < 2; k++) {
-                    bool m = k == 0;
+                for (int k = 0; k <= nm; k++) {
+                    bool m = k < nm;
                     if (!m && at == 0) break;
                     if (!m && glass) {
                         full = true;
                         c += thr * sf.emit;
                     }
-                    Surf x = m ? ms : sf;
-                    PT_PREC vec3 xd = m ? m_d : d, tk = m ? m_thr : thr, wl = m ? m_kd : sf.alb, fl = m_fl;
+                    int q = min(k, METAL_CHAIN - 1); // (the last round reads no array: an index in range)
+                    Surf x = m ? ms[q] : sf;
+                    PT_PREC vec3 xd = m ? m_d[q] : d, tk = m ? m_thr[q] : thr, wl = m ? m_kd[q] : sf.alb;
+                    PT_PREC vec3 fl = m_fl[q];
                     bool xm = m;
-                    if (!m && metal_ev && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
-                        // a metal the lobe met (a voxel statue's lobe meets the statue): its own BRDF towards
-                        // the sun and its Lambert lobe's kd, no second lobe (render_gi.c; shaded as a diffuse
-                        // surface, its whole colour lit by the sun, it came out 5-10x the path tracer's)
+                    if (!m && nm > 0 && sf.attr != NO_HIT && mats[2u * sf.attr].x == 1.0) {
+                        // a metal the chain reached past its last event, or from inside glass: its own BRDF
+                        // towards the sun and its Lambert lobe's kd, no lobe (render_gi.c; shaded as a diffuse
+                        // surface, its whole colour lit by the sun, the statue came out 5-10x the path tracer's)
                         Bsdf SB = bsdf_of(sf); // (metal draws no number)
                         float pdf;
                         fl = bsdf_eval(SB, -d, P.light.xyz, pdf);
                         wl = SB.kd;
                         xm = true;
                     }
-                    if ((m ? m_full : full) && (m || at != 2)) c += tk * direct_f(x, xm, fl);
+                    if ((m ? m_full[q] : full) && (m || at != 2)) c += tk * direct_f(x, xm, fl);
                     if (xm && !(wl.x > 0.0 || wl.y > 0.0 || wl.z > 0.0)) continue; // (a pure metal: no Lambert lobe)
                     if (PMODE == P_GI || PMODE == P_GI_IND) {
                         c += tk * (wl / PI * irradiance_at(x.p, x.n, xd));
