@@ -27,11 +27,16 @@ extern "C" {
  *               meshes, grids, the temporary file's name) and write options
  *  all:         also hidden instances and instances on hidden layers
  *  vdb_models:  .vdb only: one grid pair per instance instead of the
- *               flattened scene (see vx_conv_svo_to_vdb_file) */
+ *               flattened scene (see vx_conv_svo_to_vdb_file)
+ *  svo_path:    .glb only: the file the scene was read from, whose folder
+ *               an environment-map sky's relative path starts from (below);
+ *               NULL: unknown, the path is written as it is (as if the .glb
+ *               lay beside the scene's file) */
 typedef struct vx_conv_export_desc {
     const vx_write_desc* write;
     bool all;
     bool vdb_models;
+    const char* svo_path;
 } vx_conv_export_desc;
 
 typedef struct vx_conv_glb_stats {
@@ -72,7 +77,23 @@ vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* desc, const vx_svo_
  * (sphere, rect, a point or spot radius, a sun's angular diameter, a spot
  * whose inner cone equals its outer, a colour channel over 1), the light's
  * extras hold "voxkit_light" with the exact values (docs/LIBRARY.md), which
- * formats/gltf.h reads back (vox2svo, voxkit.open). The sky is not exported.
+ * formats/gltf.h reads back (vox2svo, voxkit.open).
+ *
+ * The sky in the .glb: glTF has no ratified sky or environment, so a sky
+ * other than VX_SKY_DEFAULT goes into the scene's extras as voxkit's own
+ * record, {"voxkit_sky": {"type": "constant" | "gradient" | "envmap", ...}}
+ * with every field the type uses ("color", "horizon", "ground" as [r, g, b];
+ * "path", "intensity", "rotation"; numbers to 17 digits, so they read back
+ * as the same doubles), in voxkit's frame (+Z up, as vx_sky: the record is
+ * voxkit's, not a glTF environment, and is not turned with the nodes).
+ * formats/gltf.h reads it back (vx_gltf_mesh.sky). A DEFAULT sky writes no
+ * scene extras (the same bytes as before). An environment map's relative
+ * path is rewritten to start from the .glb's folder (vx_sky_rebase from
+ * desc.svo_path's folder; unchanged where the two folders are the same or
+ * svo_path is NULL),
+ * rather than made absolute, so a .glb and its map moved together keep
+ * working; VX_ERR_IO when a folder cannot be resolved, VX_ERR_LIMIT when
+ * the rewritten path is over VX_SKY_PATH_MAX.
  *
  * Why light l's punctual form differs from the light, for other glTF
  * readers (a phrase such as "sphere light as a point light of the same

@@ -14,7 +14,10 @@
  *
  * Lights: the stored ones as KHR_lights_punctual lights on nodes of their
  * own (formats/glb.h and convert/export.h say how each type maps;
- * light_to_glb below). */
+ * light_to_glb below).
+ *
+ * Sky: a sky other than DEFAULT as voxkit's record in the scene's extras
+ * (sky_text below; convert/export.h). */
 #include "convert/export.h"
 
 #include <math.h>
@@ -298,11 +301,85 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
     g->extras = extras ? t->extras : NULL;
 }
 
+/* ---- sky ---------------------------------------------------------------------------- */
+
+/* Whether s is well-formed UTF-8 (JSON text must be; a Linux file name need
+ * not be, and the writer's parser would refuse it without naming it). */
+static bool utf8_ok(const unsigned char* s) {
+    while (*s) {
+        unsigned c = *s, n = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : 4;
+        if (n == 4 || (n == 1 && c < 0xC2)) return false;
+        for (unsigned k = 1; k <= n; k++)
+            if ((s[k] & 0xC0) != 0x80) return false;
+        s += n + 1;
+    }
+    return true;
+}
+
+/* Appends `,"key":[a,b,c]` (or one number); %.17g reads back as the same
+ * double, and -0 is written "-0.0" because JSON readers take "-0" for the
+ * integer 0 (the record would come back +0). */
+static void sky_nums(char* t, size_t cap, size_t* at, const char* key, const double* v, int n) {
+    size_t k0 = *at;
+    int w = snprintf(t + k0, cap - k0, ",\"%s\":%s", key, n > 1 ? "[" : "");
+    for (int k = 0; w >= 0 && k < n; k++) {
+        size_t a = k0 + (size_t)w;
+        int x = a < cap ? (v[k] == 0 && signbit(v[k]) ? snprintf(t + a, cap - a, "%s-0.0", k ? "," : "")
+                                                         : snprintf(t + a, cap - a, "%s%.17g", k ? "," : "", v[k]))
+                        : 0;
+        w = x < 0 ? -1 : w + x;
+    }
+    if (w >= 0 && n > 1 && k0 + (size_t)w < cap) w += snprintf(t + k0 + (size_t)w, cap - k0 - (size_t)w, "]");
+    *at = w < 0 ? cap : k0 + (size_t)w;
+}
+
+/* The scene's sky as the extras text {"voxkit_sky":{...}} (convert/export.h)
+ * in t (cap bytes), or t = "" for the DEFAULT sky; sky is the one to write
+ * (its path already rebased for the .glb's folder). */
+static vx_result sky_text(const vx_sky* k, char* t, size_t cap, vx_error* err) {
+    t[0] = 0;
+    if (k->type == VX_SKY_DEFAULT) return VX_OK;
+    static const char* const name[VX_SKY_TYPE_COUNT] = {"default", "constant", "gradient", "envmap"};
+    size_t at = (size_t)snprintf(t, cap, "{\"voxkit_sky\":{\"type\":\"%s\"", name[k->type]);
+    if (k->type == VX_SKY_CONSTANT || k->type == VX_SKY_GRADIENT) sky_nums(t, cap, &at, "color", k->color, 3);
+    if (k->type == VX_SKY_GRADIENT) {
+        sky_nums(t, cap, &at, "horizon", k->horizon, 3);
+        sky_nums(t, cap, &at, "ground", k->ground, 3);
+    }
+    if (k->type == VX_SKY_ENVMAP) {
+        if (!utf8_ok((const unsigned char*)k->path))
+            return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                           "glb export: the sky's environment map path is not UTF-8 (glTF's JSON must be)");
+        /* the path as a JSON string: quotes, backslashes and control bytes escaped */
+        if (at < cap) at += (size_t)snprintf(t + at, cap - at, ",\"path\":\"");
+        for (const unsigned char* p = (const unsigned char*)k->path; *p && at < cap; p++) {
+            if (*p == '"' || *p == '\\') at += (size_t)snprintf(t + at, cap - at, "\\%c", *p);
+            else if (*p < 0x20) at += (size_t)snprintf(t + at, cap - at, "\\u%04x", *p);
+            else t[at++] = (char)*p;
+        }
+        if (at < cap) at += (size_t)snprintf(t + at, cap - at, "\"");
+        sky_nums(t, cap, &at, "intensity", &k->intensity, 1);
+        sky_nums(t, cap, &at, "rotation", &k->rotation, 1);
+    }
+    if (at < cap) at += (size_t)snprintf(t + at, cap - at, "}}");
+    /* 9 numbers of at most 24 characters, or a path of 255 bytes escaped to
+     * at most 6 each, fit the caller's buffer: this is a guard, not a limit */
+    if (at >= cap) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb export: the sky's record does not fit %zu bytes", cap);
+    return VX_OK;
+}
+
 vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_scene* s, const char* path,
                                   vx_conv_glb_stats* stats, vx_error* err) {
     if (!s || !path) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb export: NULL argument");
     const vx_write_desc* desc = xd ? xd->write : NULL;
     bool all = xd && xd->all;
+    /* the sky first: a bad one fails before the meshing's work */
+    vx_sky sky = s->sky; /* its map's path rebased for the .glb's folder */
+    char sky_json[2048];
+    vx_result sr = vx_sky_validate(&sky, err);
+    if (!sr && xd && xd->svo_path) sr = vx_sky_rebase(&sky, xd->svo_path, path, err);
+    if (sr) return vx_error_prefix(err, "glb export"), sr;
+    if ((sr = sky_text(&sky, sky_json, sizeof sky_json, err))) return sr;
     const vx_allocator* A = desc ? desc->alloc : NULL;
     double lind[256];
     vx__export_srgb_to_linear(lind);
@@ -483,7 +560,8 @@ vx_result vx_conv_svo_to_glb_file(const vx_conv_export_desc* xd, const vx_svo_sc
                        .nodes = nodes,
                        .light_count = st.lights,
                        .lights = glights,
-                       .generator = "voxkit " VX_VERSION_STRING};
+                       .generator = "voxkit " VX_VERSION_STRING,
+                       .scene_extras = sky_json[0] ? sky_json : NULL};
     st.materials = gcount;
     r = vx_glb_write_file(desc, &gs, path, err);
     if (r == VX_OK && stats) *stats = st;

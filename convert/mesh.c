@@ -362,6 +362,11 @@ vx_result vx_conv_mesh_assemble(const vx_conv_mesh_desc* desc_in, const vx_gltf_
     r = parts_to_scene(parts, count, &s, desc.alloc, err);
     if (!r) r = add_materials(mesh, parts, count, &s, desc.alloc, err);
     if (!r) r = add_lights(mesh, &s, desc.alloc, err);
+    /* voxkit's own record (formats/gltf.h: extras.voxkit_sky), already
+     * checked by the reader and already in voxkit's frame (+Z up): unlike
+     * the positions and lights it is not turned, with or without y_up (a
+     * gradient's zenith and a map's axis are +Z in vx_sky's model) */
+    if (!r) s.sky = mesh->sky;
     if (r) {
         vx_svo_scene_free(&s);
         return r;
@@ -457,6 +462,7 @@ vx_result vx_conv_mesh_read(const vx_conv_mesh_desc* desc_in, const char* path, 
                        "(points and lines are not voxelized)",
                        sc, one ? "s" : "", inst, inst == 1 ? "" : "s");
     }
+    /* m.sky is voxkit's record in voxkit's frame already: never turned */
     if (!desc.y_up) { /* glTF's +Y up to voxkit's +Z up: (x, y, z) -> (x, -z, y) */
         for (size_t v = 0; v < 3 * m.tri_count; v++) {
             float* p = m.pos + 3 * v;

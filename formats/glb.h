@@ -22,6 +22,10 @@
  * node per light placing it (the node's name is the light's). A scene
  * without lights writes neither (the same bytes as before lights existed).
  *
+ * Scene extras (scene_extras): glTF has no ratified sky or environment, so
+ * voxkit's sky goes into scenes[0].extras as its own record, as the lights'
+ * records go into their extras.
+ *
  * Errors: VX_ERR_LIMIT when the buffer would pass the GLB's 4 GiB, VX_ERR_IO
  * when the file cannot be written (nothing is left behind: the file is
  * streamed to a temporary name and renamed).
@@ -118,6 +122,11 @@ typedef struct vx_glb_scene {
     const vx_glb_material* materials;
     uint32_t light_count;   /* 0: no KHR_lights_punctual */
     const vx_glb_light* lights;
+    /* NULL, or a JSON object (text) written as the scene's "extras"
+     * (scenes[0]; svo_info keeps voxkit's record of the sky there); anything
+     * else is VX_ERR_INVALID_ARG. NULL writes the same bytes as before the
+     * field existed. */
+    const char* scene_extras;
 } vx_glb_scene;
 
 /* desc may be NULL (svo/core.h); its allocator serves the temporary file's

@@ -328,6 +328,11 @@ extern "C" vx_result vx_glb_write_file(const vx_write_desc* desc, const vx_glb_s
             m.nodes.push_back(node);
             scene.nodes.push_back(int(m.nodes.size() - 1));
         }
+        if (s->scene_extras) {
+            nlohmann::json j = nlohmann::json::parse(s->scene_extras, nullptr, false);
+            if (j.is_discarded() || !j.is_object() || !to_value(j, &scene.extras, 0))
+                return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "glb: scene_extras is not a JSON object");
+        }
         m.scenes.push_back(scene);
         m.defaultScene = 0;
         if (m.buffers[0].data.empty()) m.buffers.clear();

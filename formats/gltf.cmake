@@ -5,7 +5,7 @@ if(VX_WITH_GLTF)
   if(VX_TINYGLTF_INCLUDE AND VX_TINYGLTF_LIB)
     add_library(vx_gltf STATIC ${CMAKE_CURRENT_LIST_DIR}/gltf_tinygltf.cpp)
     target_include_directories(vx_gltf PRIVATE ${VX_TINYGLTF_INCLUDE})
-    target_link_libraries(vx_gltf PUBLIC vx_core ${VX_TINYGLTF_LIB})
+    target_link_libraries(vx_gltf PUBLIC vx_core vx_svo ${VX_TINYGLTF_LIB}) # vx_svo: vx_sky_validate
     # stb_image (libstb-dev), the decoder tinygltf itself calls: images decoded
     # straight into the mesh's blocks; without it through tinygltf (a copy more)
     find_path(VX_STB_INCLUDE stb/stb_image.h)

@@ -26,7 +26,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "svo/core.h"
+#include "svo/svo.h" /* vx_sky */
 
 #ifdef __cplusplus
 extern "C" {
@@ -163,7 +163,19 @@ typedef struct vx_gltf_light {
  * A light with an unknown type, a negative or non-finite intensity, colour
  * or range, cone angles out of order, or a node that puts it at a
  * non-finite position or gives it no direction is VX_ERR_BAD_FORMAT, the
- * message naming the light ("light 2 ('lamp') on node 5: ..."). */
+ * message naming the light ("light 2 ('lamp') on node 5: ...").
+ * sky: glTF has no ratified sky, so svo_info --to-glb keeps voxkit's sky in
+ * the scene's "extras": {"voxkit_sky": {"type": T, ...}} with T one of
+ * "constant" ("color": [r, g, b]), "gradient" ("color" the zenith,
+ * "horizon", "ground") or "envmap" ("path", "intensity", "rotation"), every
+ * member the type uses required, others ignored. It is voxkit's record in
+ * voxkit's frame (+Z up, svo/svo.h's vx_sky), not turned with the nodes;
+ * an envmap's relative path starts from the glTF file's folder. Read from
+ * the flattened scene's extras unless desc.punctual_only (a file read
+ * without a scene has no sky); an unknown type, a missing member, a colour
+ * that is not three numbers >= 0, a path that is empty, over
+ * VX_SKY_PATH_MAX bytes or not a string, or a sky vx_sky_validate refuses
+ * is VX_ERR_BAD_FORMAT naming it ("scene 0 extras voxkit_sky: ..."). */
 typedef struct vx_gltf_mesh {
     size_t tri_count;
     float* pos;            /* relative to origin */
@@ -182,6 +194,7 @@ typedef struct vx_gltf_mesh {
     uint32_t instance_count; /* mesh instances flattened */
     uint32_t light_count;
     vx_gltf_light* lights;
+    vx_sky sky;            /* voxkit's record of the sky (below); VX_SKY_DEFAULT when absent */
     const vx_allocator* alloc;
 } vx_gltf_mesh;
 
@@ -195,7 +208,7 @@ typedef struct vx_gltf_read_desc {
     bool no_external;       /* refuse external files (buffers / images by URI) */
     uint64_t max_triangles; /* 0 == 2^28 */
     uint64_t max_image_pixels; /* per image, 0 == 2^26 */
-    bool punctual_only;     /* ignore extras.voxkit_light: the lights as other glTF readers see them */
+    bool punctual_only;     /* ignore extras.voxkit_light and voxkit_sky: the file as other glTF readers see it */
 } vx_gltf_read_desc;
 
 /* Parses a .glb or .gltf held in memory. base_dir (may be NULL: no external

@@ -958,6 +958,65 @@ vx_result texture_slot(Ctx& c, size_t mat, int sl, const tinygltf::TextureInfo& 
     return VX_OK;
 }
 
+// voxkit's record of the sky in the used scene's extras (gltf.h:
+// vx_gltf_mesh.sky, written by svo_info --to-glb) into *out; none (or
+// punctual_only) leaves *out as it is. Unlike a light's record, whose
+// punctual light stands when the record is not understood, the record is
+// the only sky the file has: a type this reader does not know is an error,
+// not a silently dropped sky.
+vx_result voxkit_sky(Ctx& c, const tinygltf::Value& extras, uint32_t scene, vx_sky* out) {
+    if (c.desc->punctual_only || !extras.IsObject() || !extras.Has("voxkit_sky")) return VX_OK;
+    char who[48];
+    snprintf(who, sizeof who, "scene %u extras voxkit_sky", scene);
+    const tinygltf::Value& v = extras.Get("voxkit_sky");
+    if (!v.IsObject() || !v.Has("type") || !v.Get("type").IsString())
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: must be an object with a type string", who);
+    static const char* const names[3] = {"constant", "gradient", "envmap"};
+    const std::string& t = v.Get("type").Get<std::string>();
+    vx_sky k;
+    memset(&k, 0, sizeof k); // what the type does not use stays zero (vx_sky_validate's one form)
+    for (int i = 0; i < 3; i++)
+        if (t == names[i]) k.type = (vx_sky_type)(VX_SKY_CONSTANT + i);
+    if (k.type == VX_SKY_DEFAULT)
+        return fail(c, VX_ERR_BAD_FORMAT, "%s: unknown type '%.20s' (constant, gradient or envmap)", who, t.c_str());
+    bool grad = k.type == VX_SKY_GRADIENT, env = k.type == VX_SKY_ENVMAP;
+    struct member {
+        const char* key;
+        bool used; // by this type, and then required
+        int n;
+        double lo, hi;
+        double* out;
+        const char* rule;
+    };
+    const member ms[] = {
+        {"color", !env, 3, 0, 1e30, k.color, "three numbers in [0, 1e30]"},
+        {"horizon", grad, 3, 0, 1e30, k.horizon, "three numbers in [0, 1e30]"},
+        {"ground", grad, 3, 0, 1e30, k.ground, "three numbers in [0, 1e30]"},
+        {"intensity", env, 1, 0, 1e30, &k.intensity, "a number in [0, 1e30]"},
+        {"rotation", env, 1, -1e6, 1e6, &k.rotation, "a number of radians within 1e6 of 0"},
+    };
+    for (const member& mb : ms) {
+        if (!mb.used) continue; // other members are ignored, as in a light's record
+        if (!v.Has(mb.key)) return fail(c, VX_ERR_BAD_FORMAT, "%s: a %s sky needs \"%s\"", who, t.c_str(), mb.key);
+        if (!extras_numbers(v, mb.key, mb.n, mb.lo, mb.hi, false, mb.out))
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: \"%s\" must be %s", who, mb.key, mb.rule);
+    }
+    if (env) {
+        if (!v.Has("path")) return fail(c, VX_ERR_BAD_FORMAT, "%s: an envmap sky needs \"path\"", who);
+        const tinygltf::Value& p = v.Get("path");
+        // a NUL inside (JSON's \u0000) would cut the path where voxkit reads it
+        if (!p.IsString() || p.Get<std::string>().empty() || p.Get<std::string>().size() > VX_SKY_PATH_MAX ||
+            p.Get<std::string>().find('\0') != std::string::npos)
+            return fail(c, VX_ERR_BAD_FORMAT, "%s: \"path\" must be a string of 1 to %u bytes without NUL", who,
+                        VX_SKY_PATH_MAX);
+        memcpy(k.path, p.Get<std::string>().data(), p.Get<std::string>().size());
+    }
+    vx_error e = {};
+    if (vx_sky_validate(&k, &e) != VX_OK) return fail(c, VX_ERR_BAD_FORMAT, "%s: %s", who, e.msg);
+    *out = k;
+    return VX_OK;
+}
+
 vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gltf_mesh* out, vx_error* err) {
     Ctx c;
     c.desc = desc;
@@ -1015,6 +1074,8 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         }
     }
     uint32_t scene_used = UINT32_MAX;
+    vx_sky sky; // DEFAULT unless the used scene's extras hold voxkit's record (no scene: none)
+    memset(&sky, 0, sizeof sky);
     if (!r) {
         std::vector<char> on_path(m.nodes.size(), 0);
         double I[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
@@ -1028,8 +1089,9 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
             r = fail(c, VX_ERR_BAD_FORMAT, "default scene %d of %zu", sc, m.scenes.size());
         if (!r && sc >= 0) {
             scene_used = (uint32_t)sc;
+            r = voxkit_sky(c, m.scenes[(size_t)sc].extras, scene_used, &sky);
             for (int nd : m.scenes[(size_t)sc].nodes)
-                if ((r = visit(c, nd, I, on_path, 0))) break;
+                if (r || (r = visit(c, nd, I, on_path, 0))) break;
         } else if (!r) {
             // no scenes at all: every root node (not a child of another)
             std::vector<char> child(m.nodes.size(), 0);
@@ -1078,6 +1140,7 @@ vx_result convert(const vx_gltf_read_desc* desc, const tinygltf::Model& m, vx_gl
         o.alloc = desc->alloc;
         o.tri_count = c.mat.size();
         o.scene = scene_used;
+        o.sky = sky;
         o.instance_count = c.instances;
         for (int a = 0; a < 3; a++) o.origin[a] = c.origin[a];
         o.pos = copy_out(desc->alloc, c.pos);

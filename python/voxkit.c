@@ -67,6 +67,7 @@ typedef struct {
     PyObject_HEAD
     vx_svo_scene s;
     bool loaded;
+    char* path; /* the file it was opened from (malloc; NULL if unknown): where a map sky's relative path starts */
 #ifdef VX_PY_RENDER
     vx_gpu* gpu;
     vx_render_scene* rs;
@@ -83,6 +84,7 @@ static void scene_dealloc(Scene* self) {
     if (self->lock) PyThread_free_lock(self->lock);
 #endif
     if (self->loaded) vx_svo_scene_free(&self->s);
+    free(self->path);
     Py_TYPE(self)->tp_free((PyObject*)self);
 }
 
@@ -440,6 +442,7 @@ static PyObject* export_file(Scene* self, PyObject* pathobj, bool glb, vx_conv_e
     const char* path = PyBytes_AS_STRING(pathobj);
     vx_error err = {0};
     vx_result r;
+    desc.svo_path = self->path;
     Py_BEGIN_ALLOW_THREADS
     r = glb ? vx_conv_svo_to_glb_file(&desc, &view, path, NULL, &err) : vx_conv_svo_to_vdb_file(&desc, &view, path, NULL, &err);
     Py_END_ALLOW_THREADS
@@ -594,6 +597,7 @@ static Scene* load(const char* path, PyObject* kw) {
     Scene* self = PyObject_New(Scene, &SceneType);
     if (!self) return NULL;
     self->loaded = false;
+    self->path = NULL;
 #ifdef VX_PY_RENDER
     self->gpu = NULL, self->rs = NULL, self->device = NULL;
     self->lock = PyThread_allocate_lock();
@@ -614,6 +618,7 @@ static Scene* load(const char* path, PyObject* kw) {
         return NULL;
     }
     self->loaded = true;
+    self->path = strdup(path); /* NULL (out of memory) only loses the map path's folder: written as it is */
     return self;
 }
 

@@ -276,6 +276,18 @@ vx_result vx_light_validate(const vx_light* l, uint32_t index, vx_error* err);
  * renderer reads it with formats/image.h (vx_image_read, VX_IMAGE_F32).
  * false (out = "") when the sky is no map or the result does not fit n. */
 bool vx_sky_path(const vx_sky* sky, const char* svo_path, char* out, size_t n);
+/* Moves an environment map's relative path from the folder of from_file to
+ * the folder of to_file (NULL or no slash: the current directory), so that
+ * the sky written next to to_file names the same image: "sky.exr" read
+ * from a/s.svo and written to b/s.glb becomes "../a/sky.exr". The folders
+ * are compared as realpath() gives them (both must exist: the one a file
+ * was read from, the one a file goes to); where they are the same, the
+ * path is absolute or the sky is no map, the sky is left as it is (the
+ * record round-trips unchanged). VX_ERR_IO when a folder cannot be
+ * resolved, VX_ERR_LIMIT when the new path is over VX_SKY_PATH_MAX bytes;
+ * the sky is unchanged on failure. Used by svo_info --to-glb
+ * (vx_conv_export_desc.svo_path) and vox2svo. */
+vx_result vx_sky_rebase(vx_sky* sky, const char* from_file, const char* to_file, vx_error* err);
 /* An environment map's texels as a renderer read them: RGB floats, row-major,
  * row 0 at the top (polar angle 0, +z), width * height * 3 values. */
 typedef struct vx_sky_texels {

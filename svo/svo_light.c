@@ -1,7 +1,10 @@
 /* svo/svo_light.c - lights and materials as scene data: validation of a
  * light and the typed reading of a material dictionary (svo.h). */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath (vx_sky_rebase); implies _POSIX_C_SOURCE 200809L */
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -129,6 +132,78 @@ bool vx_sky_path(const vx_sky* k, const char* svo_path, char* out, size_t n) {
     memcpy(out + dir, k->path, pl);
     out[dir + pl] = 0;
     return true;
+}
+
+/* The folder file lies in ("." where it names none), as realpath gives it. */
+static vx_result real_folder(const char* file, char out[PATH_MAX], vx_error* err) {
+    char dir[PATH_MAX];
+    const char* slash = file ? strrchr(file, '/') : NULL;
+    size_t n = slash ? (size_t)(slash - file) : 1;
+    if (slash && n == 0) n = 1; /* "/x": the root */
+    if (n >= sizeof dir) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "sky: the folder of '%.80s...' is too long", file);
+    memcpy(dir, slash ? file : ".", n);
+    dir[n] = 0;
+    if (!realpath(dir, out))
+        return vx_fail(err, VX_ERR_IO, VX_NO_OFFSET, "sky: the folder '%.120s' cannot be resolved: %s", dir, strerror(errno));
+    return VX_OK;
+}
+
+vx_result vx_sky_rebase(vx_sky* k, const char* from_file, const char* to_file, vx_error* err) {
+    if (!k) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "sky: NULL");
+    if (k->type != VX_SKY_ENVMAP || !k->path[0] || k->path[0] == '/') return VX_OK;
+    char from[PATH_MAX], to[PATH_MAX];
+    vx_result r = real_folder(from_file, from, err);
+    if (!r) r = real_folder(to_file, to, err);
+    if (r) return r;
+    if (strcmp(from, to) == 0) return VX_OK;
+    /* The image's path from the root, T = from + path: `from` is canonical
+     * (no ".", "..", symlinks, doubled or trailing slash but the root's), so
+     * the path's leading "./" and "../" can be taken off it as text (a
+     * canonical folder's ".." is its parent). Then the folders T shares
+     * with `to`, component by component as text (equal names under one
+     * folder are one entry), one ".." per folder of `to` below those, and
+     * the rest of T: no file system walk, and no component of the path
+     * itself resolved (the renderer opens it; it may not exist yet). */
+    const char* p = k->path;
+    size_t fl = strlen(from);
+    for (;;) {
+        if (p[0] == '.' && p[1] == '/') {
+            p += 2;
+        } else if (p[0] == '.' && p[1] == '.' && p[2] == '/' && fl > 1) {
+            while (fl > 1 && from[fl - 1] != '/') fl--;
+            if (fl > 1) fl--;
+            from[fl] = 0;
+            p += 3;
+        } else {
+            break;
+        }
+    }
+    char T[PATH_MAX + VX_SKY_PATH_MAX + 2];
+    snprintf(T, sizeof T, "%s%s%s", from, fl > 1 ? "/" : "", p);
+    size_t i = 0;
+    while (T[i] && T[i] == to[i]) i++;
+    size_t c = i; /* the shared folders' text ends at a component boundary */
+    if (!((T[i] == 0 || T[i] == '/') && (to[i] == 0 || to[i] == '/')))
+        while (c > 0 && T[c - 1] != '/') c--;
+    const char *rest_to = to + c, *rest_t = T + c;
+    while (*rest_to == '/') rest_to++;
+    while (*rest_t == '/') rest_t++;
+    char out[VX_SKY_PATH_MAX + 1] = {0}; /* zero after the text: the record's bytes do not depend on the stack */
+    size_t at = 0;
+    bool fits = true;
+    for (const char* q = rest_to; *q && fits; q++)
+        if (q == rest_to || q[-1] == '/') {
+            fits = at + 3 <= VX_SKY_PATH_MAX;
+            if (fits) memcpy(out + at, "../", 3), at += 3;
+        }
+    size_t n = strlen(rest_t);
+    if (!fits || n == 0 || n > VX_SKY_PATH_MAX - at)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
+                       "sky: the environment map '%.60s' seen from '%.60s' needs a path over %u bytes (VX_SKY_PATH_MAX)",
+                       k->path, to, VX_SKY_PATH_MAX);
+    memcpy(out + at, rest_t, n);
+    memcpy(k->path, out, sizeof k->path);
+    return VX_OK;
 }
 
 vx_material vx_material_default(vx_material_type type) {

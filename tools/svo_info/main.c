@@ -409,7 +409,7 @@ int main(int argc, char** argv) {
         if (r != VX_OK) status = vx_tool_error(o.to_vox, &err);
         else if (!o.quiet && !o.dump) printf("wrote        %s\n", o.to_vox);
     }
-    vx_conv_export_desc xd = {.all = o.all, .vdb_models = o.vdb_models};
+    vx_conv_export_desc xd = {.all = o.all, .vdb_models = o.vdb_models, .svo_path = o.in};
     if (status == 0 && o.to_glb) {
         vx_conv_glb_stats gs;
         r = vx_conv_svo_to_glb_file(&xd, &view, o.to_glb, &gs, &err);

@@ -265,7 +265,9 @@ static bool export_other(app* a, const char* path, bool glb) {
     vx_svo_scene fs;
     vx_result r = vvx_file_scene(&a->ed, &fs, &err);
     if (!r) {
-        r = glb ? vx_conv_svo_to_glb_file(NULL, &fs, path, NULL, &err) : vx_conv_svo_to_vdb_file(NULL, &fs, path, NULL, &err);
+        /* a map sky's relative path starts at the scene's file (app.h scene_file) */
+        vx_conv_export_desc xd = {.svo_path = a->scene_file[0] ? a->scene_file : NULL};
+        r = glb ? vx_conv_svo_to_glb_file(&xd, &fs, path, NULL, &err) : vx_conv_svo_to_vdb_file(&xd, &fs, path, NULL, &err);
         vvx_file_scene_free(&a->ed, &fs);
     }
     if (r) file_error(a, path, err.msg);

@@ -296,6 +296,7 @@ static int main_mpi(const options* opt) {
 #endif
     if (!ok) return 0;
     vx_error err = {0};
+    if (vx_sky_rebase(&scene.sky, o->in, o->out, &err) != VX_OK) vx_tool_mpi_die("%s: %s", o->out, err.msg);
     /* the trees stay on their ranks: emissive voxels are not clustered here */
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, false);
     if (voxel_lights == UINT32_MAX) voxel_lights = UINT32_MAX - 1;
@@ -371,6 +372,12 @@ int main(int argc, char** argv) {
     double t_read = li.seconds_read, t_convert = li.seconds_total - li.seconds_read;
     uint64_t in_bytes = li.in_bytes;
 
+    /* a glTF's map sky names its image from the glTF's folder (formats/gltf.h),
+     * a .svo's from the .svo's: the same image seen from the output's folder */
+    if (vx_sky_rebase(&scene.sky, o.in, o.out, &err) != VX_OK) {
+        vx_svo_scene_free(&scene);
+        return vx_tool_error(o.out, &err);
+    }
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, o.verbose);
     double t2 = vx_time_now();
     /* streamed to disk: the file is never held in memory beside the scene */
