@@ -361,6 +361,33 @@ nq=$("$BIN/svo_info" "$T/rgb2.svo" --dump | awk '{print $4, $5, $6, $7}' | sort 
 [ -s "$T/q1" ] && cmp -s "$T/q1" "$T/q2" && [ "$nq" -le 255 ] && ok "the same cells in $nq colours" ||
     bad "the same cells in $nq colours"
 
+# vox2svo --sky stores a sky; svo_info shows it; --to-glb keeps it in the scene's
+# extras and vox2svo reads it back; a map's path given from the current folder
+# is stored from the output's, and still names the same file after the round trip
+# through another folder (stop 74); a bad spec is a usage error with no output
+mkdir -p "$T/skya" "$T/skyb"
+expect_status 0 "vox2svo --sky gradient" "$BIN/vox2svo" "$T/demo.vox" "$T/skya/g.svo" -q \
+    --sky gradient:0.2,0.4,0.9:0.8,0.85,0.9:0.1,0.08,0.05
+expect_status 0 "svo_info shows the sky" "$BIN/svo_info" "$T/skya/g.svo"
+grep -q "^sky          gradient zenith 0.2 0.4 0.9, horizon 0.8 0.85 0.9, ground 0.1 0.08 0.05$" "$T/out" &&
+    ok "the stored sky" || bad "the stored sky"
+expect_status 0 "gradient sky to .glb" "$BIN/svo_info" "$T/skya/g.svo" --to-glb "$T/skyb/g.glb"
+grep -q '"voxkit_sky"' "$T/skyb/g.glb" && ok ".glb holds voxkit_sky" || bad ".glb holds voxkit_sky"
+expect_status 0 "the .glb back" "$BIN/vox2svo" "$T/skyb/g.glb" "$T/skyb/g2.svo" --res 32 -q
+"$BIN/svo_info" "$T/skyb/g2.svo" | grep -q "^sky          gradient zenith 0.2 0.4 0.9, horizon 0.8 0.85 0.9, ground 0.1 0.08 0.05$" &&
+    ok "the sky after the round trip" || bad "the sky after the round trip"
+(cd "$T" && "$BIN/vox2svo" demo.vox skya/m.svo -q --sky map:env/sky.exr:2:90) && ok "vox2svo --sky map" ||
+    bad "vox2svo --sky map"
+"$BIN/svo_info" "$T/skya/m.svo" | grep -q '^sky          environment map "../env/sky.exr" x 2, turned 90 deg about +z$' &&
+    ok "the map's path from the output's folder" || bad "the map's path from the output's folder"
+expect_status 0 "map sky to .glb" "$BIN/svo_info" "$T/skya/m.svo" --to-glb "$T/skyb/m.glb"
+expect_status 0 "map .glb back" "$BIN/vox2svo" "$T/skyb/m.glb" "$T/m2.svo" --res 32 -q
+"$BIN/svo_info" "$T/m2.svo" | grep -q '^sky          environment map "env/sky.exr" x 2, turned 90 deg about +z$' &&
+    ok "the map's path after the round trip" || bad "the map's path after the round trip"
+expect_status 2 "vox2svo bad --sky" "$BIN/vox2svo" "$T/demo.vox" "$T/badsky.svo" --sky gradient:1,2
+grep -q "bad --sky 'gradient:1,2'" "$T/err" && [ ! -e "$T/badsky.svo" ] && ok "bad --sky named, no output" ||
+    bad "bad --sky named, no output"
+
 # a corpus scene with instancing, when the corpus is there
 if [ -f "$CORPUS/vox/ogt_test_multiple_model_scene.vox" ]; then
     expect_status 0 "convert corpus scene" "$BIN/vox2svo" "$CORPUS/vox/ogt_test_multiple_model_scene.vox" "$T/m.svo"

@@ -7,6 +7,7 @@
 
 #include "convert/convert.h"
 #include "tools/common/conv.h"
+#include "tools/common/light.h"
 #include "tools/common/tool.h"
 #include "tools/vox2svo/demo.h"
 #ifdef VX_HAVE_MESH_GPU
@@ -30,6 +31,8 @@ typedef struct options {
     bool chunk_deflate; /* --chunked-deflate: DEFLATE chunks, format version 3 (vx_write_desc.svo_chunk_deflate) */
     bool range_coded;   /* --range-coded: no split form, format version 1 or 2 (vx_write_desc.svo_range_coded) */
     const char* device; /* --device */
+    bool sky_given;     /* --sky: stored in the output, replacing the input's */
+    vx_sky sky;
     vx_tool_conv conv; /* reader and builder options */
 } options;
 
@@ -93,6 +96,10 @@ _Noreturn static void usage(int status) {
             "                     and builds its share of the regions\n"
             "    --device D       with --gpu: the Vulkan device, an index or part of its name\n"
 #endif
+            "    --sky SPEC       store this sky in OUT.svo, replacing the input's (renderers use the\n"
+            "                     file's sky unless given another; svo_render --sky's syntax; a map's\n"
+            "                     FILE relative to the current folder is stored relative to OUT's):\n"
+            "%s"
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
             "                     (x, y, z) -> (x, -z, y), so models stand upright as in MagicaVoxel)\n"
             "    --grid NAME      OpenVDB: grid to convert (default: the first scalar grid); where\n"
@@ -133,7 +140,7 @@ _Noreturn static void usage(int status) {
 #ifdef VX_HAVE_MPI
             vx_tool_name,
 #endif
-            d.conv.frame, d.conv.res, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
+            d.conv.frame, d.conv.res, vx_tool_sky_syntax, vx_tool_name, vx_tool_name, vx_tool_name, vx_tool_name,
             vx_tool_name);
 #ifdef VX_HAVE_MPI
     if (status && vx_tool_mpi_launched() && vx_tool_mpi_env_rank() > 0) vx_tool_mpi_linger(); /* rank 0 prints */
@@ -163,6 +170,12 @@ static options parse(int argc, char** argv) {
         else if (!strcmp(a, "--gpu")) o.gpu = true;
         else if (!strcmp(a, "--device")) o.device = vx_tool_arg(argc, argv, &i, usage);
 #endif
+        else if (!strcmp(a, "--sky")) {
+            char why[160];
+            if (!vx_tool_parse_sky(vx_tool_arg(argc, argv, &i, usage), &o.sky, why, sizeof why))
+                usage_error("bad --sky '%s': %s", argv[i], why);
+            o.sky_given = true;
+        }
         else if (!strcmp(a, "--demo-frames")) {
             if (!vx_tool_parse_u32(vx_tool_arg(argc, argv, &i, usage), &o.demo_frames) || o.demo_frames > 4096)
                 usage_error("bad --demo-frames value '%s' (0 to 4096)", argv[i]);
@@ -296,7 +309,9 @@ static int main_mpi(const options* opt) {
 #endif
     if (!ok) return 0;
     vx_error err = {0};
-    if (vx_sky_rebase(&scene.sky, o->in, o->out, &err) != VX_OK) vx_tool_mpi_die("%s: %s", o->out, err.msg);
+    if (o->sky_given) scene.sky = o->sky; /* its map's path is the current folder's (NULL below) */
+    if (vx_sky_rebase(&scene.sky, o->sky_given ? NULL : o->in, o->out, &err) != VX_OK)
+        vx_tool_mpi_die("%s: %s", o->out, err.msg);
     /* the trees stay on their ranks: emissive voxels are not clustered here */
     uint32_t lights = scene.light_count, voxel_lights = count_voxel_lights(&scene, false);
     if (voxel_lights == UINT32_MAX) voxel_lights = UINT32_MAX - 1;
@@ -374,7 +389,8 @@ int main(int argc, char** argv) {
 
     /* a glTF's map sky names its image from the glTF's folder (formats/gltf.h),
      * a .svo's from the .svo's: the same image seen from the output's folder */
-    if (vx_sky_rebase(&scene.sky, o.in, o.out, &err) != VX_OK) {
+    if (o.sky_given) scene.sky = o.sky; /* its map's path is the current folder's (NULL below) */
+    if (vx_sky_rebase(&scene.sky, o.sky_given ? NULL : o.in, o.out, &err) != VX_OK) {
         vx_svo_scene_free(&scene);
         return vx_tool_error(o.out, &err);
     }
