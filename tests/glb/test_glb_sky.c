@@ -27,6 +27,7 @@
 #include "formats/glb.h"
 #include "formats/gltf.h"
 #include "svo/svo.h"
+#include "tests/glb/box_gltf.h"
 #include "tests/test.h"
 
 static const vx_sky SKIES[] = {
@@ -43,29 +44,12 @@ static char TMP[256]; /* a folder of our own */
 
 static void tmp_path(char* buf, size_t n, const char* name) { snprintf(buf, n, "%s/%s", TMP, name); }
 
-static const char B64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-static void base64(const uint8_t* p, size_t n, char* out) {
-    for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) | (i + 2 < n ? p[i + 2] : 0);
-        *out++ = B64[v >> 18 & 63];
-        *out++ = B64[v >> 12 & 63];
-        *out++ = i + 1 < n ? B64[v >> 6 & 63] : '=';
-        *out++ = i + 2 < n ? B64[v & 63] : '=';
-    }
-    *out = 0;
-}
 
 /* A .gltf (text): a box 0..4 on each axis, its scene's extras `extras`
  * (JSON text, or NULL for none). malloc'ed. */
 static char* gltf_text(const char* extras) {
-    static const uint8_t tri[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
-                                       {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
-    float pos[36][3];
-    for (int t = 0; t < 12; t++)
-        for (int v = 0; v < 3; v++)
-            for (int a = 0; a < 3; a++) pos[3 * t + v][a] = (tri[t][v] >> (2 - a) & 1) ? 4.f : 0.f;
-    char b64[4 * sizeof pos / 3 + 8];
-    base64((const uint8_t*)pos, sizeof pos, b64);
+    char b64[BOX_GLTF_B64];
+    box_gltf_positions(b64);
     size_t n = strlen(b64) + (extras ? strlen(extras) : 0) + 1024;
     char* s = malloc(n);
     if (!s) return NULL;
@@ -77,15 +61,8 @@ static char* gltf_text(const char* extras) {
              "\"min\":[0,0,0],\"max\":[4,4,4]}],"
              "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
              "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]%s%s}],\"scene\":0}",
-             sizeof pos, b64, sizeof pos, extras ? ",\"extras\":" : "", extras ? extras : "");
+             (size_t)BOX_GLTF_BYTES, b64, (size_t)BOX_GLTF_BYTES, extras ? ",\"extras\":" : "", extras ? extras : "");
     return s;
-}
-
-static bool write_text(const char* path, const char* text) {
-    FILE* f = fopen(path, "wb");
-    if (!f) return false;
-    bool ok = fwrite(text, 1, strlen(text), f) == strlen(text);
-    return fclose(f) == 0 && ok;
 }
 
 /* vox2svo's conversion of a glTF file (at 8 cells a side) */
