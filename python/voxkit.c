@@ -306,6 +306,16 @@ static PyObject* scene_scene_voxels(Scene* self, PyObject* args, PyObject* kw) {
     return r;
 }
 
+/* Writes scene s, read from from_path (NULL: unknown, the current folder),
+ * to path: a map sky's relative path (relative to the file's folder) is
+ * rebased for path's folder on a copy, so the saved file names the same
+ * image (vx_sky_rebase; s itself is unchanged). */
+static vx_result write_svo(const vx_svo_scene* s, const char* from_path, const char* path, vx_error* err) {
+    vx_svo_scene w = *s; /* shallow: the write only reads it */
+    vx_result r = vx_sky_rebase(&w.sky, from_path, path, err);
+    return r ? r : vx_svo_write_file(NULL, &w, path, err);
+}
+
 static PyObject* scene_save(Scene* self, PyObject* args) {
     PyObject* pathobj;
     if (!PyArg_ParseTuple(args, "O&:save", PyUnicode_FSConverter, &pathobj)) return NULL;
@@ -313,7 +323,7 @@ static PyObject* scene_save(Scene* self, PyObject* args) {
     vx_error err = {0};
     vx_result r;
     Py_BEGIN_ALLOW_THREADS
-    r = vx_svo_write_file(NULL, &self->s, path, &err);
+    r = write_svo(&self->s, self->path, path, &err);
     Py_END_ALLOW_THREADS
     PyObject* out = r == VX_OK ? Py_NewRef(Py_None) : raise_error(path, &err);
     Py_DECREF(pathobj);
@@ -642,7 +652,7 @@ static PyObject* py_convert(PyObject* mod, PyObject* args, PyObject* kw) {
         vx_error err = {0};
         vx_result r;
         Py_BEGIN_ALLOW_THREADS
-        r = vx_svo_write_file(NULL, &s->s, path, &err);
+        r = write_svo(&s->s, PyBytes_AS_STRING(src), path, &err);
         Py_END_ALLOW_THREADS
         if (r == VX_OK) out = (PyObject*)s;
         else {

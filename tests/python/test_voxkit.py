@@ -308,6 +308,30 @@ else:
         check(same.mean() > 0.99 and np.isfinite(top).mean() > 0.5,
               f"render(eye, target, up, ortho): a top-down depth view equals the CPU reference's ({same.mean():.1%})")
 
+# ---- a map sky's relative path follows the file (stop 74) ----------------------
+# vox2svo --sky stores a map given from the current folder relative to the output's folder; save() and convert()
+# to other folders rebase it so that the saved file names the same image (before, the text was copied as it was)
+sky_dir = os.path.join(WORK, "skya")
+deep_dir = os.path.join(WORK, "skyb", "deep")
+os.makedirs(sky_dir, exist_ok=True)
+os.makedirs(deep_dir, exist_ok=True)
+env = os.path.relpath(os.path.join(WORK, "env", "sky.exr"))
+sky_svo = os.path.join(sky_dir, "m.svo")
+tool("vox2svo", demo_vox, sky_svo, "-q", "--sky", "map:" + env + ":2")
+
+
+def sky_line(svo):
+    return [l for l in tool("svo_info", svo).decode().splitlines() if l.startswith("sky ")][0]
+
+
+check('"../env/sky.exr" x 2' in sky_line(sky_svo), f"vox2svo --sky map: {sky_line(sky_svo)}")
+deep_svo = os.path.join(deep_dir, "m.svo")
+voxkit.open(sky_svo).save(deep_svo)
+check('"../../env/sky.exr" x 2' in sky_line(deep_svo), f"save() to a deeper folder rebases the map: {sky_line(deep_svo)}")
+conv_svo = os.path.join(WORK, "m-conv.svo")
+voxkit.convert(deep_svo, conv_svo)
+check('"env/sky.exr" x 2' in sky_line(conv_svo), f"convert() to the map's parent folder: {sky_line(conv_svo)}")
+
 # ---- corpus --------------------------------------------------------------------
 if not os.path.isdir(CORPUS):
     print(f"skip: corpus {CORPUS} not found (only the generated scene was checked)")

@@ -2640,6 +2640,36 @@ static void test_script_export_split(void) {
  * editor): after an edit, the .glb is the library's export of the scene the
  * script then saves, byte for byte (its metal record and its light too), and
  * the .vdb read back (the OpenVDB import) holds the saved scene's cells. */
+/* A map sky's relative path follows a save to another folder (stop 74): the
+ * saved file names the same image from its own folder (vx_sky_rebase); before,
+ * the path's text was copied and named a file that is not there. */
+static void test_script_save_sky_map(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    script_files fs;
+    script_files_init(&fs, "skymap", "svo");
+    vx_svo_scene s;
+    make_scene(&s, 1);
+    s.sky.type = VX_SKY_ENVMAP, s.sky.intensity = 2;
+    snprintf(s.sky.path, sizeof s.sky.path, "env/sky.exr");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    char deep[1024], out[1100];
+    snprintf(deep, sizeof deep, "%s/skymap_deep", g_dir);
+    mkdir(deep, 0755);
+    snprintf(out, sizeof out, "%s/m.svo", deep);
+    remove(out);
+    char* text;
+    int rc = run_script(&fs, "", &text, "save %s\nquit\n", out);
+    CHECKF(rc == 0, "svo_view: %s", text ? text : "(no output)");
+    free(text);
+    vx_svo_scene got;
+    REQUIRE(vx_svo_read_file(NULL, out, &got, &err) == VX_OK);
+    CHECKF(got.sky.type == VX_SKY_ENVMAP && !strcmp(got.sky.path, "../env/sky.exr") && got.sky.intensity == 2,
+           "the saved sky's path '%s'", got.sky.path);
+    vx_svo_scene_free(&got);
+}
+
 static void test_script_export_glb_vdb(void) {
     if (!g_display) SKIP("no display (xvfb-run not found)");
     script_files fs;
@@ -3103,6 +3133,7 @@ int main(int argc, char** argv) {
     RUN(test_script_new_colour);
     RUN(test_script_hidden_layer);
     RUN(test_script_export_split);
+    RUN(test_script_save_sky_map);
     RUN(test_script_export_quantize);
     RUN(test_script_export_glb_vdb);
     return vx_test_finish();

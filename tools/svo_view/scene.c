@@ -249,7 +249,10 @@ bool sv_save(app* a, const char* path) {
     vx_svo_scene fs;
     vx_result r = vvx_file_scene(&a->ed, &fs, &err);
     if (!r) {
-        r = vx_svo_write_file(NULL, &fs, path, &err);
+        /* a map sky's relative path starts at the scene's file (app.h scene_file): the copy names the same image
+         * from its own folder */
+        r = vx_sky_rebase(&fs.sky, a->scene_file[0] ? a->scene_file : NULL, path, &err);
+        if (!r) r = vx_svo_write_file(NULL, &fs, path, &err);
         vvx_file_scene_free(&a->ed, &fs);
     }
     if (r) file_error(a, path, err.msg);
