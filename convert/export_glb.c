@@ -194,25 +194,35 @@ typedef struct light_text {
     char extras[768];
 } light_text;
 
-/* Appends to the extras text (which stays terminated: a text that did not
- * fit, which the fields' count and %.17g's 24 characters rule out, ends
- * cut and the writer refuses it as JSON). */
-static void put(light_text* t, size_t* at, const char* fmt, ...) {
-    size_t cap = sizeof t->extras;
-    if (*at >= cap - 1) return;
+/* A JSON text being appended to (a light's or the sky's extras): s holds cap
+ * bytes and stays terminated; at is its length. A text that did not fit ends
+ * cut at cap - 1 (the callers' field counts and %.17g's 24 characters rule
+ * that out; the writer would refuse the cut text as JSON). */
+typedef struct json_text {
+    char* s;
+    size_t cap, at;
+} json_text;
+
+static void put(json_text* j, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+static void put(json_text* j, const char* fmt, ...) {
+    if (j->at >= j->cap - 1) return;
     va_list ap;
     va_start(ap, fmt);
-    int k = vsnprintf(t->extras + *at, cap - *at, fmt, ap);
+    int k = vsnprintf(j->s + j->at, j->cap - j->at, fmt, ap);
     va_end(ap);
-    *at = k < 0 ? cap - 1 : *at + (size_t)k < cap - 1 ? *at + (size_t)k : cap - 1;
+    j->at = k < 0 ? j->cap - 1 : j->at + (size_t)k < j->cap - 1 ? j->at + (size_t)k : j->cap - 1;
 }
 
 /* Appends `,"key":v` (or an array of n values); %.17g reads back as the
- * same double. */
-static void put_num(light_text* t, size_t* at, const char* key, const double* v, int n) {
-    put(t, at, ",\"%s\":%s", key, n > 1 ? "[" : "");
-    for (int k = 0; k < n; k++) put(t, at, "%s%.17g", k ? "," : "", v[k]);
-    if (n > 1) put(t, at, "]");
+ * same double, and -0 is written "-0.0" because JSON readers take "-0" for
+ * the integer 0 (it would come back +0). */
+static void put_num(json_text* j, const char* key, const double* v, int n) {
+    put(j, ",\"%s\":%s", key, n > 1 ? "[" : "");
+    for (int k = 0; k < n; k++) {
+        if (v[k] == 0 && signbit(v[k])) put(j, "%s-0.0", k ? "," : "");
+        else put(j, "%s%.17g", k ? "," : "", v[k]);
+    }
+    if (n > 1) put(j, "]");
 }
 
 /* Light l (a valid record, index i in the scene) as KHR_lights_punctual
@@ -221,8 +231,8 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
     memset(g, 0, sizeof *g);
     snprintf(t->name, sizeof t->name, "light %u", i);
     g->name = t->name;
-    size_t at = 0;
-    put(t, &at, "{\"voxkit_light\":{\"type\":\"%s\"", light_type_name[l->type]);
+    json_text j = {t->extras, sizeof t->extras, 0};
+    put(&j, "{\"voxkit_light\":{\"type\":\"%s\"", light_type_name[l->type]);
     bool extras = false; /* the punctual light is not the exact record */
     /* the extension's colour lies in [0, 1]: a brighter channel goes into
      * the intensity (every renderer multiplies the two), the exact values
@@ -237,13 +247,13 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
         g->type = VX_GLB_LIGHT_DIRECTIONAL;
         to_gltf(back, d);
         light_matrix(p, d, NULL, g->matrix);
-        if (l->angular_diameter > 0) put_num(t, &at, "angular_diameter", &l->angular_diameter, 1), extras = true;
+        if (l->angular_diameter > 0) put_num(&j, "angular_diameter", &l->angular_diameter, 1), extras = true;
         break;
     case VX_LIGHT_POINT:
         g->type = VX_GLB_LIGHT_POINT;
         g->range = l->range;
         light_matrix(p, NULL, NULL, g->matrix);
-        if (l->radius > 0) put_num(t, &at, "radius", &l->radius, 1), extras = true;
+        if (l->radius > 0) put_num(&j, "radius", &l->radius, 1), extras = true;
         break;
     case VX_LIGHT_SPOT:
         g->type = VX_GLB_LIGHT_SPOT;
@@ -257,13 +267,13 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
              * so the light looks the same. The exact cones go into extras. */
             if (g->outer_cone > 0) g->inner_cone = g->outer_cone * (1 - 1e-6);
             else g->outer_cone = 1e-6;
-            put_num(t, &at, "inner_cone", &l->inner_cone, 1);
-            put_num(t, &at, "outer_cone", &l->outer_cone, 1);
+            put_num(&j, "inner_cone", &l->inner_cone, 1);
+            put_num(&j, "outer_cone", &l->outer_cone, 1);
             extras = true;
         }
         to_gltf(l->direction, d);
         light_matrix(p, d, NULL, g->matrix);
-        if (l->radius > 0) put_num(t, &at, "radius", &l->radius, 1), extras = true;
+        if (l->radius > 0) put_num(&j, "radius", &l->radius, 1), extras = true;
         break;
     case VX_LIGHT_SPHERE:
         /* seen from afar a sphere of radiance L and radius r is a point of
@@ -271,8 +281,8 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
         g->type = VX_GLB_LIGHT_POINT;
         g->intensity = l->intensity * 3.141592653589793 * l->radius * l->radius * scale;
         light_matrix(p, NULL, NULL, g->matrix);
-        put_num(t, &at, "radiance", &l->intensity, 1);
-        put_num(t, &at, "radius", &l->radius, 1);
+        put_num(&j, "radiance", &l->intensity, 1);
+        put_num(&j, "radius", &l->radius, 1);
         extras = true;
         break;
     case VX_LIGHT_RECT: {
@@ -285,19 +295,19 @@ static void light_to_glb(const vx_light* l, uint32_t i, vx_glb_light* g, light_t
         to_gltf(l->direction, d);
         to_gltf(l->tangent, x);
         light_matrix(p, d, x, g->matrix); /* the node's +X: the first edge */
-        put_num(t, &at, "radiance", &l->intensity, 1);
-        put_num(t, &at, "size", l->size, 2);
+        put_num(&j, "radiance", &l->intensity, 1);
+        put_num(&j, "size", l->size, 2);
         extras = true;
         break;
     }
     default: break;
     }
     if (scale > 1) {
-        put_num(t, &at, "color", l->color, 3);
-        if (l->type != VX_LIGHT_SPHERE && l->type != VX_LIGHT_RECT) put_num(t, &at, "intensity", &l->intensity, 1);
+        put_num(&j, "color", l->color, 3);
+        if (l->type != VX_LIGHT_SPHERE && l->type != VX_LIGHT_RECT) put_num(&j, "intensity", &l->intensity, 1);
         extras = true;
     }
-    put(t, &at, "}}");
+    put(&j, "}}");
     g->extras = extras ? t->extras : NULL;
 }
 
@@ -316,23 +326,6 @@ static bool utf8_ok(const unsigned char* s) {
     return true;
 }
 
-/* Appends `,"key":[a,b,c]` (or one number); %.17g reads back as the same
- * double, and -0 is written "-0.0" because JSON readers take "-0" for the
- * integer 0 (the record would come back +0). */
-static void sky_nums(char* t, size_t cap, size_t* at, const char* key, const double* v, int n) {
-    size_t k0 = *at;
-    int w = snprintf(t + k0, cap - k0, ",\"%s\":%s", key, n > 1 ? "[" : "");
-    for (int k = 0; w >= 0 && k < n; k++) {
-        size_t a = k0 + (size_t)w;
-        int x = a < cap ? (v[k] == 0 && signbit(v[k]) ? snprintf(t + a, cap - a, "%s-0.0", k ? "," : "")
-                                                         : snprintf(t + a, cap - a, "%s%.17g", k ? "," : "", v[k]))
-                        : 0;
-        w = x < 0 ? -1 : w + x;
-    }
-    if (w >= 0 && n > 1 && k0 + (size_t)w < cap) w += snprintf(t + k0 + (size_t)w, cap - k0 - (size_t)w, "]");
-    *at = w < 0 ? cap : k0 + (size_t)w;
-}
-
 /* The scene's sky as the extras text {"voxkit_sky":{...}} (convert/export.h)
  * in t (cap bytes), or t = "" for the DEFAULT sky; sky is the one to write
  * (its path already rebased for the .glb's folder). */
@@ -340,31 +333,29 @@ static vx_result sky_text(const vx_sky* k, char* t, size_t cap, vx_error* err) {
     t[0] = 0;
     if (k->type == VX_SKY_DEFAULT) return VX_OK;
     static const char* const name[VX_SKY_TYPE_COUNT] = {"default", "constant", "gradient", "envmap"};
-    size_t at = (size_t)snprintf(t, cap, "{\"voxkit_sky\":{\"type\":\"%s\"", name[k->type]);
-    if (k->type == VX_SKY_CONSTANT || k->type == VX_SKY_GRADIENT) sky_nums(t, cap, &at, "color", k->color, 3);
+    json_text j = {t, cap, 0};
+    put(&j, "{\"voxkit_sky\":{\"type\":\"%s\"", name[k->type]);
+    if (k->type == VX_SKY_CONSTANT || k->type == VX_SKY_GRADIENT) put_num(&j, "color", k->color, 3);
     if (k->type == VX_SKY_GRADIENT) {
-        sky_nums(t, cap, &at, "horizon", k->horizon, 3);
-        sky_nums(t, cap, &at, "ground", k->ground, 3);
+        put_num(&j, "horizon", k->horizon, 3);
+        put_num(&j, "ground", k->ground, 3);
     }
     if (k->type == VX_SKY_ENVMAP) {
         if (!utf8_ok((const unsigned char*)k->path))
             return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
                            "glb export: the sky's environment map path is not UTF-8 (glTF's JSON must be)");
         /* the path as a JSON string: quotes, backslashes and control bytes escaped */
-        if (at < cap) at += (size_t)snprintf(t + at, cap - at, ",\"path\":\"");
-        for (const unsigned char* p = (const unsigned char*)k->path; *p && at < cap; p++) {
-            if (*p == '"' || *p == '\\') at += (size_t)snprintf(t + at, cap - at, "\\%c", *p);
-            else if (*p < 0x20) at += (size_t)snprintf(t + at, cap - at, "\\u%04x", *p);
-            else t[at++] = (char)*p;
-        }
-        if (at < cap) at += (size_t)snprintf(t + at, cap - at, "\"");
-        sky_nums(t, cap, &at, "intensity", &k->intensity, 1);
-        sky_nums(t, cap, &at, "rotation", &k->rotation, 1);
+        put(&j, ",\"path\":\"");
+        for (const unsigned char* p = (const unsigned char*)k->path; *p; p++)
+            put(&j, *p == '"' || *p == '\\' ? "\\%c" : *p < 0x20 ? "\\u%04x" : "%c", *p);
+        put(&j, "\"");
+        put_num(&j, "intensity", &k->intensity, 1);
+        put_num(&j, "rotation", &k->rotation, 1);
     }
-    if (at < cap) at += (size_t)snprintf(t + at, cap - at, "}}");
+    put(&j, "}}");
     /* 9 numbers of at most 24 characters, or a path of 255 bytes escaped to
      * at most 6 each, fit the caller's buffer: this is a guard, not a limit */
-    if (at >= cap) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb export: the sky's record does not fit %zu bytes", cap);
+    if (j.at >= cap - 1) return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "glb export: the sky's record does not fit %zu bytes", cap);
     return VX_OK;
 }
 
