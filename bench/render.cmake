@@ -4,12 +4,12 @@
 if(VX_WITH_VULKAN)
   set(VX_BENCH_SPV_DIR ${CMAKE_CURRENT_BINARY_DIR}/spv)
   file(MAKE_DIRECTORY ${VX_BENCH_SPV_DIR})
-  foreach(name esvo tree64 mipgrid)
+  foreach(name esvo tree64 mipgrid brickgrid)
     vx_spirv_header(${VX_BENCH_SPV_DIR}/${name}.comp.h ${CMAKE_CURRENT_LIST_DIR}/shaders/${name}.comp vx__${name}_spv_arr)
   endforeach()
   add_executable(render_bench ${CMAKE_CURRENT_LIST_DIR}/render_bench.c ${CMAKE_CURRENT_LIST_DIR}/esvo.c
-                 ${CMAKE_CURRENT_LIST_DIR}/tree64.c ${CMAKE_CURRENT_LIST_DIR}/mipgrid.c
-                 ${VX_BENCH_SPV_DIR}/esvo.comp.h ${VX_BENCH_SPV_DIR}/tree64.comp.h ${VX_BENCH_SPV_DIR}/mipgrid.comp.h)
+                 ${CMAKE_CURRENT_LIST_DIR}/tree64.c ${CMAKE_CURRENT_LIST_DIR}/mipgrid.c ${CMAKE_CURRENT_LIST_DIR}/brickgrid.c
+                 ${VX_BENCH_SPV_DIR}/esvo.comp.h ${VX_BENCH_SPV_DIR}/tree64.comp.h ${VX_BENCH_SPV_DIR}/mipgrid.comp.h ${VX_BENCH_SPV_DIR}/brickgrid.comp.h)
   target_include_directories(render_bench PRIVATE ${VX_BENCH_SPV_DIR})
   target_link_libraries(render_bench PRIVATE vx_render vx_convert vx_formats vx_svo)
 endif()

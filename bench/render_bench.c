@@ -7,7 +7,7 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup,sky] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--tree64] [--mip] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--no-esvo] [--tree64] [--mip] [--brick] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
  *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
@@ -43,7 +43,9 @@
  * prototype (bench/mipgrid.h; with ESVO only, cubes up to 2^10 cells wide),
  * its kernel variants 0-2 (mipgrid.comp's PROBE) after each view's row, a
  * line "mip-variant" each: steps per ray, rays/s, steps/s, rays/s over
- * ESVO's and voxkit's, depth agreement with voxkit's hits, GPU MiB. --grid-world: world_from_grid of every
+ * ESVO's and voxkit's, depth agreement with voxkit's hits, GPU MiB. --brick:
+ * the same for the two-level grid prototype (bench/brickgrid.h, lines
+ * "brick-variant", brickgrid.comp's SKIP 0 and 1). --grid-world: world_from_grid of every
  * file set to the identity (a converted mesh in cells, so that the baselines,
  * which need world cells = grid cells, apply). --kernels FILE.spv,...: voxkit's
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
@@ -90,6 +92,7 @@
 #include "bench/bench_load.h"
 #include "bench/bench_terrain.h"
 #include "bench/esvo.h"
+#include "bench/brickgrid.h"
 #include "bench/mipgrid.h"
 #include "bench/tree64.h"
 #include "render/pipeline.h"
@@ -147,7 +150,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -480,18 +483,31 @@ static int esvo_variant(bench_esvo* es, const uint32_t* spv, size_t bytes, const
     return fail;
 }
 
-/* The occupancy pyramid prototype (--mip) on view d, variant v: out as
- * esvo_variant's. */
-static int mip_variant(bench_mip* m, uint32_t v, const vx_svo_scene* s, vx_render_desc d, uint32_t runs, double warmup,
-                       const vx_render_hit* vx_hits, double out[4], vx_error* err) {
+/* One frame of a prototype kernel (--mip, --brick): as bench_mip_frame. */
+typedef vx_result (*proto_frame_fn)(void* m, uint32_t variant, const vx_svo_scene* s, const vx_render_desc* desc,
+                                    uint32_t repeat, double* seconds, float* depth, uint32_t* steps, vx_error* err);
+
+static vx_result mip_frame(void* m, uint32_t v, const vx_svo_scene* s, const vx_render_desc* d, uint32_t repeat,
+                           double* sec, float* depth, uint32_t* steps, vx_error* err) {
+    return bench_mip_frame(m, v, s, d, repeat, sec, depth, steps, err);
+}
+
+static vx_result brick_frame(void* m, uint32_t v, const vx_svo_scene* s, const vx_render_desc* d, uint32_t repeat,
+                             double* sec, float* depth, uint32_t* steps, vx_error* err) {
+    return bench_brick_frame(m, v, s, d, repeat, sec, depth, steps, err);
+}
+
+/* A prototype (--mip, --brick) on view d, variant v: out as esvo_variant's. */
+static int proto_variant(proto_frame_fn frame, void* m, uint32_t v, const vx_svo_scene* s, vx_render_desc d,
+                         uint32_t runs, double warmup, const vx_render_hit* vx_hits, double out[4], vx_error* err) {
     size_t npx = (size_t)d.width * d.height;
     float* depth = malloc(npx * sizeof *depth);
     uint32_t* steps = malloc(npx * sizeof *steps);
     double sec, t0;
-    int fail = !depth || !steps || bench_mip_frame(m, v, s, &d, 1, &sec, depth, steps, err);
+    int fail = !depth || !steps || frame(m, v, s, &d, 1, &sec, depth, steps, err);
     t0 = vx_time_now();
-    while (!fail && vx_time_now() - t0 < warmup) fail = bench_mip_frame(m, v, s, &d, 32, &sec, NULL, NULL, err) != VX_OK;
-    if (!fail) fail = bench_mip_frame(m, v, s, &d, runs, &out[1], NULL, NULL, err) != VX_OK;
+    while (!fail && vx_time_now() - t0 < warmup) fail = frame(m, v, s, &d, 32, &sec, NULL, NULL, err) != VX_OK;
+    if (!fail) fail = frame(m, v, s, &d, runs, &out[1], NULL, NULL, err) != VX_OK;
     if (!fail) variant_stats(depth, steps, d.width, d.height, vx_hits, out);
     free(depth), free(steps);
     return fail;
@@ -523,7 +539,7 @@ int main(int argc, char** argv) {
     size_t ev_bytes[8] = {0};
     const char* ev_name[8] = {NULL};
     int nev = 0;
-    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, use_mip = false, stats = false, mrays = false, cpu = false;
+    bool gen = false, deep = false, use_esvo = true, use_tree64 = false, use_mip = false, use_brick = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
     int variant = -1;
@@ -661,6 +677,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--cpu-time")) cpu = true;
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
         else if (!strcmp(argv[i], "--mip")) use_mip = true;
+        else if (!strcmp(argv[i], "--brick")) use_brick = true;
         else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
@@ -748,6 +765,7 @@ int main(int argc, char** argv) {
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
         bench_mip mip = {0}, *mipp = NULL;
+        bench_brick brk = {0}, *brkp = NULL;
         if (use_esvo && !is_deep && !vx_render_scene_precise(rs)) {
             if (bench_esvo_create(gpu, &s, &es, &err))
                 fprintf(stderr, "render_bench: %s: no ESVO baseline: %s\n", name, err.msg);
@@ -764,6 +782,12 @@ int main(int argc, char** argv) {
                     fprintf(stderr, "render_bench: %s: no occupancy pyramid: %s\n", name, err.msg);
                 else
                     mipp = &mip;
+            }
+            if (esp && use_brick) {
+                if (bench_brick_create(gpu, &s, 10, &brk, &err))
+                    fprintf(stderr, "render_bench: %s: no brick grid: %s\n", name, err.msg);
+                else
+                    brkp = &brk;
             }
         }
         vx_render_camera cams[4] = {{0}};
@@ -887,7 +911,7 @@ int main(int argc, char** argv) {
                     fflush(stdout);
                     for (uint32_t mv = 0; mipp && ki == 0 && bi == 0 && si == 0 && mv < BENCH_MIP_VARIANTS; mv++) {
                         double ev[4];
-                        if (mip_variant(mipp, mv, &s, d, runs, warmup, ref.hits, ev, &err)) {
+                        if (proto_variant(mip_frame, mipp, mv, &s, d, runs, warmup, ref.hits, ev, &err)) {
                             fprintf(stderr, "render_bench: %s %s: occupancy pyramid %u: %s\n", name, vnames[v], mv, err.msg);
                             failed = 1;
                             break;
@@ -896,6 +920,19 @@ int main(int argc, char** argv) {
                                "[warps: lane use %.1f%%]  [probe %u, %.2f MiB]\n",
                                name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
                                r.sec_vx / ev[1], 100 * ev[2], 100 * ev[3], mv, bench_mip_bytes(mipp) / 1048576.0);
+                        fflush(stdout);
+                    }
+                    for (uint32_t bv = 0; brkp && ki == 0 && bi == 0 && si == 0 && bv < BENCH_BRICK_VARIANTS; bv++) {
+                        double ev[4];
+                        if (proto_variant(brick_frame, brkp, bv, &s, d, runs, warmup, ref.hits, ev, &err)) {
+                            fprintf(stderr, "render_bench: %s %s: brick grid %u: %s\n", name, vnames[v], bv, err.msg);
+                            failed = 1;
+                            break;
+                        }
+                        printf("brick-variant  %-20.20s %-8s %-9s %6.1f %7.2f %7.0f BRK/ES %.3f BRK/VX %.3f depth= %.3f%%  "
+                               "[warps: lane use %.1f%%]  [skip %u, %.2f MiB]\n",
+                               name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
+                               r.sec_vx / ev[1], 100 * ev[2], 100 * ev[3], bv, bench_brick_bytes(brkp) / 1048576.0);
                         fflush(stdout);
                     }
                     for (int ei = 0; esp && ki == 0 && bi == 0 && si == 0 && ei < nev; ei++) {
@@ -935,6 +972,10 @@ int main(int argc, char** argv) {
         if (mipp)
             fprintf(stderr, "  (%s: occupancy pyramid 2^%u cells wide, %llu cells, build %.2f s)\n", name, mip.depth,
                     (unsigned long long)mip.cells, mip.build_seconds);
+        if (brkp)
+            fprintf(stderr, "  (%s: brick grid 2^%u cells wide, %llu cells, %llu bricks, build %.2f s)\n", name, brk.depth,
+                    (unsigned long long)brk.cells, (unsigned long long)brk.bricks, brk.build_seconds);
+        bench_brick_destroy(&brk);
         bench_mip_destroy(&mip);
         bench_tree64_destroy(&t6);
         bench_esvo_destroy(&es);
