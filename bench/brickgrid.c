@@ -1,10 +1,16 @@
-/* bench/brickgrid.c - the two-level grid prototype's build (from the scene's
- * cells) and its dispatch; see bench/brickgrid.h. Layout of the one buffer:
- * C^3 coarse words (C = 2^depth / 8, x fastest), then 16 words per brick.
- * A coarse word below 2^31 is its brick's index; 2^31 | d marks an empty
- * coarse cell whose nearest occupied coarse cell is d cells away in the
- * Chebyshev metric (every coarse cell within d - 1 of it is empty). A
- * brick's bit x + 8 y + 64 z is its cell (x, y, z). */
+/* bench/brickgrid.c - the grid hierarchy prototype's build (from the
+ * scene's cells) and its dispatch; see bench/brickgrid.h.
+ *
+ * Levels: a level-k cell is 8^k cells wide. Level 0 are the cells; a
+ * level-1 cell is a brick (16 words, bit x + 8 y + 64 z its cell (x, y, z));
+ * a node (512 words, entry x + 8 y + 64 z) holds the 8^3 level-(k-1) cells
+ * of one level-k cell; the root is a dense R^3 grid of level-`top` cells, R
+ * = 2^depth / 8^top at most 128 (8 MiB). An entry below 2^31 is the word address of
+ * its cell's node or brick; 2^31 | d marks an empty cell whose nearest
+ * occupied cell of the same level is d cells away in the Chebyshev metric,
+ * within its node (nodes) or the root grid (root), so every cell there
+ * within d - 1 of it is empty. Buffer: an 8-word header (top, R, the
+ * occupied cells' box [lo, hi) in cells), the root, the bricks, the nodes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,13 +18,67 @@
 #include "bench/brickgrid.h"
 #include "brickgrid.comp.h"
 
-enum { DIST_CAP = 0xFFFF };
+enum { HEADER = 8, ROOT_MAX = 128, DIST_CAP = 0xFFFF };
+#define EMPTY UINT32_C(0x80000000)
+
+/* Growing word arrays and a hash from a cell's packed coordinates to an index. */
+typedef struct words {
+    uint32_t* w;
+    uint64_t n, cap;
+} words;
+
+static bool words_grow(words* a, uint64_t add) {
+    if (a->n + add <= a->cap) return true;
+    uint64_t c = a->cap ? a->cap : 4096;
+    while (c < a->n + add) c *= 2;
+    uint32_t* w = realloc(a->w, c * 4);
+    if (!w) return false;
+    a->w = w, a->cap = c;
+    return true;
+}
+
+typedef struct cell_map {
+    uint64_t* key; /* packed coordinates + 1 (0: free) */
+    uint32_t* val;
+    uint64_t cap, n;
+} cell_map;
+
+static uint64_t pack(const uint64_t c[3]) { return c[0] | c[1] << 20 | c[2] << 40; }
+
+static uint64_t slot_of(const cell_map* m, uint64_t k) {
+    uint64_t h = (k * UINT64_C(0x9E3779B97F4A7C15)) >> 17, i = h & (m->cap - 1);
+    while (m->key[i] && m->key[i] != k + 1) i = (i + 1) & (m->cap - 1);
+    return i;
+}
+
+/* The index of cell k, *added true when new (given index next). */
+static bool map_get(cell_map* m, uint64_t k, uint32_t next, uint32_t* out, bool* added) {
+    if (2 * (m->n + 1) > m->cap) {
+        cell_map g = {.cap = m->cap ? 2 * m->cap : 4096};
+        g.key = calloc(g.cap, sizeof *g.key), g.val = malloc(g.cap * sizeof *g.val);
+        if (!g.key || !g.val) return free(g.key), free(g.val), false;
+        for (uint64_t i = 0; i < m->cap; i++)
+            if (m->key[i]) {
+                uint64_t j = slot_of(&g, m->key[i] - 1);
+                g.key[j] = m->key[i], g.val[j] = m->val[i];
+            }
+        g.n = m->n;
+        free(m->key), free(m->val);
+        *m = g;
+    }
+    uint64_t i = slot_of(m, k);
+    *added = !m->key[i];
+    if (*added) m->key[i] = k + 1, m->val[i] = next, m->n++;
+    *out = m->val[i];
+    return true;
+}
 
 typedef struct brick_ctx {
     bench_brick* m;
-    uint32_t* coarse; /* brick index + 1, 0: none yet */
-    uint32_t* bricks; /* 16 words each */
-    uint64_t cap;     /* bricks allocated */
+    cell_map map;   /* brick coordinates -> brick index */
+    words bricks;   /* 16 words each */
+    words coords;   /* each brick's coordinates, 3 words */
+    uint64_t lo[3], hi[3];
     double x[12];
     bool nomem;
 } brick_ctx;
@@ -29,59 +89,53 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     bench_brick* m = c->m;
     double p[3] = {x + 0.5, y + 0.5, z + 0.5}, q[3];
     vx__affine_apply(c->x, p, q);
-    uint64_t g[3];
+    uint64_t g[3], b[3];
     for (int k = 0; k < 3; k++) {
         int64_t v = (int64_t)floor(q[k]) - m->lo[k];
         if (v < 0 || v >= ((int64_t)1 << m->depth)) return true;
-        g[k] = (uint64_t)v;
+        g[k] = (uint64_t)v, b[k] = g[k] >> 3;
+        if (g[k] < c->lo[k]) c->lo[k] = g[k];
+        if (g[k] + 1 > c->hi[k]) c->hi[k] = g[k] + 1;
     }
-    uint64_t C = (uint64_t)1 << (m->depth - 3);
-    uint64_t ci = ((g[2] >> 3) * C + (g[1] >> 3)) * C + (g[0] >> 3);
-    if (!c->coarse[ci]) {
-        if (m->bricks == c->cap) {
-            uint64_t n = c->cap ? 2 * c->cap : 1024;
-            uint32_t* b = realloc(c->bricks, n * 64);
-            if (!b) return c->nomem = true, false;
-            memset(b + c->cap * 16, 0, (n - c->cap) * 64);
-            c->bricks = b, c->cap = n;
-        }
-        c->coarse[ci] = (uint32_t)++m->bricks;
+    uint32_t bi;
+    bool added;
+    if (!map_get(&c->map, pack(b), (uint32_t)m->bricks, &bi, &added)) return c->nomem = true, false;
+    if (added) {
+        if (!words_grow(&c->bricks, 16) || !words_grow(&c->coords, 3)) return c->nomem = true, false;
+        memset(c->bricks.w + c->bricks.n, 0, 64);
+        c->bricks.n += 16, m->bricks++;
+        for (int k = 0; k < 3; k++) c->coords.w[c->coords.n++] = (uint32_t)b[k];
     }
     uint32_t i = (uint32_t)((g[0] & 7) | (g[1] & 7) << 3 | (g[2] & 7) << 6);
-    uint32_t* w = &c->bricks[(uint64_t)(c->coarse[ci] - 1) * 16 + (i >> 5)];
+    uint32_t* w = &c->bricks.w[(uint64_t)bi * 16 + (i >> 5)];
     if (!(*w >> (i & 31) & 1)) m->cells++;
     *w |= UINT32_C(1) << (i & 31);
     return true;
 }
 
-/* Chebyshev distance of every coarse cell to the nearest occupied one: a
- * breadth-first search over the 26 neighbours from all occupied cells at
- * once (a step to any of the 26 is one unit of the metric). */
-static bool coarse_distances(const uint32_t* coarse, uint64_t C, uint32_t* dist) {
-    uint64_t n = C * C * C;
-    uint32_t* queue = malloc(n * sizeof *queue);
-    if (!queue) return false;
-    uint64_t head = 0, tail = 0;
-    for (uint64_t i = 0; i < n; i++) {
-        dist[i] = coarse[i] ? 0 : DIST_CAP;
-        if (coarse[i]) queue[tail++] = (uint32_t)i;
-    }
+/* The empty entries of an n^3 grid (x fastest) get EMPTY | their Chebyshev
+ * distance to the nearest occupied entry (capped): a breadth-first search
+ * over the 26 neighbours from all occupied entries at once (a step to any of
+ * the 26 is one unit of the metric). queue: n^3 words. */
+static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
+    uint64_t cnt = n * n * n, head = 0, tail = 0;
+    for (uint64_t i = 0; i < cnt; i++)
+        if (g[i] < EMPTY) queue[tail++] = (uint32_t)i;
+        else g[i] = EMPTY | DIST_CAP;
     while (head < tail) {
         uint64_t i = queue[head++];
-        int64_t x = (int64_t)(i % C), y = (int64_t)(i / C % C), z = (int64_t)(i / (C * C));
-        uint32_t dn = dist[i] + 1;
+        int64_t x = (int64_t)(i % n), y = (int64_t)(i / n % n), z = (int64_t)(i / (n * n));
+        uint32_t dn = (g[i] < EMPTY ? 0 : g[i] & DIST_CAP) + 1;
         if (dn >= DIST_CAP) continue;
         for (int dz = -1; dz <= 1; dz++)
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
                     int64_t X = x + dx, Y = y + dy, Z = z + dz;
-                    if (X < 0 || Y < 0 || Z < 0 || X >= (int64_t)C || Y >= (int64_t)C || Z >= (int64_t)C) continue;
-                    uint64_t j = ((uint64_t)Z * C + (uint64_t)Y) * C + (uint64_t)X;
-                    if (dist[j] > dn) dist[j] = dn, queue[tail++] = (uint32_t)j;
+                    if (X < 0 || Y < 0 || Z < 0 || X >= (int64_t)n || Y >= (int64_t)n || Z >= (int64_t)n) continue;
+                    uint64_t j = ((uint64_t)Z * n + (uint64_t)Y) * n + (uint64_t)X;
+                    if (g[j] >= EMPTY && (g[j] & DIST_CAP) > dn) g[j] = EMPTY | dn, queue[tail++] = (uint32_t)j;
                 }
     }
-    free(queue);
-    return true;
 }
 
 vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, bench_brick* m, vx_error* err) {
@@ -98,37 +152,90 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
     }
     m->depth = 3;
     while (((int64_t)1 << m->depth) < ext) m->depth++;
-    if (m->depth > max_depth || m->depth > 10)
+    if (m->depth > max_depth || m->depth > 20)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide is over the limit 2^%u",
-                       m->depth, max_depth < 10 ? max_depth : 10);
-    uint64_t C = (uint64_t)1 << (m->depth - 3), n = C * C * C;
-    brick_ctx c = {.m = m, .coarse = calloc(n, 4)};
-    uint32_t* dist = malloc(n * 4);
-    vx_result r = c.coarse && dist ? VX_OK : vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
+                       m->depth, max_depth < 20 ? max_depth : 20);
+    uint32_t top = 1;
+    while ((m->depth - 3 * top) > 7 && m->depth > 3 * (top + 1)) top++; /* R = 2^(depth - 3 top) at most ROOT_MAX */
+    if (top > 3)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide needs %u levels, at most 3",
+                       m->depth, top);
+    uint64_t R = (uint64_t)1 << (m->depth - 3 * top), R3 = R * R * R;
+    m->top = top;
+    brick_ctx c = {.m = m, .lo = {UINT64_MAX, UINT64_MAX, UINT64_MAX}};
+    vx_result r = VX_OK;
     for (uint32_t i = 0; i < s->instance_count && !r; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
         vx_svo_instance_world(s, &s->instances[i], c.x);
         r = vx_svo_decode_model(&s->models[s->instances[i].model], cell_cb, &c, err);
         if (c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
     }
-    if (!r && !coarse_distances(c.coarse, C, dist))
+    /* the buffer: header, root, bricks, then each level's nodes bottom up */
+    words out = {0};
+    uint32_t* queue = malloc((R3 > 512 ? R3 : 512) * 4);
+    if (!r && (!queue || !words_grow(&out, HEADER + R3 + c.bricks.n)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
-    uint32_t* w = NULL;
-    if (!r) {
-        m->words = n + m->bricks * 16;
-        if (!(w = malloc(m->words * 4))) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
+    if (!r && out.w) {
+        memset(out.w, 0, HEADER * 4);
+        out.w[0] = top, out.w[1] = (uint32_t)R;
+        for (int k = 0; k < 3; k++)
+            out.w[2 + k] = m->cells ? (uint32_t)c.lo[k] : 0, out.w[5 + k] = m->cells ? (uint32_t)c.hi[k] : 0;
+        for (uint64_t i = 0; i < R3; i++) out.w[HEADER + i] = EMPTY;
+        memcpy(out.w + HEADER + R3, c.bricks.w, c.bricks.n * 4);
+        out.n = HEADER + R3 + c.bricks.n;
+    }
+    /* the cells of the level being placed: coordinates (3 words) and address */
+    words cc = c.coords, ca = {0};
+    c.coords = (words){0};
+    if (!r && !words_grow(&ca, m->bricks)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
+    for (uint64_t i = 0; !r && i < m->bricks; i++) ca.w[ca.n++] = (uint32_t)(HEADER + R3 + 16 * i);
+    for (uint32_t lv = 1; lv < top && !r; lv++) {
+        /* nodes of level lv + 1 cells, each the 8^3 level-lv cells below it */
+        cell_map pm = {0};
+        words pc = {0}, pa = {0};
+        for (uint64_t i = 0; i < ca.n && !r; i++) {
+            uint64_t p[3] = {cc.w[3 * i] >> 3, cc.w[3 * i + 1] >> 3, cc.w[3 * i + 2] >> 3};
+            uint32_t ni;
+            bool added;
+            if (!map_get(&pm, pack(p), (uint32_t)pa.n, &ni, &added) ||
+                (added && (!words_grow(&out, 512) || !words_grow(&pc, 3) || !words_grow(&pa, 1)))) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
+                break;
+            }
+            if (added) {
+                if (out.n + 512 >= EMPTY) {
+                    r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: over 2^31 words");
+                    break;
+                }
+                for (int k = 0; k < 3; k++) pc.w[pc.n++] = (uint32_t)p[k];
+                pa.w[pa.n++] = (uint32_t)out.n;
+                for (int e = 0; e < 512; e++) out.w[out.n + e] = EMPTY;
+                out.n += 512;
+            }
+            uint32_t e = (cc.w[3 * i] & 7) | (cc.w[3 * i + 1] & 7) << 3 | (cc.w[3 * i + 2] & 7) << 6;
+            out.w[pa.w[ni] + e] = ca.w[i];
+        }
+        for (uint64_t i = 0; i < pa.n && !r; i++) fill_distances(out.w + pa.w[i], 8, queue);
+        free(pm.key), free(pm.val), free(cc.w), free(ca.w);
+        cc = pc, ca = pa;
     }
     if (!r) {
-        for (uint64_t i = 0; i < n; i++) w[i] = c.coarse[i] ? c.coarse[i] - 1 : UINT32_C(0x80000000) | dist[i];
-        if (m->bricks) memcpy(w + n, c.bricks, m->bricks * 64);
+        R3 = R * R * R;
+        for (uint64_t i = 0; i < ca.n; i++)
+            out.w[HEADER + ((uint64_t)cc.w[3 * i + 2] * R + cc.w[3 * i + 1]) * R + cc.w[3 * i]] = ca.w[i];
+        fill_distances(out.w + HEADER, R, queue);
+        m->words = out.n;
+        /* the kernel reads the header's values from its Frame block (a uniform, not a load per ray) */
+        memcpy(m->k.extra, out.w, sizeof m->k.extra);
     }
-    free(c.coarse), free(c.bricks), free(dist);
+    free(cc.w), free(ca.w), free(queue), free(c.map.key), free(c.map.val), free(c.bricks.w), free(c.coords.w);
     m->build_seconds = vx_time_now() - t0;
+    if (!r && out.n >= EMPTY) r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: over 2^31 words");
     if (!r)
         r = vx__buffer_create(gpu, (VkDeviceSize)m->words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                               "brick grid", &m->buf, err);
-    if (!r) r = vx__buffer_upload(gpu, &m->buf, w, (VkDeviceSize)m->words * 4, err);
-    free(w);
+    if (!r) r = vx__buffer_upload(gpu, &m->buf, out.w, (VkDeviceSize)m->words * 4, err);
+    free(out.w);
     if (r) bench_brick_destroy(m);
     return r;
 }
@@ -145,9 +252,10 @@ uint64_t bench_brick_bytes(const bench_brick* m) { return m->words * 4; }
 vx_result bench_brick_frame(bench_brick* m, uint32_t variant, const vx_svo_scene* s, const vx_render_desc* desc,
                             uint32_t repeat, double* seconds, float* depth, uint32_t* steps, vx_error* err) {
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__brickgrid_spv_arr, .spirv_size = sizeof vx__brickgrid_spv_arr,
-                                       .binding_count = 3, .spec_count = 1, .spec = {variant}, .label = "brickgrid"};
+                                       .binding_count = 3, .spec_count = 2, .spec = {variant, m->top},
+                                       .label = "brickgrid"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    return bench_kernel_frame(m->gpu, &m->k, &pd, UINT64_C(0x31B00000) + variant, &m->buf, s, desc, m->lo,
+    return bench_kernel_frame(m->gpu, &m->k, &pd, UINT64_C(0x31B00000) + 16 * m->top + variant, &m->buf, s, desc, m->lo,
                               (double)((int64_t)1 << m->depth), m->depth, 0, repeat, seconds, depth, steps, err);
 }

@@ -1,16 +1,17 @@
 /* bench/brickgrid.h - a prototype for issue 21 in bench/render_bench: the
- * scene's cells as a two-level grid, traced by a hierarchical DDA
+ * scene's cells as a hierarchy of grids, traced by a hierarchical DDA
  * (bench/shaders/brickgrid.comp) on the same primary rays as voxkit's tracer
- * and the ESVO baseline. Coarse cells are 8^3-cell bricks; an occupied
- * coarse cell holds its brick's index (512 bits, one per cell), an empty one
- * its Chebyshev distance in coarse cells to the nearest occupied one, so a
- * ray skips the whole empty cube around it in one step. It measures what the
- * octree walk's per-step cost buys: the dense DDA baseline (render_bench's
- * GrayDn column) traces the .vox close-ups 1.2-1.9x faster than ESVO with
- * a step of a few instructions but walks every empty cell; this keeps the
- * DDA's step near surfaces and skips empty space by distance. Coarse grid
- * dense (4 bytes a coarse cell), so only for cubes up to 2^10 cells wide.
- * Needs an identity world_from_grid, like the ESVO baseline. */
+ * and the ESVO baseline. Every level is 8 times coarser than the one below:
+ * 8^3-cell bricks of 512 bits, nodes of 8^3 entries above them, a dense
+ * root grid at most 128 wide on top (bench/brickgrid.c has the layout). An
+ * empty entry holds its Chebyshev distance to the nearest occupied entry, so
+ * a ray leaves the whole empty cube around it in one step. It measures what
+ * the octree walk's per-step cost buys: the dense DDA baseline
+ * (render_bench's GrayDn column) traces the .vox close-ups 1.2-1.9x faster
+ * than ESVO with a step of a few instructions, but walks every empty cell;
+ * this keeps the DDA's step and skips empty space by distance. Occupancy
+ * only (no colours). Needs an identity world_from_grid, like the ESVO
+ * baseline. */
 #ifndef VX_BENCH_BRICKGRID_H
 #define VX_BENCH_BRICKGRID_H
 #include "bench/esvo.h"
@@ -20,6 +21,7 @@ enum { BENCH_BRICK_VARIANTS = 2 };
 typedef struct bench_brick {
     vx_gpu* gpu;
     uint32_t depth; /* the cube is 2^depth cells wide (at least 8), from ESVO's corner */
+    uint32_t top;   /* the root grid's level: its cells are 8^top cells wide */
     int64_t lo[3];
     uint64_t words, cells, bricks;
     vx__buffer buf;
@@ -33,8 +35,8 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
 void bench_brick_destroy(bench_brick* m);
 /* Bytes of the grid on the GPU. */
 uint64_t bench_brick_bytes(const bench_brick* m);
-/* As bench_esvo_frame; variant: the kernel's SKIP (0: one coarse cell a
- * step, 1: the empty cube of the coarse cell's distance a step). */
+/* As bench_esvo_frame; variant: the kernel's SKIP (0: one cell of the
+ * level a step, 1: the empty cube of the entry's distance a step). */
 vx_result bench_brick_frame(bench_brick* m, uint32_t variant, const vx_svo_scene* s, const vx_render_desc* desc,
                             uint32_t repeat, double* seconds, float* depth, uint32_t* steps, vx_error* err);
 #endif

@@ -14,6 +14,7 @@
 typedef struct kernel_frame {
     float fwd[4], rx[4], uy[4], box[4];
     uint32_t dims[4];
+    uint32_t extra[8]; /* bench_kernel.extra */
 } kernel_frame;
 
 static uint32_t new_group(bench_esvo* e) {
@@ -177,6 +178,7 @@ vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pi
     ef->rx[3] = f.ortho ? 1.0f : 0.0f;
     ef->box[3] = (float)side;
     ef->dims[0] = f.width, ef->dims[1] = f.height, ef->dims[2] = p0, ef->dims[3] = p1;
+    memcpy(ef->extra, k->extra, sizeof ef->extra);
     vx__pipeline* p;
     if ((r = vx__pipeline_get(g, key, pd, &p, err))) return r;
     vx__dispatch_desc dd = {.pipeline = p,

@@ -784,7 +784,7 @@ int main(int argc, char** argv) {
                     mipp = &mip;
             }
             if (esp && use_brick) {
-                if (bench_brick_create(gpu, &s, 10, &brk, &err))
+                if (bench_brick_create(gpu, &s, 12, &brk, &err))
                     fprintf(stderr, "render_bench: %s: no brick grid: %s\n", name, err.msg);
                 else
                     brkp = &brk;
@@ -973,7 +973,7 @@ int main(int argc, char** argv) {
             fprintf(stderr, "  (%s: occupancy pyramid 2^%u cells wide, %llu cells, build %.2f s)\n", name, mip.depth,
                     (unsigned long long)mip.cells, mip.build_seconds);
         if (brkp)
-            fprintf(stderr, "  (%s: brick grid 2^%u cells wide, %llu cells, %llu bricks, build %.2f s)\n", name, brk.depth,
+            fprintf(stderr, "  (%s: brick grid 2^%u cells wide, root level %u, %llu cells, %llu bricks, build %.2f s)\n", name, brk.depth, brk.top,
                     (unsigned long long)brk.cells, (unsigned long long)brk.bricks, brk.build_seconds);
         bench_brick_destroy(&brk);
         bench_mip_destroy(&mip);

@@ -277,8 +277,10 @@ static const spec_row spec_rows[] = {
     {"photon.comp.h", "STEP", 9, {0, 1, 2, 3, 4, 5, 6, 7, 9}},
     {"photon_small.comp.h", "STEP", 7, {0, 2, 3, 4, 6, 7, 9}},
     {"photon.comp.h photon_small.comp.h", "#7", 3, {32, 64, 512}},
-    /* bench/tree64.c's and bench/mipgrid.c's kernel variants; test_pipeline_cache's values; this test's control (test_control) */
-    {"tree64.comp.h", "SKIP", 2, {0, 1}},
+    /* bench/tree64.c's, bench/mipgrid.c's and bench/brickgrid.c's kernel variants; test_pipeline_cache's values; this
+     * test's control (test_control) */
+    {"tree64.comp.h brickgrid.comp.h", "SKIP", 2, {0, 1}},
+    {"brickgrid.comp.h", "TOP", 3, {1, 2, 3}},
     {"mipgrid.comp.h", "PROBE", 3, {0, 1, 2}},
     {"cache_value.comp.h", "VALUE", 3, {0, 1, 3000}},
     {"spec_control.comp.h", "N", 1, {4}},
