@@ -8,6 +8,7 @@
  *   xyz, rgba = s.voxels(0)                # model cells (N,3) int32, colours (N,4) uint8
  *   xyz, rgba = s.scene_voxels()           # grid cells, instances applied (= svo_info --dump)
  *   s.frame_count, s.frame_rate            # an animation: s.frame_instances(n), s.scene_voxels(frame=n)
+ *   s.sky = "gradient:0.2,0.3,0.6:0.7,0.7,0.8:0.1,0.1,0.1"   # the stored sky, svo_render --sky's text (None: default)
  *   img = s.render(320, 240)               # (H,W,4) float32, lavapipe or a GPU (cpu=True: reference)
  *   s.save("castle.svo"); voxkit.convert("duck.glb", "duck.svo", res=128)
  *   s.to_vox("castle.vox"); s.to_glb("castle.glb"); s.to_vdb("castle.vdb")
@@ -306,6 +307,59 @@ static PyObject* scene_scene_voxels(Scene* self, PyObject* args, PyObject* kw) {
     return r;
 }
 
+/* Scene.sky: the sky as svo_render's --sky text (svo.h vx_sky_parse /
+ * vx_sky_format), None for the default. A map's path is stored from the
+ * scene file's folder (as vox2svo --sky stores it) but read and given from
+ * the current folder, as the option takes it: `s.sky = s.sky` keeps the
+ * record, and the text read works as svo_render --sky from here. */
+static PyObject* scene_get_sky(Scene* self, void* closure) {
+    (void)closure;
+    if (self->s.sky.type == VX_SKY_DEFAULT) return Py_NewRef(Py_None);
+    vx_sky k = self->s.sky;
+    vx_error err = {0};
+    if (vx_sky_rebase(&k, self->path, NULL, &err) != VX_OK) {
+        /* the file's folder no longer resolves (or the path grew too long):
+         * the path joined to it as text still names the image from here */
+        char joined[VX_SKY_PATH_MAX + 1];
+        if (!vx_sky_path(&self->s.sky, self->path, joined, sizeof joined)) return raise_error(self->path, &err);
+        memcpy(k.path, joined, sizeof k.path);
+    }
+    char t[VX_SKY_SPEC_MAX];
+    if (vx_sky_format(&k, t, sizeof t, &err) != VX_OK) return raise_error(self->path, &err);
+    return PyUnicode_FromString(t);
+}
+
+static int scene_set_sky(Scene* self, PyObject* v, void* closure) {
+    (void)closure;
+    vx_sky k = {0}; /* None and del: the default (nothing stored) */
+    if (v && v != Py_None) {
+        if (!PyUnicode_Check(v)) {
+            PyErr_Format(PyExc_TypeError, "Scene.sky takes a str (svo_render --sky's syntax) or None, not %.80s",
+                         Py_TYPE(v)->tp_name);
+            return -1;
+        }
+        Py_ssize_t len;
+        const char* spec = PyUnicode_AsUTF8AndSize(v, &len);
+        if (!spec) return -1;
+        vx_error err = {0};
+        if ((size_t)len != strlen(spec)) {
+            PyErr_SetString(PyExc_ValueError, "bad sky: the text holds a NUL character");
+            return -1;
+        }
+        if (vx_sky_parse(spec, &k, &err) != VX_OK) {
+            PyErr_Format(PyExc_ValueError, "bad sky '%.300s': %s", spec, err.msg);
+            return -1;
+        }
+        /* given from the current folder, stored from the scene file's */
+        if (vx_sky_rebase(&k, NULL, self->path, &err) != VX_OK) {
+            raise_error(self->path, &err);
+            return -1;
+        }
+    }
+    self->s.sky = k;
+    return 0;
+}
+
 /* Writes scene s, read from from_path (NULL: unknown, the current folder),
  * to path: a map sky's relative path (relative to the file's folder) is
  * rebased for path's folder on a copy, so the saved file names the same
@@ -534,6 +588,13 @@ static PyGetSetDef scene_getset[] = {
     {"frame_rate", (getter)scene_frame_rate, NULL, "frames per second, 0.0 where the source does not say", NULL},
     {"world_from_grid", (getter)scene_world_from_grid, NULL, "3x4 map from grid cells to world units", NULL},
     {"bounds", (getter)scene_bounds, NULL, "world bounds (lo, hi) of the drawn instances", NULL},
+    {"sky", (getter)scene_get_sky, (setter)scene_set_sky,
+     "the sky stored in the scene, as svo_render --sky's text: 'R,G,B', 'gradient:ZENITH:HORIZON:GROUND'\n"
+     "(R,G,B each) or 'map:FILE[:INTENSITY[:ROTATION]]' (degrees); None for the renderer's own sky.\n"
+     "Assign such a text to set it (ValueError saying what is wrong when it is not one), None, 'default'\n"
+     "or del to reset it; save() writes it. A map's FILE is read and given from the current folder and\n"
+     "stored from the scene file's (as vox2svo --sky stores it).",
+     NULL},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static PyTypeObject SceneType = {

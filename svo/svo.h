@@ -304,6 +304,29 @@ void vx_sky_radiance(const vx_sky* sky, const vx_sky_texels* map, const double d
  * finite rotation and a non-empty path of at most VX_SKY_PATH_MAX bytes;
  * fields the type does not use must be zero (one stored form per sky). */
 vx_result vx_sky_validate(const vx_sky* sky, vx_error* err);
+/* The sky as text: the --sky syntax of svo_render and vox2svo, which
+ * Python's Scene.sky and svo_view's `sky` command also read and give:
+ *   default                               VX_SKY_DEFAULT (nothing stored)
+ *   R,G,B                                 VX_SKY_CONSTANT
+ *   gradient:ZR,ZG,ZB:HR,HG,HB:GR,GG,GB   VX_SKY_GRADIENT (zenith, horizon, ground)
+ *   map:FILE[:INTENSITY[:ROTATION]]       VX_SKY_ENVMAP, intensity 1 and rotation
+ *                                         0 when left out; ROTATION in degrees
+ * Numbers as strtod reads them (finite). FILE is kept as written (it cannot
+ * hold ':'): a caller storing the sky in a file decides which folder it
+ * starts from (vx_sky_rebase). The longest text vx_sky_format writes, with
+ * its NUL, fits VX_SKY_SPEC_MAX bytes. */
+#define VX_SKY_SPEC_MAX 320u
+/* Parses spec into *out and checks it with vx_sky_validate: VX_ERR_INVALID_ARG
+ * with the form that was expected, or the rule broken, in err->msg; *out is
+ * VX_SKY_DEFAULT on failure. */
+vx_result vx_sky_parse(const char* spec, vx_sky* out, vx_error* err);
+/* Writes sky as the text vx_sky_parse reads back to the same record (the
+ * shortest decimal that gives each double back; a rotation is written in
+ * degrees, the one that gives the radians back where one does, else the
+ * nearest), "default" for VX_SKY_DEFAULT. VX_ERR_INVALID_ARG when the sky
+ * fails vx_sky_validate or its map's path holds ':' (the syntax cannot name
+ * it), VX_ERR_LIMIT when the text does not fit n bytes; out is "" then. */
+vx_result vx_sky_format(const vx_sky* sky, char* out, size_t n, vx_error* err);
 
 /* A material resolved from a vx_svo_material dictionary (MagicaVoxel MATL
  * keys; the glTF importer writes the same keys):

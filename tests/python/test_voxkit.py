@@ -332,6 +332,67 @@ conv_svo = os.path.join(WORK, "m-conv.svo")
 voxkit.convert(deep_svo, conv_svo)
 check('"env/sky.exr" x 2' in sky_line(conv_svo), f"convert() to the map's parent folder: {sky_line(conv_svo)}")
 
+# ---- Scene.sky: the stored sky as svo_render --sky's text --------------------------
+# set, read back, saved, reopened, shown by svo_info; a map's path given from the current folder is stored from the
+# file's folder (as vox2svo --sky stores it); bad texts raise ValueError saying what is wrong (before, no setter)
+s = voxkit.open(demo)
+check(s.sky is None, f"Scene.sky: None for a scene without a sky ({s.sky!r})")
+set_dir = os.path.join(WORK, "skyset")
+os.makedirs(set_dir, exist_ok=True)
+for spec, shown in (("gradient:0.2,0.3,0.6:0.7,0.7,0.8:0.1,0.1,0", "gradient zenith 0.2 0.3 0.6, horizon 0.7 0.7 0.8, "
+                     "ground 0.1 0.1 0"), ("0.5,0.25,1000", "constant 0.5 0.25 1000")):
+    s.sky = spec
+    check(s.sky == spec, f"Scene.sky = {spec!r} reads back as {s.sky!r}")
+    out = os.path.join(set_dir, "set.svo")
+    s.save(out)
+    check(voxkit.open(out).sky == spec, f"Scene.sky {spec!r} saved and reopened: {voxkit.open(out).sky!r}")
+    check(shown in sky_line(out), f"svo_info shows the sky set: {sky_line(out)}")
+s.sky = "gradient:1,1,1:1,1,1:1,1,1"
+s.sky = None
+check(s.sky is None, "Scene.sky = None resets it")
+s.save(out)
+check("default" in sky_line(out) and voxkit.open(out).sky is None, f"a reset sky is saved as the default: {sky_line(out)}")
+s.sky = "1,1,1"
+del s.sky
+check(s.sky is None, "del Scene.sky resets it")
+s.sky = "default"
+check(s.sky is None, "Scene.sky = 'default' resets it")
+# a map: given from here, stored from the scene's folder (skya/, so "../env/sky.exr"), given back from here
+m = voxkit.open(sky_svo)
+env_abs = os.path.realpath(os.path.join(WORK, "env", "sky.exr"))
+
+
+def names_env(spec, tail):
+    return spec.startswith("map:") and spec.endswith(tail) and os.path.realpath(spec[4:-len(tail)]) == env_abs
+
+
+check(names_env(m.sky, ":2"), f"Scene.sky of vox2svo --sky map: gives the map from the current folder: {m.sky!r}")
+m.sky = "map:" + env + ":0.5:90"
+check(names_env(m.sky, ":0.5:90"), f"Scene.sky = map:{env}:0.5:90 reads back as {m.sky!r}")
+m_out = os.path.join(sky_dir, "set-map.svo")
+m.save(m_out)
+check('"../env/sky.exr" x 0.5, turned 90 deg' in sky_line(m_out), f"the map set is stored from the file's folder: "
+      f"{sky_line(m_out)}")
+m.save(os.path.join(deep_dir, "set-map.svo"))
+check('"../../env/sky.exr" x 0.5' in sky_line(os.path.join(deep_dir, "set-map.svo")), "the map set follows a save to "
+      "another folder")
+check(names_env(voxkit.open(os.path.join(deep_dir, "set-map.svo")).sky, ":0.5:90"), "and reads back from there")
+before = open(m_out, "rb").read()
+m.sky = m.sky
+m.save(m_out)
+check(open(m_out, "rb").read() == before, "Scene.sky = Scene.sky keeps the record, byte for byte")
+for bad_spec, exc, why in (("gradient:1,1,1", ValueError, "gradient:ZR"), ("-1,0,0", ValueError, "negative"),
+                           ("1,2", ValueError, "R,G,B"), ("map:", ValueError, "map:FILE"),
+                           ("map:a.exr:x", ValueError, "map:FILE"), ("a:b:c:d:e:f", ValueError, "too many"),
+                           ("1,1,1\0", ValueError, "NUL"), (5, TypeError, "str")):
+    try:
+        m.sky = bad_spec
+        check(False, f"Scene.sky = {bad_spec!r} raises {exc.__name__}")
+    except exc as e:
+        check(why in str(e) and (exc is TypeError or "\0" in bad_spec or f"'{bad_spec}'" in str(e)),
+              f"Scene.sky = {bad_spec!r}: {exc.__name__}: {e}")
+check(names_env(m.sky, ":0.5:90"), f"a refused text leaves the sky as it was: {m.sky!r}")
+
 # ---- corpus --------------------------------------------------------------------
 if not os.path.isdir(CORPUS):
     print(f"skip: corpus {CORPUS} not found (only the generated scene was checked)")

@@ -2636,6 +2636,138 @@ static void test_script_export_split(void) {
     vx_svo_scene_free(&back);
 }
 
+/* The script's `sky SPEC` (svo_render --sky's text; alone it prints the
+ * sky): a gradient set, saved, read back; a map given from the current
+ * folder stored from the scene file's folder (as vox2svo --sky); undo and
+ * redo restore the sky before and after; a bad text ends the run naming
+ * what is wrong. Before, svo_view had no way to set the sky. */
+static void test_script_sky(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    script_files fs;
+    script_files_init(&fs, "sky", "svo");
+    vx_svo_scene s;
+    make_scene(&s, 1); /* no sky: the default */
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    /* the map from the current folder: g_dir below it (ctest's) or relative, else absolute (stored as given) */
+    char cwd[1024], map[1200], grad[1100], mapped[1100], undone[1100];
+    REQUIRE(getcwd(cwd, sizeof cwd));
+    size_t cl = strlen(cwd);
+    bool below = !strncmp(g_dir, cwd, cl) && g_dir[cl] == '/', rel = below || g_dir[0] != '/';
+    snprintf(map, sizeof map, "%s/env/sky.exr", below ? g_dir + cl + 1 : g_dir);
+    snprintf(grad, sizeof grad, "%s/sky_grad.svo", g_dir);
+    snprintf(mapped, sizeof mapped, "%s/sky_map.svo", g_dir);
+    snprintf(undone, sizeof undone, "%s/sky_undone.svo", g_dir);
+    remove(grad), remove(mapped), remove(undone);
+    const char* g = "gradient:0.2,0.3,0.6:0.7,0.7,0.8:0.1,0.1,0";
+    char* text;
+    int rc = run_script(&fs, "", &text,
+                        "sky\nsky %s\nsky\nsave %s\nsky map:%s:2:90\nsky\nsave %s\nundo\nsky\nsave %s\nundo\nsky\n"
+                        "redo\nredo\nsky\nquit\n",
+                        g, grad, map, mapped, undone);
+    CHECKF(rc == 0, "svo_view: %s", text ? text : "(no output)");
+    /* what `sky` printed, in order: default, the gradient, the map (from here), then after the undos the
+     * gradient and the default, after the redos the map */
+    char want[6][1400];
+    snprintf(want[0], sizeof want[0], "sky default\n");
+    snprintf(want[1], sizeof want[1], "sky %s\n", g);
+    snprintf(want[2], sizeof want[2], "sky map:%s:2:90\n", map);
+    snprintf(want[3], sizeof want[3], "sky %s\n", g);
+    snprintf(want[4], sizeof want[4], "sky default\n");
+    snprintf(want[5], sizeof want[5], "sky map:%s:2:90\n", map);
+    const char* at = text ? text : "";
+    for (int i = 0; i < 6 && at; i++) {
+        const char* f = strstr(at, want[i]);
+        CHECKF(f, "`sky` %d printed no '%.*s' in:\n%s", i, (int)strlen(want[i]) - 1, want[i], text ? text : "");
+        at = f ? f + strlen(want[i]) : NULL;
+    }
+    free(text);
+    vx_svo_scene got;
+    if (vx_svo_read_file(NULL, grad, &got, &err) == VX_OK) {
+        vx_sky k = {.type = VX_SKY_GRADIENT, .color = {0.2, 0.3, 0.6}, .horizon = {0.7, 0.7, 0.8}, .ground = {0.1, 0.1, 0}};
+        CHECKF(!memcmp(&got.sky, &k, sizeof k), "the saved gradient: type %d, zenith %g %g %g", (int)got.sky.type,
+               got.sky.color[0], got.sky.color[1], got.sky.color[2]);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", grad, err.msg);
+    }
+    if (vx_svo_read_file(NULL, mapped, &got, &err) == VX_OK) {
+        /* stored from the file's folder (g_dir): "env/sky.exr" either way */
+        CHECKF(got.sky.type == VX_SKY_ENVMAP && !strcmp(got.sky.path, rel ? "env/sky.exr" : map) &&
+                   got.sky.intensity == 2 && fabs(got.sky.rotation - 3.14159265358979323846 / 2) < 1e-15,
+               "the saved map: type %d, path '%s', intensity %g, rotation %g", (int)got.sky.type, got.sky.path,
+               got.sky.intensity, got.sky.rotation);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", mapped, err.msg);
+    }
+    /* the undone save is the gradient's, byte for byte */
+    char *a = slurp(grad), *b = slurp(undone);
+    struct stat sa, sb;
+    CHECKF(a && b && !stat(grad, &sa) && !stat(undone, &sb) && sa.st_size == sb.st_size && !memcmp(a, b, (size_t)sa.st_size),
+           "after undoing the map the saved file differs from the gradient's save");
+    free(a), free(b);
+#if VX_VIEW_PANELS
+    /* the properties panel's Sky section: its type combo sets a gradient through the same setter (undo restores);
+     * `wait 2`: the item's release reaches the panels in the frames after the script goes on */
+    remove(fs.out);
+    rc = run_script(&fs, "--size 640x640", &text,
+                    "ui click Sky\nui click sky type\nui click gradient\nwait 2\nsave %s\nundo\nsky\nquit\n", fs.out);
+    CHECKF(rc == 0 && text && strstr(text, "sky default\n"), "the panel's sky, undone: status %d: %s", rc,
+           text ? text : "(no output)");
+    free(text);
+    if (vx_svo_read_file(NULL, fs.out, &got, &err) == VX_OK) {
+        vx_sky k = {.type = VX_SKY_GRADIENT, .color = {0.5, 0.6, 0.8}, .horizon = {0.9, 0.9, 1}, .ground = {0.2, 0.2, 0.2}};
+        CHECKF(!memcmp(&got.sky, &k, sizeof k), "the panel's gradient: type %d, zenith %g %g %g", (int)got.sky.type,
+               got.sky.color[0], got.sky.color[1], got.sky.color[2]);
+        vx_svo_scene_free(&got);
+    } else {
+        CHECKF(false, "%s: %s", fs.out, err.msg);
+    }
+#endif
+    /* a bad text: the run fails, saying what is wrong, and saves nothing after it */
+    remove(fs.out);
+    rc = run_script(&fs, "", &text, "sky gradient:1,1,1\nsave %s\nquit\n", fs.out);
+    CHECKF(rc != 0 && text && strstr(text, "bad sky 'gradient:1,1,1'") && strstr(text, "gradient:ZR") && access(fs.out, F_OK),
+           "a bad sky: status %d: %s", rc, text ? text : "(no output)");
+    free(text);
+}
+
+/* The frame uses the sky set (frame.c file_sky): after `sky R,G,B` the
+ * passes' frame (lights: the radiometric model, the sky the background)
+ * equals svo_render's of the saved file, and differs from the frame before. */
+static void test_script_sky_frame(void) {
+    if (!g_display) SKIP("no display (xvfb-run not found)");
+    if (access(g_render, X_OK)) SKIP("svo_render is not built (%s)", g_render);
+    vx_svo_scene s;
+    if (!scene_with_lights(&s)) SKIP("corpus file vox/ogt_test_groups.vox not found");
+    script_files fs;
+    script_files_init(&fs, "skyframe", "svo");
+    vx_error err = {0};
+    REQUIRE(vx_svo_write_file(NULL, &s, fs.in, &err) == VX_OK);
+    vx_svo_scene_free(&s);
+    char shot0[1024], shot[1024], rr[1100];
+    path(shot0, sizeof shot0, "skyframe0.png");
+    path(shot, sizeof shot, "skyframe1.png");
+    snprintf(rr, sizeof rr, "%s/skyframe_render.png", g_dir);
+    remove(shot0), remove(shot), remove(rr);
+    char* text;
+    int rc = run_script(&fs, "--size 96x72", &text,
+                        "passes gbuffer,direct\nscreenshot %s\nsky 0.9,0.2,0.1\nsave %s\nscreenshot %s\nquit\n", shot0,
+                        fs.out, shot);
+    CHECKF(rc == 0, "svo_view: %s", text ? text : "(no output)");
+    free(text);
+    if (rc) return;
+    rc = run_cmd("%s %s %s --size 96x72 --passes gbuffer,direct > %s 2>&1", g_render, fs.out, rr, fs.log);
+    CHECKF(rc == 0, "svo_render status %d", rc);
+    double d = image_diff(shot, rr), ch = image_diff(shot0, shot);
+    fprintf(stderr, "  after `sky` the frame differs from svo_render's in %.3f%% of pixels, from the frame before in %.1f%%\n",
+            d * 100, ch * 100);
+    CHECKF(d == 0, "%.4f of the pixels differ from svo_render of the saved file", d);
+    CHECKF(ch > 0.05, "the sky changed %.4f of the pixels", ch);
+}
+
 /* `export FILE.glb` and `export FILE.vdb` (convert/export.h through the
  * editor): after an edit, the .glb is the library's export of the scene the
  * script then saves, byte for byte (its metal record and its light too), and
@@ -3134,6 +3266,8 @@ int main(int argc, char** argv) {
     RUN(test_script_hidden_layer);
     RUN(test_script_export_split);
     RUN(test_script_save_sky_map);
+    RUN(test_script_sky);
+    RUN(test_script_sky_frame);
     RUN(test_script_export_quantize);
     RUN(test_script_export_glb_vdb);
     return vx_test_finish();

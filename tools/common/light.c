@@ -31,39 +31,12 @@ const char vx_tool_sky_syntax[] =
     "                       OpenImageIO: equirectangular, top row +z; ROTATION degrees about +z)\n";
 
 bool vx_tool_parse_sky(const char* spec, vx_sky* k, char* why, size_t wn) {
-    char buf[512];
-    memset(k, 0, sizeof *k);
-    if (!spec || strlen(spec) >= sizeof buf) return fail(why, wn, "too long");
-    snprintf(buf, sizeof buf, "%s", spec);
-    char* part[5] = {0};
-    int n = 0;
-    for (char *p = buf, *c;; p = c + 1) {
-        if (n == 5) return fail(why, wn, "too many ':' fields");
-        part[n++] = p;
-        if (!(c = strchr(p, ':'))) break;
-        *c = 0;
-    }
-    if (!strcmp(part[0], "gradient")) {
-        k->type = VX_SKY_GRADIENT;
-        if (n != 4 || !vx_tool_parse_vec(part[1], k->color, 3) || !vx_tool_parse_vec(part[2], k->horizon, 3) ||
-            !vx_tool_parse_vec(part[3], k->ground, 3))
-            return fail(why, wn, "gradient:ZR,ZG,ZB:HR,HG,HB:GR,GG,GB");
-    } else if (!strcmp(part[0], "map")) {
-        k->type = VX_SKY_ENVMAP;
-        k->intensity = 1;
-        double rot = 0;
-        if (n < 2 || n > 4 || !part[1][0] || (n > 2 && !vx_tool_parse_vec(part[2], &k->intensity, 1)) ||
-            (n > 3 && !vx_tool_parse_vec(part[3], &rot, 1)))
-            return fail(why, wn, "map:FILE[:INTENSITY[:ROTATION]]");
-        if (strlen(part[1]) > VX_SKY_PATH_MAX) return fail(why, wn, "map: the path is too long");
-        snprintf(k->path, sizeof k->path, "%s", part[1]);
-        k->rotation = rot * deg;
-    } else {
-        k->type = VX_SKY_CONSTANT;
-        if (n != 1 || !vx_tool_parse_vec(part[0], k->color, 3)) return fail(why, wn, "R,G,B, gradient:... or map:...");
-    }
+    /* the syntax is the library's (svo.h vx_sky_parse), shared with the
+     * Python module and svo_view's `sky` command */
     vx_error err = {0};
-    if (vx_sky_validate(k, &err)) return fail(why, wn, err.msg);
+    if (vx_sky_parse(spec, k, &err)) return fail(why, wn, err.msg);
+    /* nothing to store or replace: the option is left out for the default */
+    if (k->type == VX_SKY_DEFAULT) return fail(why, wn, "'default' is the renderer's own sky: leave --sky out");
     return true;
 }
 

@@ -22,8 +22,9 @@ bool vx_tool_parse_light(const char* spec, vx_light* out, char* why, size_t why_
 extern const char vx_tool_sky_syntax[];
 /* Parses a --sky spec: R,G,B (constant), gradient:ZENITH:HORIZON:GROUND
  * (R,G,B each) or map:FILE[:INTENSITY[:ROTATION]] (degrees on the command
- * line, radians in vx_sky); checked with vx_sky_validate. false with why
- * filled when malformed or invalid. */
+ * line, radians in vx_sky); svo/svo.h vx_sky_parse, which also checks it
+ * with vx_sky_validate, less its "default" (the option left out). false
+ * with why filled when malformed or invalid. */
 bool vx_tool_parse_sky(const char* spec, vx_sky* out, char* why, size_t why_size);
 
 /* "point (1 2 3) colour 1 1 1 x 10, range 5" and the like. */

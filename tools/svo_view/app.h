@@ -118,6 +118,10 @@ typedef struct app {
     uint64_t light_step;
     uint32_t light_serial, gi_light_serial; /* lights changed (edit, undo, open); what the gi method was made with */
     char scene_file[1024]; /* the file the scene came from (a map sky's path is relative to it) */
+    uint64_t sky_step;     /* the undo step (ed.serial) of the last merged sky edit in the panel */
+    char sky_text[VX_SKY_SPEC_MAX]; /* the properties panel's sky field (sv_sky_text) ... */
+    char sky_map_text[VX_SKY_PATH_MAX + 1]; /* ... and its map file field, from the current folder */
+    uint32_t sky_text_for;                  /* 1 + the light_serial these show (made again when it moves on) */
     char sky_file[1280];   /* the environment map sky_rgb was read from ("" none) */
     float* sky_rgb;
     vx_sky_texels sky_map;
@@ -253,6 +257,19 @@ void sv_undo(app* a, bool redo);
  * the step of the previous edit when that was also a merged edit of light l
  * and nothing was edited or undone since (a drag in the panel is one step). */
 bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge);
+/* The scene's sky becomes *k (stored form: a map's relative path from the
+ * scene file's folder); false with a message when vx_sky_validate refuses
+ * it. An undo step, merged as sv_set_light's; the gi methods are made again
+ * (they take the sky), the passes use it from the next frame. */
+bool sv_set_sky(app* a, const vx_sky* k, bool merge);
+/* The sky from svo_render --sky's text (svo.h vx_sky_parse; "default"
+ * resets it), a map's path given from the current folder and stored from
+ * the scene file's, as vox2svo --sky stores it (the script's `sky SPEC`,
+ * the panel's text field): sv_set_sky, its own step. False with a message. */
+bool sv_set_sky_text(app* a, const char* spec);
+/* The sky as that text, a map's path from the current folder (what
+ * sv_set_sky_text takes back); "" with a message when it has none. */
+void sv_sky_text(app* a, char* out, size_t n);
 /* Material id's field (settings.h sv_material_field: type, rough, metal,
  * spec, trans, ior, emit, flux) set from value text: an undo step, merged
  * as sv_set_light's; the gi methods are made again. False with a message. */

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <vulkan/vulkan.h> /* the swapchain's layout for the panels drawn on the GPU */
 
+#include "tools/svo_view/camera.h" /* SV_PI */
 #include "tools/svo_view/ui.h"
 
 static const char* const light_types[VX_LIGHT_TYPE_COUNT] = {"directional", "point", "spot", "sphere", "rect"};
@@ -232,6 +233,71 @@ static void light_props(app* a) {
         *l = before;
         sv_set_light(a, a->sel_light, &t, true);
     }
+}
+
+/* The scene's sky (svo/svo.h vx_sky): its type, colours or map, and its
+ * text as svo_render --sky takes it (the script's `sky SPEC`); every edit
+ * through sv_set_sky, so undo restores it (a colour drag is one step). */
+static void sky_props(app* a) {
+    static const char* const types[VX_SKY_TYPE_COUNT] = {"default (the renderer's)", "constant", "gradient",
+                                                         "environment map"};
+    const vx_sky* cur = &a->scene.sky;
+    if (a->sky_text_for != a->light_serial + 1) { /* the sky may have changed (an edit, undo, open): the fields again */
+        a->sky_text_for = a->light_serial + 1;   /* + 1: 0 is "never filled" */
+        sv_sky_text(a, a->sky_text, sizeof a->sky_text);
+        const char* m = !strncmp(a->sky_text, "map:", 4) ? a->sky_text + 4 : "";
+        size_t l = strcspn(m, ":");
+        snprintf(a->sky_map_text, sizeof a->sky_map_text, "%.*s", (int)l, m);
+    }
+    vx_sky k = *cur;
+    int type = (unsigned)k.type < VX_SKY_TYPE_COUNT ? (int)k.type : 0;
+    if (ui_combo("sky type", &type, types, VX_SKY_TYPE_COUNT) && type != (int)k.type) {
+        /* a type of its own colours: the zenith kept as the colour, a pale sky where there is none */
+        double c[3] = {k.color[0], k.color[1], k.color[2]};
+        if (k.type != VX_SKY_CONSTANT && k.type != VX_SKY_GRADIENT) c[0] = 0.5, c[1] = 0.6, c[2] = 0.8;
+        vx_sky n = {.type = (vx_sky_type)type};
+        if (type == VX_SKY_CONSTANT || type == VX_SKY_GRADIENT) memcpy(n.color, c, sizeof c);
+        if (type == VX_SKY_GRADIENT) {
+            n.horizon[0] = n.horizon[1] = 0.9, n.horizon[2] = 1.0;
+            n.ground[0] = n.ground[1] = n.ground[2] = 0.2;
+        }
+        if (type == VX_SKY_ENVMAP) {
+            if (!a->sky_map_text[0]) sv_message(a, false, "sky: type the map's file and press Enter");
+            else { /* the file last shown, from the current folder */
+                char t[VX_SKY_SPEC_MAX + 8];
+                snprintf(t, sizeof t, "map:%s", a->sky_map_text);
+                sv_set_sky_text(a, t);
+            }
+        } else {
+            sv_set_sky(a, &n, false);
+        }
+        return;
+    }
+    if (k.type == VX_SKY_CONSTANT) ui_color3("sky colour", k.color);
+    if (k.type == VX_SKY_GRADIENT) {
+        ui_color3("zenith", k.color);
+        ui_color3("horizon", k.horizon);
+        ui_color3("ground", k.ground);
+    }
+    if (k.type == VX_SKY_ENVMAP) {
+        double deg = k.rotation * 180 / SV_PI;
+        ui_drag_double("map intensity", &k.intensity, 0.05, 0, 1e9);
+        if (ui_drag_double("map rotation (deg)", &deg, 1, -360, 360)) k.rotation = deg * SV_PI / 180;
+    }
+    /* colours and the map's numbers: one step a drag; a change the sky's rules refuse is taken back */
+    if (memcmp(&k, cur, sizeof k)) sv_set_sky(a, &k, true);
+    if (ui_input_text("map file", a->sky_map_text, sizeof a->sky_map_text) && a->sky_map_text[0]) {
+        /* from the current folder, with the map's intensity and rotation as they are */
+        char t[2 * VX_SKY_SPEC_MAX], num[VX_SKY_SPEC_MAX] = "";
+        vx_sky m = *cur;
+        memset(m.path, 0, sizeof m.path);
+        m.path[0] = 'x'; /* the text's numbers after "map:x" (vx_sky_format: they read back exactly) */
+        if (cur->type == VX_SKY_ENVMAP && !vx_sky_format(&m, num, sizeof num, NULL)) memmove(num, num + 5, strlen(num + 5) + 1);
+        else num[0] = 0;
+        snprintf(t, sizeof t, "map:%s%s", a->sky_map_text, num);
+        sv_set_sky_text(a, t);
+    }
+    if (ui_input_text("sky (svo_render --sky)", a->sky_text, sizeof a->sky_text)) sv_set_sky_text(a, a->sky_text);
 }
 
 /* The material of a palette index or material id (docs/FORMAT.md 4.1): its
@@ -578,6 +644,7 @@ void sv_panels_draw(app* a, vf_canvas* cv) {
         ui_separator();
         if (ui_collapsing("Voxel editing", a->voxel_mode)) brush_panel(a);
         if (ui_collapsing("Material", false)) material_props(a);
+        if (ui_collapsing("Sky", false)) sky_props(a);
     }
     ui_window_end();
     if (ui_window_begin("Render", W - rw, 0, rw, H * 0.3f)) render_panel(a);

@@ -588,6 +588,48 @@ bool sv_set_light(app* a, uint32_t l, const vx_light* t, bool merge) {
     return true;
 }
 
+bool sv_set_sky(app* a, const vx_sky* k, bool merge) {
+    vx_error err = {0};
+    if (vx_sky_validate(k, &err)) {
+        sv_message(a, true, "%s", err.msg);
+        return false;
+    }
+    if (!memcmp(k, &a->scene.sky, sizeof *k)) return true;
+    bool same = merge && a->sky_step == a->ed.serial && a->ed.undo_count > 0 && a->ed.redo_count == 0;
+    if (!same && !sv_edit_begin(a, false)) return false; /* the snapshot holds the sky (editor.h) */
+    a->scene.sky = *k;
+    a->light_serial++; /* the gi methods are made with the sky (frame.c frame_desc) */
+    a->sky_step = merge ? a->ed.serial : 0;
+    return true;
+}
+
+bool sv_set_sky_text(app* a, const char* spec) {
+    vx_sky k;
+    vx_error err = {0};
+    if (vx_sky_parse(spec, &k, &err)) {
+        sv_message(a, true, "bad sky '%s': %s", spec, err.msg);
+        return false;
+    }
+    /* from the current folder to the scene file's (a scene made here has none: the current folder) */
+    if (vx_sky_rebase(&k, NULL, a->scene_file[0] ? a->scene_file : NULL, &err)) {
+        sv_message(a, true, "sky '%s': %s", spec, err.msg);
+        return false;
+    }
+    return sv_set_sky(a, &k, false);
+}
+
+void sv_sky_text(app* a, char* out, size_t n) {
+    vx_sky k = a->scene.sky;
+    vx_error err = {0};
+    const char* file = a->scene_file[0] ? a->scene_file : NULL;
+    if (vx_sky_rebase(&k, file, NULL, &err)) {
+        /* the file's folder no longer resolves: its path joined as text still names the map from here */
+        char joined[VX_SKY_PATH_MAX + 1];
+        if (vx_sky_path(&a->scene.sky, file, joined, sizeof joined)) memcpy(k.path, joined, sizeof k.path);
+    }
+    if (vx_sky_format(&k, out, n, &err)) sv_message(a, true, "%s", err.msg);
+}
+
 /* After the materials changed (an edit; undo and redo go through
  * update_instances, which does the same): the gi methods read them when made
  * (metal and glass, emission) and the frame renderer's emission table. */

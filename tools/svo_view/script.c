@@ -294,6 +294,17 @@ bool sv_script_command(app* a, char* line, uint32_t lineno) {
             return false;
         }
         if (!sv_set_light(a, l, &t, false)) return false; /* an undo step of its own */
+    } else if (!strcmp(c, "sky")) { /* svo_render --sky's text: an undo step of its own; alone: prints the sky */
+        if (nt == 1) {
+            char t[VX_SKY_SPEC_MAX];
+            sv_sky_text(a, t, sizeof t);
+            printf("%s: sky %s\n", vx_tool_name, t);
+        } else {
+            char spec[VX_SKY_SPEC_MAX + 64] = "";
+            for (int k = 1; k < nt; k++) /* the rest of the line, single-spaced (a map's path may hold spaces) */
+                snprintf(spec + strlen(spec), sizeof spec - strlen(spec), "%s%s", k > 1 ? " " : "", tok[k]);
+            if (!sv_set_sky_text(a, spec)) return false;
+        }
     } else if (!strcmp(c, "material")) {
         uint32_t id;
         if (nt != 4 || !vx_tool_parse_u32(tok[1], &id) || id > 65535) BAD();
