@@ -48,20 +48,24 @@
  * colour model has no metal.
  *
  * Glass seen directly (radiometric model, the direct pass present): a pixel
- * whose record is glass that transmits gets the path tracer's dielectric in
- * expectation: F (its Fresnel at the view angle, its ior) times the sky
- * along the mirror direction plus (1 - F) times the colour times the
- * radiance the refracted ray brings: walked through the glass cells, out
- * with weight 1 - F_out (past the critical angle reflected inside), traced
- * to the next surface, which gets its direct light (shadowed, Lambert or
- * metal's BRDF), emission and sky term (a miss: the sky); an opaque voxel
+ * whose record is glass that transmits gets the path tracer's glass events
+ * at bounces 0 in expectation (a dielectric event is no bounce: the path
+ * goes on off and through the glass to the first surface that is not
+ * glass): F (its Fresnel at the view angle, its ior) times the radiance the
+ * reflected ray brings plus (1 - F) times the colour times the radiance the
+ * refracted ray brings: walked through the glass cells, out with weight 1 -
+ * F_out, the share F_out reflected inside walked on in turn (past the
+ * critical angle all of it). Each ray that leaves the glass is traced to the
+ * next surface, which gets its direct light (shadowed, Lambert or metal's
+ * BRDF), emission and sky term (a miss: the sky); a further glass body is
+ * split the same way (its Lambert share shaded as diffuse); an opaque voxel
  * against the glass (the floor a glass block stands on, a voxel set in
  * glass) is such a surface too, seen from inside the glass (its shadow rays
- * meet the glass: its emission and sky term). Rough glass takes
- * the smooth directions; internal reflections below the critical angle are
- * not followed; at most 4 glass bodies and 256 cells a body. The direct
- * image holds that radiance, resolve adds it as it is; the Lambert share 1 -
- * transmission is shaded as diffuse. With a gi pass the glass lobe (what
+ * meet the glass: its emission and sky term). Rough glass takes the smooth
+ * directions; at most 4 glass bodies along a ray, 8 rays a pixel, none of
+ * weight below 1e-4, and a step limit a body (pass_bodies.glsl glass_lobe).
+ * The direct image holds that radiance, resolve adds it as it is; the
+ * Lambert share 1 - transmission is shaded as diffuse. With a gi pass the glass lobe (what
  * the glass reflects and transmits) is the gi method's instead: its paths,
  * photon paths or cones go on through the glass and bring the surface
  * behind it whole, its indirect light included (which the direct pass

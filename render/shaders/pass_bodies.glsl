@@ -451,16 +451,19 @@ vec3 glass_refract(vec3 wo, vec3 n, float eta) {
 // its start p (t: how far the walk is along it), so the exit from the glass
 // does not depend on the boxes taken on the way (the compact layout walks
 // cell by cell and gives the same bits). The share F reflected back inside
-// below the critical angle is not followed (a loss of F_out * F_in,
-// 0.16% for a slab of ior 1.5 seen head on). WALK_ABSORBED: glass_walk_steps
-// steps. WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel
+// below the critical angle comes back as a ray of its own (ro, rd: from just
+// inside the exit face; rthr its weight, 0 where nothing reflects), which
+// glass_lobe follows as it follows the first reflection. WALK_ABSORBED:
+// glass_walk_steps steps. WALK_OUT: o and d the ray that left. WALK_STOP: an opaque voxel
 // across a face of the glass (a glass block on a floor, a voxel set in
 // glass; the path tracer's walk stops there too), or with several instances
 // another instance's voxel inside the glass box: o the point on its face,
 // s1 its G-buffer-like record (the voxel's colour and record, the instance
 // and axis whose normal faces into the glass).
 const uint WALK_ABSORBED = 0u, WALK_OUT = 1u, WALK_STOP = 2u;
-uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o, out uvec4 s1) {
+uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr, out vec3 o, out uvec4 s1, out vec3 ro,
+                     out vec3 rd, out vec3 rthr) {
+    ro = p, rd = d, rthr = vec3(0.0);
     uvec3 c = glass_cell(inst, p);
     uint lv;
     if (model_cell_leaf(insts[inst].model, c, lv) == NO_HIT) lv = 0u;
@@ -541,6 +544,7 @@ uint glass_pass_walk(uint inst, vec3 p, float ior, inout vec3 d, inout vec3 thr,
             t = 0.0;
             continue;
         }
+        rthr = thr * fr, rd = reflect(d, nf), ro = q - nf * eps; // the share reflected back inside
         thr *= 1.0 - fr;
         d = glass_refract(-d, -nf, 1.0 / ior);
         o = q + nf * eps;
@@ -574,67 +578,119 @@ vec3 glass_seen_surface(uvec2 px, uvec4 s0, uvec4 s1, vec3 wo) {
 }
 
 // The radiance a glass pixel (record m = vec4(2, rough, ior, transmission))
-// sends to the eye, the path tracer's dielectric in expectation with smooth
-// directions (rough glass too: the macro normal's mirror and refraction): F
-// at the view angle times the sky along the mirror direction, plus (1 - F)
-// times the colour (the path tracer's tint at entry) times what the
-// refracted ray brings: walked through the glass (glass_pass_walk), then
-// traced to the next surface, which glass_seen_surface shades, or the sky on
-// a miss; a further glass body on the way is entered the same way (its F
-// times the sky along its mirror direction, its transmission weighting what
-// goes on) up to GLASS_BODIES. Transmission t < 1: t times that (the glass
-// lobe, glass_lobe) plus 1 - t times the Lambert radiance alb / pi E (the
-// path tracer's choice of lobe; glass_pixel adds it).
+// sends to the eye: the path tracer's glass events (probes/pathtrace.c
+// vx__path: a dielectric event is no bounce, so at bounces 0 a path goes on
+// through glass and off it to the first surface that is not glass, which
+// gets its direct light and emission) in expectation, with smooth directions
+// (rough glass too: the macro normal's mirror and refraction). Where the path
+// tracer draws one branch of each Fresnel split, this follows both: at a
+// glass surface the reflected ray (weight F at its angle, the exact Fresnel)
+// and the refracted one (1 - F, times the colour: the path tracer's tint at
+// entry); inside, the walk (glass_pass_walk) to the exit face, where the ray
+// leaves with 1 - F_out and the share F_out reflected back inside is
+// followed in turn (past the critical angle the walk reflects whole). Each
+// ray that leaves the glass is traced to the next surface, which
+// glass_seen_surface shades (its direct light, emission, sky term), or to
+// the sky on a miss; a further glass body met is split the same way (its
+// transmission t weighting the glass lobe, 1 - t its Lambert share shaded as
+// a diffuse surface) up to GLASS_BODIES entered along one ray, the surface
+// met after that shaded as opaque. The pending rays wait on a small stack
+// (GLASS_STACK; the refracted ray goes first, the reflected one waits); at
+// most GLASS_RAYS rays are followed per pixel and none lighter than
+// GLASS_MIN_WEIGHT (a slab of ior 1.5 seen head on: the reflection 4%, the
+// light reflected twice inside 0.16%, three times 6e-5, dropped). The
+// pixel's own transmission t weights what this returns; its Lambert share
+// (1 - t) is glass_pixel's (and resolve's sky term).
+const uint GLASS_RAYS = 8u, GLASS_STACK = 4u;
+const float GLASS_MIN_WEIGHT = 1e-4;
+const uint GLASS_OUT = 0u, GLASS_IN = 1u, GLASS_AT = 2u; // a ray in the open, inside glass, at a glass surface
 vec3 glass_lobe(uvec2 px, uvec4 g0, uvec4 g1, vec4 m) {
-    vec3 p = uintBitsToFloat(g0.xyz), n = gb_normal(g1);
-    vec3 alb = HAS_COLOR ? unpack_rgb(g1.x) : vec3(1.0);
-    vec3 wo = view_to_eye(p);
     vec3 rad = vec3(0.0);
-    vec3 thr = vec3(m.w);
-    float ior = m.z;
-    uint inst = g1.y;
-    for (uint b = 0u; b < GLASS_BODIES; b++) {
-        float c = dot(n, wo);
-        if (c <= 0.0) break;
-        float fr = fresnel_dielectric(c, ior);
-        rad += thr * fr * frame_sky(reflect(-wo, n));
-        if (fr >= 1.0) break;
-        thr *= (1.0 - fr) * alb;
-        vec3 d = glass_refract(wo, n, ior), o;
-        float eps = 1e-3 * insts[inst].cell + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z));
-        uvec4 st;
-        uint wr = glass_pass_walk(inst, p - n * eps, ior, d, thr, o, st);
-        if (wr == WALK_ABSORBED) break;
-        if (wr == WALK_STOP) {
-            // a voxel set in the glass (or the floor a glass block stands on): shaded as a surface seen
-            // through glass; its shadow rays start inside the glass, which they meet, so its direct light
-            // is none, as in the path tracer, which samples no light inside glass
-            rad += thr * glass_seen_surface(px, uvec4(floatBitsToUint(o), 0u), st, -d);
-            break;
+    // the ray followed: its state, start o, direction d, weight thr; inside glass (GLASS_IN) its instance slot and
+    // ior; the glass bodies entered along it; at a glass surface (GLASS_AT) the surface s0, s1
+    uint state = GLASS_AT, inst = g1.y, bodies = 0u;
+    vec3 o = uintBitsToFloat(g0.xyz), d = -view_to_eye(o), thr = vec3(1.0);
+    float ior = 1.0;
+    uvec4 s0 = g0, s1 = g1;
+    // the rays waiting: (start, direction, weight, instance | GLASS_IN << 31, ior, bodies)
+    vec3 wo_[GLASS_STACK], wd_[GLASS_STACK], ww_[GLASS_STACK];
+    uint wi_[GLASS_STACK], wb_[GLASS_STACK];
+    float wr_[GLASS_STACK];
+    uint nw = 0u;
+    bool have = true;
+    for (uint r = 0u; r < GLASS_RAYS; r++) {
+        if (!have) {
+            if (nw == 0u) break;
+            nw--;
+            o = wo_[nw], d = wd_[nw], thr = ww_[nw], ior = wr_[nw], bodies = wb_[nw];
+            inst = wi_[nw] & 0x7FFFFFFFu, state = (wi_[nw] >> 31) != 0u ? GLASS_IN : GLASS_OUT;
         }
-        Hit h;
-        h.t = 3.0e38;
-        h.inst = NO_HIT;
-        h.color = 0xFFFFFFFFu;
-        h.attr = NO_HIT;
-        g_iter = 0u;
-        if (!trace_scene(o, d, 0.0, false, h)) {
-            rad += thr * frame_sky(d);
-            break;
+        have = false;
+        if (max(max(thr.x, thr.y), thr.z) < GLASS_MIN_WEIGHT) continue;
+        bool shade = false; // s0, s1 a surface seen along d, shaded with weight sw
+        vec3 sw = thr;
+        if (state == GLASS_IN) {
+            vec3 q, ro, rd, rw;
+            uint wk = glass_pass_walk(inst, o, ior, d, thr, q, s1, ro, rd, rw);
+            if (wk == WALK_OUT && max(max(rw.x, rw.y), rw.z) >= GLASS_MIN_WEIGHT && nw < GLASS_STACK) {
+                wo_[nw] = ro, wd_[nw] = rd, ww_[nw] = rw, wi_[nw] = inst | 0x80000000u, wr_[nw] = ior, wb_[nw] = bodies;
+                nw++;
+            }
+            if (wk == WALK_ABSORBED) continue;
+            o = q, state = GLASS_OUT, sw = thr;
+            if (wk == WALK_STOP) {
+                // a voxel set in the glass (or the floor a glass block stands on): shaded as a surface seen
+                // through glass; its shadow rays start inside the glass, which they meet, so its direct light
+                // is none, as in the path tracer, which samples no light inside glass
+                s0 = uvec4(floatBitsToUint(q), 0u);
+                shade = true;
+            }
         }
-        p = o + d * h.t;
-        uvec4 s0 = uvec4(floatBitsToUint(p.x), floatBitsToUint(p.y), floatBitsToUint(p.z), 0u);
-        uvec4 s1 = uvec4(h.color, h.inst, uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u), h.attr);
-        vec4 gm;
-        if (b + 1u < GLASS_BODIES && glass_of(h.attr, gm)) {
-            // the next glass body: its record, entered along d
-            n = gb_normal(s1), wo = -d, inst = h.inst, ior = gm.z;
-            alb = HAS_COLOR ? unpack_rgb(h.color) : vec3(1.0);
+        if (state == GLASS_OUT && !shade) {
+            Hit h;
+            h.t = 3.0e38;
+            h.inst = NO_HIT;
+            h.color = 0xFFFFFFFFu;
+            h.attr = NO_HIT;
+            g_iter = 0u;
+            if (!trace_scene(o, d, 0.0, false, h)) {
+                rad += thr * frame_sky(d);
+                continue;
+            }
+            vec3 p = o + d * h.t;
+            s0 = uvec4(floatBitsToUint(p.x), floatBitsToUint(p.y), floatBitsToUint(p.z), 0u);
+            s1 = uvec4(h.color, h.inst, uint(h.axis) | (h.nsign < 0.0 ? 4u : 0u), h.attr);
+            vec4 gm;
+            state = bodies < GLASS_BODIES && glass_of(h.attr, gm) ? GLASS_AT : GLASS_OUT;
+            shade = state == GLASS_OUT;
+        }
+        vec3 swo = -d; // towards where the ray came from
+        if (state == GLASS_AT) {
+            // a glass surface met from outside: its Lambert share shaded (not the pixel's own: glass_pixel's), its
+            // glass lobe split into the reflected ray (waiting) and the refracted one (followed next)
+            vec4 gm;
+            glass_of(s1.w, gm);
+            vec3 p = uintBitsToFloat(s0.xyz), n = gb_normal(s1);
+            vec3 alb = HAS_COLOR ? unpack_rgb(s1.x) : vec3(1.0);
+            sw = thr * (1.0 - gm.w);
+            shade = r > 0u && gm.w < 1.0;
+            inst = s1.y, ior = gm.z;
             thr *= gm.w;
-            continue;
+            float c = dot(n, swo), fr = c > 0.0 ? fresnel_dielectric(c, ior) : 0.0;
+            float eps = 1e-3 * insts[inst].cell + 4e-6 * max(max(abs(p.x), abs(p.y)), abs(p.z));
+            if (c > 0.0 && nw < GLASS_STACK) {
+                wo_[nw] = p + n * eps, wd_[nw] = reflect(d, n), ww_[nw] = thr * fr, wi_[nw] = inst, wr_[nw] = ior;
+                wb_[nw] = bodies;
+                nw++;
+            }
+            if (c > 0.0 && fr < 1.0) {
+                thr *= (1.0 - fr) * alb;
+                d = glass_refract(swo, n, ior);
+                o = p - n * eps;
+                state = GLASS_IN, bodies++, have = true;
+            }
         }
-        rad += thr * glass_seen_surface(px, s0, s1, -d);
-        break;
+        if (shade) rad += sw * glass_seen_surface(px, s0, s1, swo);
     }
     return rad;
 }

@@ -6,11 +6,20 @@
  *  - the closed form: the ray refracted through the slab's parallel faces
  *    (direction unchanged, displaced), the floor's Lambert radiance albedo /
  *    pi E where it lands, times the tint and (1 - F_in)(1 - F_out) (the exact
- *    Fresnel, F_out = F_in for parallel faces), computed here in double;
+ *    Fresnel, F_out = F_in for parallel faces), plus the share reflected
+ *    twice inside the slab, computed here in double;
  *  - the CPU path tracer (pixel centres; its Fresnel choices converge over
  *    samples; no bounces: the pipeline's direct pass has none);
  *  - the floor seen beside the slab, the same pixels as a scene whose slab is
  *    diffuse (a scene without glass keeps its code path and values).
+ * And what glass reflects (test_glass_reflection): a pool of water (a glass
+ * slab in a basin) under a wall lit by point lights, seen at a low angle, and
+ * a glass pane before a lit wall with a lit floor on the camera's side, the
+ * passes without a gi pass against the path tracer at bounces 0 (direct
+ * light and emission: its glass events are no bounces, so its paths go on
+ * off the glass to the lit wall and floor). Before the direct pass followed
+ * the reflected rays, a glass pixel's reflection was the sky's alone: the
+ * pool's water 0.0000 against the path tracer's 0.0120.
  * Skips without a Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
@@ -91,11 +100,27 @@ static bool frame(const vx_svo_scene* s, const char* passes, bool separate, vx_r
     return r == VX_OK;
 }
 
+/* The Lambert radiance albedo / pi E of the floor (top z = 1) where the ray
+ * o + t d lands, 0.25 inside it and behind the slab; false elsewhere. */
+static bool floor_light(const double o[3], const double d[3], double out[3]) {
+    double t = (1 - o[2]) / d[2], p[3];
+    for (int k = 0; k < 3; k++) p[k] = o[k] + t * d[k];
+    if (!(p[0] > 0.25 && p[0] < N - 0.25 && p[1] > Y1 + 0.25 && p[1] < N - 0.25)) return false;
+    double wi[3];
+    for (int k = 0; k < 3; k++) wi[k] = LIGHT_POS[k] - p[k];
+    double di2 = cf_dot3(wi, wi), dist = sqrt(di2), q = (dist / 1000) * (dist / 1000);
+    double E = LIGHT_I * (wi[2] / dist) / di2 * (1 - q * q) * (1 - q * q);
+    for (int k = 0; k < 3; k++) out[k] = ((FLOOR_RGBA >> (8 * k)) & 255) / 255.0 / PI * E;
+    return true;
+}
+
 /* Pixel (px, py)'s centre ray (render/render.h's pinhole). Through the slab:
  * whether it enters by the front face y = Y0 and leaves by the back face
  * y = Y1 (both 0.2 from the face's edges) to land on the floor (top z = 1)
- * 0.25 inside it; then the expected radiance (Lambert floor times the tint
- * and (1 - F)^2), and F. Beside the slab (through == false): whether it
+ * 0.25 inside it, and so does the share reflected twice inside (back face,
+ * front face) that leaves by the back face further on; then the expected
+ * radiance (Lambert floor times the tint and (1 - F)^2, plus that share's
+ * with F^2 more), and F. Beside the slab (through == false): whether it
  * meets the floor 0.25 inside it without touching the slab's box, and the
  * floor's Lambert radiance. */
 static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], double* F) {
@@ -103,7 +128,7 @@ static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], 
     const double* e = b.camera.eye;
     double d[3];
     cf_pixel_ray(&b, px, py, d);
-    double o[3] = {e[0], e[1], e[2]}, thr = 1;
+    double o[3] = {e[0], e[1], e[2]}, thr = 1, twice[3] = {0, 0, 0};
     *F = 0;
     if (!(d[2] < 0) || !(d[1] > 0)) return false;
     double t0 = (Y0 - o[1]) / d[1], a[3];
@@ -121,19 +146,24 @@ static bool pixel_expect(uint32_t px, uint32_t py, bool through, double out[3], 
         *F = fi;
         thr = (1 - fi) * (1 - fo);
         memcpy(o, q, sizeof o);
+        /* the share reflected at the back face and again at the front one leaves the back face parallel to the
+         * first exit, two crossings further on (weight F_out^2 more; the next, F_out^4, some 3e-6, left out),
+         * unless it goes down to the slab's bottom first, where it meets the floor under the glass (no light
+         * there: its shadow rays meet the glass); near an edge the pixel is not taken */
+        double q2[3], s2 = 2 * (Y1 - Y0) / di[1];
+        for (int k = 0; k < 3; k++) q2[k] = q[k] + s2 * (k == 1 ? 0 : di[k]);
+        if (!(q2[0] > X0 + 0.2 && q2[0] < X1 - 0.2 && q2[2] < Z1 - 0.2) || fabs(q2[2] - 1) < 0.2) return false;
+        double e2[3];
+        if (q2[2] > 1 && !floor_light(q2, d, e2)) return false;
+        for (int k = 0; k < 3; k++) twice[k] = q2[2] > 1 ? thr * fo * fo * e2[k] : 0;
     } else if (front || (a[0] > X0 - 0.2 && a[0] < X1 + 0.2 && a[2] >= Z1)) {
         return false; /* the slab's box is in the way, or close */
     }
-    double t = (1 - o[2]) / d[2], p[3];
-    for (int k = 0; k < 3; k++) p[k] = o[k] + t * d[k];
-    if (!(p[0] > 0.25 && p[0] < N - 0.25 && p[1] > Y1 + 0.25 && p[1] < N - 0.25)) return false;
-    double wi[3];
-    for (int k = 0; k < 3; k++) wi[k] = LIGHT_POS[k] - p[k];
-    double di2 = cf_dot3(wi, wi), dist = sqrt(di2), q = (dist / 1000) * (dist / 1000);
-    double E = LIGHT_I * (wi[2] / dist) / di2 * (1 - q * q) * (1 - q * q);
+    double e1[3];
+    if (!floor_light(o, d, e1)) return false;
     for (int k = 0; k < 3; k++) {
-        double fl = ((FLOOR_RGBA >> (8 * k)) & 255) / 255.0, tint = through ? ((GLASS_RGBA >> (8 * k)) & 255) / 255.0 : 1;
-        out[k] = fl / PI * E * thr * tint;
+        double tint = through ? ((GLASS_RGBA >> (8 * k)) & 255) / 255.0 : 1;
+        out[k] = (thr * e1[k] + twice[k]) * tint;
     }
     return true;
 }
@@ -162,7 +192,7 @@ static void test_glass_closed_form(void) {
             fprintf(stderr, "  %s (%s): %zu pixels, worst relative error %.2e%s", through ? "through glass" : "beside it",
                     sep ? "separate" : "merged", n, worst, through ? "" : "\n");
             if (through) fprintf(stderr, ", F at entry %.4f .. %.4f\n", fmin_, fmax_);
-            CHECK(n > (through ? 150u : 60u));
+            CHECK(n > (through ? 110u : 60u));
             /* the shading point 1e-3 cell above the floor (its light direction and distance): some 1e-4 */
             CHECKF(worst < 2e-3, "worst relative error %.2e", worst);
         }
@@ -174,9 +204,9 @@ static void test_glass_closed_form(void) {
 /* Through the slab against the CPU path tracer: the mean ratio over the
  * pixels the closed form takes (1 within 2%: the path tracer's Fresnel
  * choice is a coin per interface, so its pixel is 0 or the floor's light;
- * at spp 256 and some 200 pixels of p = (1 - F)^2 ~ 0.92 the mean's
- * standard error is some 0.15%, and the light the pipeline does not follow
- * (reflected twice inside the slab, F^2 ~ 0.2%) is below the tolerance). */
+ * at spp 256 and some 130 pixels of p = (1 - F)^2 ~ 0.92 the mean's
+ * standard error is some 0.2%; the pipeline follows the light reflected
+ * inside the slab as the path tracer does). */
 static void test_glass_vs_pathtracer(void) {
     if (!gpu) SKIP("no Vulkan device");
     vx_svo_scene s;
@@ -211,7 +241,7 @@ static void test_glass_vs_pathtracer(void) {
         }
     fprintf(stderr, "  against the CPU path tracer: through glass %zu pixels, mean ratio %.5f; beside it %zu, %.5f\n", n,
             sum / sum_ref, nb, sum_b / sum_bref);
-    CHECK(n > 150 && nb > 60);
+    CHECK(n > 110 && nb > 60);
     CHECKF(fabs(sum / sum_ref - 1) < 0.02, "mean ratio %.5f", sum / sum_ref);
     CHECKF(fabs(sum_b / sum_bref - 1) < 1e-3, "mean ratio beside %.5f", sum_b / sum_bref);
     vx_render_image_free(&ref), vx_render_image_free(&im);
@@ -251,9 +281,100 @@ static void test_glass_free_unchanged(void) {
     CHECK(n > 60);
     CHECKF(worst < 2e-3, "worst relative error %.2e", worst);
     CHECKF(apart < 1e-5, "apart %.2e", apart);
-    CHECK(differ > 150);
+    CHECK(differ > 110);
     vx_render_image_free(&a), vx_render_image_free(&b);
     vx_svo_scene_free(&s), vx_svo_scene_free(&g);
+}
+
+/* test_glass_reflection's scenes (16^3 cells, palette 1 diffuse, 2 glass of index 1.5): 0, a pane two cells
+ * thick before a wall, a floor under both; 1, a pool: water two cells deep in a basin, a wall behind it. */
+static int refl_scene_kind;
+static uint8_t refl_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    (void)n;
+    if (refl_scene_kind == 0) {
+        if (y == 13 || z == 0) return 1;
+        return y >= 5 && y < 7 && x >= 3 && x < 13 && z >= 1 && z < 11 ? 2 : 0;
+    }
+    if ((y == 13 && z < 12) || z == 0) return 1;
+    bool in = x >= 1 && x <= 14 && y >= 1 && y <= 12;
+    if (in && z < 4 && (x == 1 || x == 14 || y == 1 || y == 12)) return 1; /* the basin's rim */
+    return in && z >= 1 && z < 3 ? 2 : 0;
+}
+
+/* What glass reflects and transmits against the path tracer at bounces 0:
+ * each scene lit by two point lights, one on either side of the glass (the
+ * pane: between it and the wall, and over the floor before it; the pool: over
+ * the water, and behind the camera), black sky, 48 x 36, the mean over the
+ * pixels whose first surface is the glass (the albedo image tells them), the
+ * path tracer at 1024 samples per pixel centre. Measured: the pane 1.0005,
+ * the pool 0.9933 (before: 0.9895 and 0.0000: the reflection was the black
+ * sky's). The pane within 0.5% (its reflection is 1.1% of its light; the
+ * path tracer's transmission coins leave its mean some 0.03% of noise), the
+ * pool within 3% (a reflection of F ~ 0.1 drawn by a coin: some 0.5%).
+ * Rough glass is not checked here: the passes take the smooth directions
+ * (at roughness 0.3 the pane measured 1.053, the pool 1.112). */
+static void test_glass_reflection(void) {
+    if (!gpu) SKIP("no Vulkan device");
+    enum { RW = 48, RH = 36 };
+    const double tol[2] = {0.005, 0.03};
+    for (refl_scene_kind = 0; refl_scene_kind < 2; refl_scene_kind++) {
+        bool pool = refl_scene_kind == 1;
+        vx_svo_scene s;
+        cells_scene(&s, N, refl_cell);
+        s.palette[1] = FLOOR_RGBA, s.palette[2] = GLASS_RGBA;
+        const char* kv[] = {"_type", "_glass", "_trans", "1", "_ior", "0.5", "_rough", "0"};
+        add_material(&s, 2, kv, 4);
+        vx_light L[2];
+        for (int i = 0; i < 2; i++) {
+            L[i] = (vx_light){.type = VX_LIGHT_POINT, .color = {1, 1, 1}, .intensity = 40, .range = 1000};
+            L[i].position[0] = 8, L[i].position[2] = pool ? 10 : 8;
+        }
+        L[0].position[1] = pool ? 8 : 9, L[1].position[1] = pool ? -3 : 1;
+        vx_render_desc base = ps_view(RW, RH, (double[3]){8, -6, pool ? 9 : 6}, (double[3]){8, 12, pool ? 1 : 5});
+        vx_render_image im = {0}, alb = {0}, ref = {0};
+        vx_error err = {0};
+        vx_render_scene* rs = NULL;
+        vx_frame_renderer* fr = NULL;
+        vx_pass_list list;
+        REQUIRE(vx_pass_list_parse("gbuffer,direct", &list, &err) == VX_OK);
+        REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+        REQUIRE(vx_frame_renderer_create(rs, &s, &fr, &err) == VX_OK);
+        for (int show = 0; show < 2; show++) {
+            vx_frame_desc fd = vx_frame_desc_defaults();
+            fd.base = base;
+            fd.passes = &list;
+            fd.lights = L, fd.light_count = 2;
+            fd.sky[0] = fd.sky[1] = fd.sky[2] = 0;
+            fd.show = show ? VX_SHOW_ALBEDO : VX_SHOW_FINAL;
+            vx_frame_result res = {0};
+            vx_result r = vx_frame_render(fr, &fd, &res, &err);
+            if (r) fprintf(stderr, "  frame: %s\n", err.msg);
+            REQUIRE(r == VX_OK);
+            *(show ? &alb : &im) = res.image;
+        }
+        vx_frame_renderer_destroy(fr);
+        vx_render_scene_destroy(rs);
+        REQUIRE(ps_pathtrace(&s, NULL, &base, 1024, 0, 0, L, 2, &ref));
+        double sum = 0, sum_ref = 0, sum_o = 0, sum_oref = 0;
+        size_t n = 0;
+        const float ga = ((GLASS_RGBA >> 8) & 255) / 255.0f, gb = ((GLASS_RGBA >> 16) & 255) / 255.0f;
+        for (size_t i = 0; i < (size_t)RW * RH; i++) {
+            const float* a = alb.pixels + 4 * i;
+            bool glass = a[0] == 1.0f && fabsf(a[1] - ga) < 1e-4f && fabsf(a[2] - gb) < 1e-4f;
+            for (int k = 0; k < 3; k++) {
+                if (glass) sum += im.pixels[4 * i + k], sum_ref += ref.pixels[4 * i + k];
+                else sum_o += im.pixels[4 * i + k], sum_oref += ref.pixels[4 * i + k];
+            }
+            n += glass;
+        }
+        fprintf(stderr, "  %s: %zu glass pixels, mean %.5f against the path tracer's %.5f: ratio %.4f; the others %.4f\n",
+                pool ? "pool" : "pane", n, sum / (3.0 * n), sum_ref / (3.0 * n), sum / sum_ref, sum_o / sum_oref);
+        CHECK(n > (pool ? 300u : 1000u));
+        CHECKF(fabs(sum / sum_ref - 1) < tol[pool], "%s: mean ratio %.4f", pool ? "pool" : "pane", sum / sum_ref);
+        CHECKF(fabs(sum_o / sum_oref - 1) < 0.01, "the other pixels: mean ratio %.4f", sum_o / sum_oref);
+        vx_render_image_free(&im), vx_render_image_free(&alb), vx_render_image_free(&ref);
+        vx_svo_scene_free(&s);
+    }
 }
 
 int main(void) {
@@ -267,6 +388,7 @@ int main(void) {
     RUN(test_glass_closed_form);
     RUN(test_glass_vs_pathtracer);
     RUN(test_glass_free_unchanged);
+    RUN(test_glass_reflection);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
 }

@@ -11,7 +11,8 @@
  *  - the closed form: the ray refracted through the slab's parallel faces,
  *    the floor's Lambert radiance albedo / pi E where it lands, times the
  *    entry cell's tint and (1 - F_in)(1 - F_out) (exact Fresnel), in double,
- *    for the pass pipeline's pixels (gbuffer,direct: per pixel);
+ *    for the pass pipeline's pixels (gbuffer,direct: per pixel, none below
+ *    it, the light reflected inside the slab added, and by their mean);
  *  - the same for the CPU path tracer and the GPU path tracer (the mean over
  *    the pixels: their Fresnel choices are coins per interface).
  * Before the walks stepped over uniform leaves and had the one limit, every
@@ -156,7 +157,7 @@ static void check_slab(uint32_t thick, bool alternate) {
     REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
     REQUIRE(pathtrace(&s, thick, rs, 64, &gpt));
     vx_render_scene_destroy(rs);
-    double worst = 0, sum = 0, sum_cpu = 0, sum_gpu = 0;
+    double below = 0, sum = 0, sum_px = 0, sum_cpu = 0, sum_gpu = 0;
     size_t n = 0;
     for (uint32_t y = 0; y < H; y++)
         for (uint32_t x = 0; x < W; x++) {
@@ -164,15 +165,20 @@ static void check_slab(uint32_t thick, bool alternate) {
             if (!pixel_expect(thick, alternate, x, y, want)) continue;
             size_t i = 4 * ((size_t)y * W + x);
             for (int k = 0; k < 3; k++) {
-                worst = fmax(worst, fabs(im.pixels[i + k] - want[k]) / want[k]);
-                sum += want[k], sum_cpu += cpu.pixels[i + k], sum_gpu += gpt.pixels[i + k];
+                below = fmax(below, (want[k] - im.pixels[i + k]) / want[k]);
+                sum += want[k], sum_px += im.pixels[i + k], sum_cpu += cpu.pixels[i + k], sum_gpu += gpt.pixels[i + k];
             }
             n++;
         }
-    fprintf(stderr, "  %zu pixels through the slab: passes' worst relative error %.2e; mean ratio to the closed form: "
-            "CPU path tracer %.4f, GPU path tracer %.4f\n", n, worst, sum_cpu / sum, sum_gpu / sum);
+    fprintf(stderr, "  %zu pixels through the slab: passes at most %.2e below the closed form, mean ratio %.4f; "
+            "CPU path tracer %.4f, GPU path tracer %.4f\n", n, below, sum_px / sum, sum_cpu / sum, sum_gpu / sum);
     CHECK(n > 250);
-    CHECKF(worst < 5e-3, "passes: worst relative error %.2e", worst);
+    /* The passes follow the light reflected inside the slab too (pass_bodies.glsl glass_lobe), which the closed
+     * form leaves out: per pixel they may only add to it (a pixel whose twice-reflected ray lands on the floor
+     * near the light, or leaves by a side face, up to some 10%), and the mean stays within 1% (measured 1.0012
+     * on both slabs; before they followed that light, within 5e-3 per pixel both ways). */
+    CHECKF(below < 5e-3, "passes: %.2e below the closed form", below);
+    CHECKF(fabs(sum_px / sum - 1) < 0.01, "passes: mean ratio %.4f", sum_px / sum);
     CHECKF(fabs(sum_cpu / sum - 1) < 0.02, "CPU path tracer: mean ratio %.4f", sum_cpu / sum);
     CHECKF(fabs(sum_gpu / sum - 1) < 0.02, "GPU path tracer: mean ratio %.4f", sum_gpu / sum);
     vx_render_image_free(&im), vx_render_image_free(&cpu), vx_render_image_free(&gpt);
