@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <limits.h>
 #include <pthread.h>
 #include <signal.h>
@@ -451,4 +452,19 @@ uint64_t vx_peak_rss(void) {
     struct rusage ru;
     if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
     return (uint64_t)ru.ru_maxrss * 1024u; /* Linux reports KiB */
+}
+
+bool vx_parse_doubles(const char* s, double* v, int n) {
+    for (int i = 0; i < n; i++) {
+        char* end;
+        errno = 0;
+        v[i] = strtod(s, &end);
+        if (end == s || errno || !isfinite(v[i])) return false;
+        s = end;
+        if (i < n - 1) {
+            if (*s != ',') return false;
+            s++;
+        }
+    }
+    return *s == 0;
 }

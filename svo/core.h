@@ -410,6 +410,10 @@ void vx_run_jobs(unsigned threads, uint32_t count, void (*run)(void* ctx, unsign
  * over one thread per CPU (the .svo coder, the compact layout's attributes). */
 unsigned vx_cpu_count(unsigned max);
 
+/* Whether s is exactly n comma-separated finite numbers (strtod's syntax),
+ * stored in v: the text form of vectors (a sky's colours, a tool's option). */
+bool vx_parse_doubles(const char* s, double* v, int n);
+
 /* Monotonic seconds, for statistics. */
 double vx_time_now(void);
 /* Peak resident memory of this process in bytes (0 if unknown). */

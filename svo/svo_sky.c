@@ -14,21 +14,6 @@
  * give the radians back through the same product. */
 static const double deg = 3.14159265358979323846 / 180.0;
 
-/* n comma-separated finite numbers making up all of s. */
-static bool parse_vec(const char* s, double* v, int n) {
-    for (int i = 0; i < n; i++) {
-        char* end;
-        errno = 0;
-        v[i] = strtod(s, &end);
-        if (end == s || errno || !isfinite(v[i])) return false;
-        s = end;
-        if (i < n - 1) {
-            if (*s != ',') return false;
-            s++;
-        }
-    }
-    return *s == 0;
-}
 
 static vx_result bad(vx_sky* k, vx_error* err, const char* msg) {
     memset(k, 0, sizeof *k);
@@ -57,22 +42,22 @@ vx_result vx_sky_parse(const char* spec, vx_sky* k, vx_error* err) {
     }
     if (!strcmp(part[0], "gradient")) {
         k->type = VX_SKY_GRADIENT;
-        if (n != 4 || !parse_vec(part[1], k->color, 3) || !parse_vec(part[2], k->horizon, 3) ||
-            !parse_vec(part[3], k->ground, 3))
+        if (n != 4 || !vx_parse_doubles(part[1], k->color, 3) || !vx_parse_doubles(part[2], k->horizon, 3) ||
+            !vx_parse_doubles(part[3], k->ground, 3))
             return bad(k, err, "sky: expected gradient:ZR,ZG,ZB:HR,HG,HB:GR,GG,GB (zenith, horizon, ground: three numbers each)");
     } else if (!strcmp(part[0], "map")) {
         k->type = VX_SKY_ENVMAP;
         k->intensity = 1;
         double rot = 0;
-        if (n < 2 || n > 4 || !part[1][0] || (n > 2 && !parse_vec(part[2], &k->intensity, 1)) ||
-            (n > 3 && !parse_vec(part[3], &rot, 1)))
+        if (n < 2 || n > 4 || !part[1][0] || (n > 2 && !vx_parse_doubles(part[2], &k->intensity, 1)) ||
+            (n > 3 && !vx_parse_doubles(part[3], &rot, 1)))
             return bad(k, err, "sky: expected map:FILE[:INTENSITY[:ROTATION]] (a file name, then numbers)");
         if (strlen(part[1]) > VX_SKY_PATH_MAX) return bad(k, err, "sky: the map's path is over 255 bytes");
         snprintf(k->path, sizeof k->path, "%s", part[1]);
         k->rotation = rot * deg;
     } else {
         k->type = VX_SKY_CONSTANT;
-        if (n != 1 || !parse_vec(part[0], k->color, 3))
+        if (n != 1 || !vx_parse_doubles(part[0], k->color, 3))
             return bad(k, err, "sky: expected R,G,B, gradient:..., map:... or default");
     }
     vx_result r = vx_sky_validate(k, err);

@@ -192,20 +192,7 @@ bool vx_tool_parse_double(const char* s, double* out) {
     return true;
 }
 
-bool vx_tool_parse_vec(const char* s, double* v, int n) {
-    for (int i = 0; i < n; i++) {
-        char* end;
-        errno = 0;
-        v[i] = strtod(s, &end);
-        if (end == s || errno || !isfinite(v[i])) return false;
-        s = end;
-        if (i < n - 1) {
-            if (*s != ',') return false;
-            s++;
-        }
-    }
-    return *s == 0;
-}
+bool vx_tool_parse_vec(const char* s, double* v, int n) { return vx_parse_doubles(s, v, n); }
 
 static void log_func(void* user, vx_log_level level, const char* id, const char* msg) {
     bool verbose = user != NULL;
