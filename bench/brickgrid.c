@@ -142,16 +142,7 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
     memset(m, 0, sizeof *m);
     m->gpu = gpu;
     double t0 = vx_time_now();
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(s, lo, hi);
-    int64_t ext = 1;
-    for (int k = 0; k < 3; k++) {
-        m->lo[k] = (int64_t)floor(lo[k]);
-        int64_t n = (int64_t)ceil(hi[k]) - m->lo[k];
-        if (n > ext) ext = n;
-    }
-    m->depth = 3;
-    while (((int64_t)1 << m->depth) < ext) m->depth++;
+    bench_cube(s, 3, m->lo, &m->depth);
     if (m->depth > max_depth || m->depth > 20)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide is over the limit 2^%u",
                        m->depth, max_depth < 20 ? max_depth : 20);

@@ -89,20 +89,24 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     return !c->e->too_big;
 }
 
+void bench_cube(const vx_svo_scene* s, uint32_t min_depth, int64_t lo[3], uint32_t* depth) {
+    double wlo[3], whi[3];
+    vx_svo_scene_world_bounds(s, wlo, whi);
+    int64_t ext = 1;
+    for (int k = 0; k < 3; k++) {
+        lo[k] = (int64_t)floor(wlo[k]);
+        int64_t n = (int64_t)ceil(whi[k]) - lo[k];
+        if (n > ext) ext = n;
+    }
+    *depth = min_depth;
+    while (((int64_t)1 << *depth) < ext) (*depth)++;
+}
+
 vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, vx_error* err) {
     memset(e, 0, sizeof *e);
     e->gpu = gpu;
     double t0 = vx_time_now();
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(s, lo, hi);
-    int64_t ext = 1;
-    for (int k = 0; k < 3; k++) {
-        e->lo[k] = (int64_t)floor(lo[k]);
-        int64_t n = (int64_t)ceil(hi[k]) - e->lo[k];
-        if (n > ext) ext = n;
-    }
-    e->depth = 1;
-    while (((int64_t)1 << e->depth) < ext) e->depth++;
+    bench_cube(s, 1, e->lo, &e->depth);
     if (e->depth > 22)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "ESVO baseline: %u levels exceed the float traversal's 22",
                        e->depth);

@@ -27,6 +27,11 @@ vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pi
                              double* seconds, float* depth, uint32_t* steps, vx_error* err);
 void bench_kernel_destroy(vx_gpu* g, bench_kernel* k);
 
+/* The baselines' cube: its corner lo (the floor of the scene's world
+ * bounds) and the least depth >= min_depth with 2^depth cells covering the
+ * bounds on every axis. */
+void bench_cube(const vx_svo_scene* s, uint32_t min_depth, int64_t lo[3], uint32_t* depth);
+
 typedef struct bench_esvo {
     vx_gpu* gpu;
     uint32_t* slots; /* host copy while building, freed after the upload */

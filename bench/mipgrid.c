@@ -60,16 +60,7 @@ vx_result bench_mip_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_dept
     memset(m, 0, sizeof *m);
     m->gpu = gpu;
     double t0 = vx_time_now();
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(s, lo, hi);
-    int64_t ext = 1;
-    for (int k = 0; k < 3; k++) {
-        m->lo[k] = (int64_t)floor(lo[k]);
-        int64_t n = (int64_t)ceil(hi[k]) - m->lo[k];
-        if (n > ext) ext = n;
-    }
-    m->depth = 1;
-    while (((int64_t)1 << m->depth) < ext) m->depth++;
+    bench_cube(s, 1, m->lo, &m->depth);
     if (m->depth > max_depth || m->depth > 11)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "occupancy pyramid: a cube 2^%u cells wide is over the limit 2^%u",
                        m->depth, max_depth < 11 ? max_depth : 11);

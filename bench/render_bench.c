@@ -909,32 +909,35 @@ int main(int argc, char** argv) {
                            px / r.sec_shadow * U, dn, vx_bytes / 1048576.0, mes, t64, cp,
                            vx_render_scene_precise(rs) ? "  (float64)" : "", kl);
                     fflush(stdout);
-                    for (uint32_t mv = 0; mipp && ki == 0 && bi == 0 && si == 0 && mv < BENCH_MIP_VARIANTS; mv++) {
-                        double ev[4];
-                        if (proto_variant(mip_frame, mipp, mv, &s, d, runs, warmup, ref.hits, ev, &err)) {
-                            fprintf(stderr, "render_bench: %s %s: occupancy pyramid %u: %s\n", name, vnames[v], mv, err.msg);
-                            failed = 1;
-                            break;
+                    /* the prototypes' rows (--mip, --brick): each variant after the view's row */
+                    const struct {
+                        void* m;
+                        proto_frame_fn frame;
+                        uint32_t variants;
+                        const char *what, *row, *tag, *param;
+                        double mib;
+                    } protos[2] = {
+                        {mipp, mip_frame, BENCH_MIP_VARIANTS, "occupancy pyramid", "mip-variant  ", "MIP", "probe",
+                         mipp ? bench_mip_bytes(mipp) / 1048576.0 : 0},
+                        {brkp, brick_frame, BENCH_BRICK_VARIANTS, "brick grid", "brick-variant  ", "BRK", "skip",
+                         brkp ? bench_brick_bytes(brkp) / 1048576.0 : 0}};
+                    for (int pi = 0; pi < 2 && !failed; pi++)
+                        for (uint32_t pv = 0; protos[pi].m && ki == 0 && bi == 0 && si == 0 && pv < protos[pi].variants;
+                             pv++) {
+                            double ev[4];
+                            if (proto_variant(protos[pi].frame, protos[pi].m, pv, &s, d, runs, warmup, ref.hits, ev, &err)) {
+                                fprintf(stderr, "render_bench: %s %s: %s %u: %s\n", name, vnames[v], protos[pi].what, pv,
+                                        err.msg);
+                                failed = 1;
+                                break;
+                            }
+                            printf("%s%-20.20s %-8s %-9s %6.1f %7.2f %7.0f %s/ES %.3f %s/VX %.3f depth= %.3f%%  "
+                                   "[warps: lane use %.1f%%]  [%s %u, %.2f MiB]\n",
+                                   protos[pi].row, name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U,
+                                   protos[pi].tag, r.sec_es / ev[1], protos[pi].tag, r.sec_vx / ev[1], 100 * ev[2],
+                                   100 * ev[3], protos[pi].param, pv, protos[pi].mib);
+                            fflush(stdout);
                         }
-                        printf("mip-variant  %-20.20s %-8s %-9s %6.1f %7.2f %7.0f MIP/ES %.3f MIP/VX %.3f depth= %.3f%%  "
-                               "[warps: lane use %.1f%%]  [probe %u, %.2f MiB]\n",
-                               name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
-                               r.sec_vx / ev[1], 100 * ev[2], 100 * ev[3], mv, bench_mip_bytes(mipp) / 1048576.0);
-                        fflush(stdout);
-                    }
-                    for (uint32_t bv = 0; brkp && ki == 0 && bi == 0 && si == 0 && bv < BENCH_BRICK_VARIANTS; bv++) {
-                        double ev[4];
-                        if (proto_variant(brick_frame, brkp, bv, &s, d, runs, warmup, ref.hits, ev, &err)) {
-                            fprintf(stderr, "render_bench: %s %s: brick grid %u: %s\n", name, vnames[v], bv, err.msg);
-                            failed = 1;
-                            break;
-                        }
-                        printf("brick-variant  %-20.20s %-8s %-9s %6.1f %7.2f %7.0f BRK/ES %.3f BRK/VX %.3f depth= %.3f%%  "
-                               "[warps: lane use %.1f%%]  [skip %u, %.2f MiB]\n",
-                               name, vnames[v], sz, ev[0], px / ev[1] * U, px * ev[0] / ev[1] * U, r.sec_es / ev[1],
-                               r.sec_vx / ev[1], 100 * ev[2], 100 * ev[3], bv, bench_brick_bytes(brkp) / 1048576.0);
-                        fflush(stdout);
-                    }
                     for (int ei = 0; esp && ki == 0 && bi == 0 && si == 0 && ei < nev; ei++) {
                         double ev[4];
                         if (esvo_variant(esp, ev_spv[ei], ev_bytes[ei], &s, d, runs, warmup, ref.hits, ev, &err)) {

@@ -148,16 +148,7 @@ vx_result bench_tree64_create(vx_gpu* gpu, const vx_svo_scene* s, bench_tree64* 
     t->gpu = gpu;
     t->root = UINT32_MAX;
     double t0 = vx_time_now();
-    double lo[3], hi[3];
-    vx_svo_scene_world_bounds(s, lo, hi);
-    int64_t ext = 1;
-    for (int k = 0; k < 3; k++) {
-        t->lo[k] = (int64_t)floor(lo[k]);
-        int64_t n = (int64_t)ceil(hi[k]) - t->lo[k];
-        if (n > ext) ext = n;
-    }
-    t->clip_depth = 1;
-    while (((int64_t)1 << t->clip_depth) < ext) t->clip_depth++;
+    bench_cube(s, 1, t->lo, &t->clip_depth);
     t->levels = (t->clip_depth + 1) / 2;
     if (2 * t->levels > T64_MAX_OCT)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "64-tree: %u octree levels exceed %u", 2 * t->levels,
