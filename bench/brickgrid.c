@@ -240,8 +240,48 @@ void bench_brick_destroy(bench_brick* m) {
 
 uint64_t bench_brick_bytes(const bench_brick* m) { return m->words * 4; }
 
+/* The pixels [x0, x1) x [y0, y1) whose rays can meet the occupied cells'
+ * box (the kernel's Frame words 8-11): the box's corners projected through
+ * the camera, 2 pixels of margin; the whole frame where a corner is not in
+ * front of the eye. The rays outside it write a miss without being made:
+ * most of an overview's pixels. */
+static void screen_rect(const bench_brick* m, const vx__frame* f, uint32_t rect[4]) {
+    rect[0] = 0, rect[1] = 0, rect[2] = f->width, rect[3] = f->height;
+    double fmin[2] = {1e300, 1e300}, fmax[2] = {-1e300, -1e300};
+    double ff = 0, rr = 0, uu = 0;
+    for (int k = 0; k < 3; k++) ff += f->fwd[k] * f->fwd[k], rr += f->rx[k] * f->rx[k], uu += f->uy[k] * f->uy[k];
+    for (int c = 0; c < 8; c++) {
+        double y[3], s = 0, u = 0, v = 0;
+        for (int k = 0; k < 3; k++) {
+            uint32_t cell = (c >> k & 1) ? m->k.extra[5 + k] : m->k.extra[2 + k];
+            y[k] = (double)(m->lo[k] + (int64_t)cell) - f->ref[k];
+            if (!f->ortho) y[k] += f->t_start * f->fwd[k]; /* from the eye, -t_start fwd from the reference */
+            s += y[k] * f->fwd[k] / ff, u += y[k] * f->rx[k] / rr, v += y[k] * f->uy[k] / uu;
+        }
+        if (!f->ortho) {
+            if (!(s > 1e-9)) return;
+            u /= s, v /= s;
+        }
+        double x = (u + 1) / 2 * f->width - 0.5, yp = (1 - v) / 2 * f->height - 0.5;
+        fmin[0] = fmin[0] < x ? fmin[0] : x, fmax[0] = fmax[0] > x ? fmax[0] : x;
+        fmin[1] = fmin[1] < yp ? fmin[1] : yp, fmax[1] = fmax[1] > yp ? fmax[1] : yp;
+    }
+    double n[2] = {f->width, f->height};
+    for (int a = 0; a < 2; a++) {
+        double lo = floor(fmin[a]) - 2, hi = ceil(fmax[a]) + 3;
+        rect[a] = lo <= 0 ? 0 : lo >= n[a] ? (uint32_t)n[a] : (uint32_t)lo;
+        rect[2 + a] = hi <= 0 ? 0 : hi >= n[a] ? (uint32_t)n[a] : (uint32_t)hi;
+    }
+}
+
 vx_result bench_brick_frame(bench_brick* m, uint32_t variant, const vx_svo_scene* s, const vx_render_desc* desc,
                             uint32_t repeat, double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+    double blo[3], bhi[3];
+    vx_svo_scene_world_bounds(s, blo, bhi);
+    vx__frame f;
+    vx_result r = vx__frame_setup(blo, bhi, desc, &f, err);
+    if (r) return r;
+    screen_rect(m, &f, m->k.extra + 8);
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__brickgrid_spv_arr, .spirv_size = sizeof vx__brickgrid_spv_arr,
                                        .binding_count = 3, .spec_count = 2, .spec = {variant, m->top},
                                        .label = "brickgrid"};

@@ -14,7 +14,7 @@
 typedef struct kernel_frame {
     float fwd[4], rx[4], uy[4], box[4];
     uint32_t dims[4];
-    uint32_t extra[8]; /* bench_kernel.extra */
+    uint32_t extra[12]; /* bench_kernel.extra */
 } kernel_frame;
 
 static uint32_t new_group(bench_esvo* e) {

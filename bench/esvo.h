@@ -12,7 +12,7 @@
  * the cube, two parameters) and its per-pixel output (depth bits, steps). */
 typedef struct bench_kernel {
     vx__buffer frame, out;
-    uint32_t extra[8]; /* the Frame block's two uvec4 after dims, for kernels that declare them */
+    uint32_t extra[12]; /* the Frame block's three uvec4 after dims, for kernels that declare them */
 } bench_kernel;
 
 /* One frame of a baseline kernel laid out like bench/shaders/esvo.comp

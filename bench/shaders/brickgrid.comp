@@ -23,6 +23,7 @@ layout(std140, binding = 0) uniform Frame {
     uvec4 dims; // width, height, depth
     uvec4 hdr0; // the buffer's header (bench/brickgrid.c): top, R, the occupied cells' box lo
     uvec4 hdr1; //   (x, y) and hi (.. w)
+    uvec4 rect; // the pixels [x, z) x [y, w) whose rays can meet that box (bench/brickgrid.c screen_rect)
 } F;
 layout(std430, binding = 1) readonly buffer Words { uint words[]; };
 layout(std430, binding = 2) writeonly buffer Out { uvec2 outp[]; }; // depth bits, steps | entered << 31
@@ -34,6 +35,11 @@ void main() {
     uvec2 px = gl_GlobalInvocationID.xy;
     uint W = F.dims.x, H = F.dims.y;
     if (px.x >= W || px.y >= H) return;
+    uint out_i = px.y * W + px.x;
+    if (px.x < F.rect.x || px.y < F.rect.y || px.x >= F.rect.z || px.y >= F.rect.w) {
+        outp[out_i] = uvec2(0x7F800000u, 0u); // a ray that cannot meet the box, not made
+        return;
+    }
     float u = ((float(px.x) + 0.5) / float(W)) * 2.0 - 1.0;
     float v = 1.0 - ((float(px.y) + 0.5) / float(H)) * 2.0;
     vec3 o, d;
@@ -50,7 +56,6 @@ void main() {
         o = t_start * (u * F.rx.xyz + v * F.uy.xyz);
         t_off = t_start * len;
     }
-    uint out_i = px.y * W + px.x;
     uint R = F.hdr0.y;
     vec3 blo = vec3(F.hdr0.zw, F.hdr1.x), bhi = vec3(F.hdr1.yzw);
     vec3 inv;
