@@ -18,7 +18,7 @@
 #include "bench/brickgrid.h"
 #include "brickgrid.comp.h"
 
-enum { HEADER = 8, ROOT_MAX = 128, DIST_CAP = 0xFFFF };
+enum { HEADER = 8, ROOT_LOG = 7, DIST_CAP = 0xFFFF }; /* ROOT_LOG: the root at most 2^7 = 128 wide by default */
 #define EMPTY UINT32_C(0x80000000)
 
 /* Growing word arrays and a hash from a cell's packed coordinates to an index. */
@@ -138,7 +138,8 @@ static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
     }
 }
 
-vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, bench_brick* m, vx_error* err) {
+vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, uint32_t root_log, bench_brick* m,
+                             vx_error* err) {
     memset(m, 0, sizeof *m);
     m->gpu = gpu;
     double t0 = vx_time_now();
@@ -147,7 +148,8 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide is over the limit 2^%u",
                        m->depth, max_depth < 20 ? max_depth : 20);
     uint32_t top = 1;
-    while ((m->depth - 3 * top) > 7 && m->depth > 3 * (top + 1)) top++; /* R = 2^(depth - 3 top) at most ROOT_MAX */
+    if (!root_log) root_log = ROOT_LOG;
+    while ((m->depth - 3 * top) > root_log && m->depth > 3 * (top + 1)) top++; /* R = 2^(depth - 3 top) at most 2^root_log */
     if (top > 3)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide needs %u levels, at most 3",
                        m->depth, top);
@@ -283,7 +285,7 @@ vx_result bench_brick_frame(bench_brick* m, uint32_t variant, const vx_svo_scene
     if (r) return r;
     screen_rect(m, &f, m->k.extra + 8);
     vx_gpu_compute_pipeline_desc pd = {.spirv = vx__brickgrid_spv_arr, .spirv_size = sizeof vx__brickgrid_spv_arr,
-                                       .binding_count = 3, .spec_count = 2, .spec = {variant, m->top},
+                                       .binding_count = 3, .spec_count = 3, .spec = {1, m->top, variant},
                                        .label = "brickgrid"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     pd.bindings[1] = pd.bindings[2] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

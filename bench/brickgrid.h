@@ -30,13 +30,17 @@ typedef struct bench_brick {
 } bench_brick;
 
 /* Builds the grid of every drawn instance's cells and uploads it. Fails with
- * VX_ERR_LIMIT for cubes wider than 2^max_depth cells. */
-vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, bench_brick* m, vx_error* err);
+ * VX_ERR_LIMIT for cubes wider than 2^max_depth cells. root_log: the root
+ * grid at most 2^root_log wide (0: 7, 128 cells of 8^top). */
+vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, uint32_t root_log, bench_brick* m,
+                             vx_error* err);
 void bench_brick_destroy(bench_brick* m);
 /* Bytes of the grid on the GPU. */
 uint64_t bench_brick_bytes(const bench_brick* m);
-/* As bench_esvo_frame; variant: the kernel's SKIP (0: one cell of the
- * level a step, 1: the empty cube of the entry's distance a step). */
+/* As bench_esvo_frame; variant: the kernel's FCOORD (0: a brick's cell
+ * planes from the integer cell each step, 1: kept as floats); SKIP is 1
+ * (the empty cube of the entry's distance a step; 0, one cell a step, was
+ * measured at stop 75: bench/results/p75_h200_brick_v4.txt). */
 vx_result bench_brick_frame(bench_brick* m, uint32_t variant, const vx_svo_scene* s, const vx_render_desc* desc,
                             uint32_t repeat, double* seconds, float* depth, uint32_t* steps, vx_error* err);
 #endif

@@ -7,7 +7,7 @@
  *   render_bench [--device N|NAME] [--sizes 1920x1080,...] [--runs N]
  *                [--views overview,oblique,closeup,sky] [--warmup SECONDS]
  *                [--generate] [--deep] [--variant auto|float|precise]
- *                [--no-esvo] [--tree64] [--mip] [--brick] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
+ *                [--no-esvo] [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--mrays]
  *                [--cpu-time]
  *                FILE.{svo,vox}...
  *
@@ -45,7 +45,8 @@
  * line "mip-variant" each: steps per ray, rays/s, steps/s, rays/s over
  * ESVO's and voxkit's, depth agreement with voxkit's hits, GPU MiB. --brick:
  * the same for the two-level grid prototype (bench/brickgrid.h, lines
- * "brick-variant", brickgrid.comp's SKIP 0 and 1). --grid-world: world_from_grid of every
+ * "brick-variant", brickgrid.comp's FCOORD 0 and 1; --brick-root L: its root
+ * grid at most 2^L wide, default 7). --grid-world: world_from_grid of every
  * file set to the identity (a converted mesh in cells, so that the baselines,
  * which need world cells = grid cells, apply). --kernels FILE.spv,...: voxkit's
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
@@ -150,7 +151,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--brick] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -532,6 +533,7 @@ int main(int argc, char** argv) {
     int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     char klabel[9][96];
     uint32_t runs = 15;
+    uint32_t brick_root = 0; /* --brick-root: bench_brick_create's root_log */
     double warmup = 0.5;
     uint32_t* esvo_spv = NULL; /* --esvo-kernel */
     size_t esvo_bytes = 0;
@@ -678,6 +680,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[i], "--tree64")) use_tree64 = true;
         else if (!strcmp(argv[i], "--mip")) use_mip = true;
         else if (!strcmp(argv[i], "--brick")) use_brick = true;
+        else if (!strcmp(argv[i], "--brick-root") && i + 1 < argc) use_brick = true, brick_root = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--grid-world")) grid_world = true;
         else if (!strcmp(argv[i], "--shader-stats")) stats = true;
         else if (!strcmp(argv[i], "--variant") && i + 1 < argc) {
@@ -784,7 +787,7 @@ int main(int argc, char** argv) {
                     mipp = &mip;
             }
             if (esp && use_brick) {
-                if (bench_brick_create(gpu, &s, 12, &brk, &err))
+                if (bench_brick_create(gpu, &s, 12, brick_root, &brk, &err))
                     fprintf(stderr, "render_bench: %s: no brick grid: %s\n", name, err.msg);
                 else
                     brkp = &brk;
@@ -919,7 +922,7 @@ int main(int argc, char** argv) {
                     } protos[2] = {
                         {mipp, mip_frame, BENCH_MIP_VARIANTS, "occupancy pyramid", "mip-variant  ", "MIP", "probe",
                          mipp ? bench_mip_bytes(mipp) / 1048576.0 : 0},
-                        {brkp, brick_frame, BENCH_BRICK_VARIANTS, "brick grid", "brick-variant  ", "BRK", "skip",
+                        {brkp, brick_frame, BENCH_BRICK_VARIANTS, "brick grid", "brick-variant  ", "BRK", "fcoord",
                          brkp ? bench_brick_bytes(brkp) / 1048576.0 : 0}};
                     for (int pi = 0; pi < 2 && !failed; pi++)
                         for (uint32_t pv = 0; protos[pi].m && ki == 0 && bi == 0 && si == 0 && pv < protos[pi].variants;

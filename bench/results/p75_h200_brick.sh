@@ -1,7 +1,8 @@
 #!/bin/bash
 # Stop 75 (issue 21): on one GPU, the two-level grid prototype (render_bench --brick, bench/brickgrid.h: a
-# hierarchical DDA over 8^3-cell bricks with distance skips; variants: skip 0/1) beside voxkit and ESVO in the
-# same processes, every view at 1920x1080, with the driver's shader statistics.
+# hierarchical DDA over 8^3-cell bricks with distance skips; the last argument of each row: the variant) beside voxkit and ESVO in the
+# same processes, every view at 1920x1080, with the driver's shader statistics (variants: FCOORD 0/1; ROOT9=1
+# also the terrains with the root grid at most 512 wide).
 # Run with carry [".gl", "payload"]: payload/ holds render_bench.gz (build/, Release), REV, lib/ and the five
 # corpus .vox files.
 if command -v nvidia-smi >/dev/null; then for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
@@ -18,5 +19,7 @@ clock_start
 timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
 run corpus 170 $T/render_bench --brick --shader-stats --sizes $SIZE --runs $RUNS --warmup $WU $V
 run terrain 130 $T/render_bench --brick --generate --sizes $SIZE --runs $RUNS --warmup $WU
+# the root at most 512 wide (2^9): terrain4096's grid with root level 1 (512 MiB of root) instead of 2
+[ -n "$ROOT9" ] && run terrain-root9 130 $T/render_bench --brick --brick-root 9 --generate --sizes $SIZE --runs $RUNS --warmup $WU
 payload_end p75
 } 2>&1 | tee $R

@@ -14,6 +14,9 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(constant_id = 0) const uint SKIP = 1u;
 layout(constant_id = 1) const uint TOP = 1u; // the root's level (1-3; the header's word 0), a constant for the compiler
+// FCOORD 1: a brick's DDA keeps its cells' upper planes as floats beside the integer cell (two adds a step for
+// three integer-to-float conversions; the same values, so the same t)
+layout(constant_id = 2) const uint FCOORD = 0u;
 
 layout(std140, binding = 0) uniform Frame {
     vec4 fwd;   // w: t_start
@@ -92,6 +95,7 @@ void main() {
     uvec3 f = min(uvec3(max(fma(vec3(t), ad, om), vec3(0.0))), uvec3(N - 1u)); // the cell (in a brick)
     uvec3 P = f >> SH;                                                         // the cell at level lv
     bool fine = false;
+    vec3 fu = vec3(0.0); // FCOORD: vec3(f + 1u) in a brick
     uint base0 = 0u, base1 = 0u, base2 = 0u; // the brick and the nodes of levels 1 and 2 the walk is in
     // (three words, not an array: an array indexed by the level went to local memory)
     uint steps = 0u;
@@ -103,10 +107,12 @@ void main() {
             // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
             uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
             if (((words[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            vec3 tc = fma(vec3(f + 1u), invd, bias);
+            vec3 tc = fma(FCOORD != 0u ? fu : vec3(f + 1u), invd, bias);
             float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
-            f += uvec3(lessThanEqual(tc, vec3(tmin)));
+            bvec3 st = lessThanEqual(tc, vec3(tmin));
+            f += uvec3(st);
+            if (FCOORD != 0u) fu += vec3(st);
             Pn = f >> 3u;
             if (Pn == P) continue;
             fine = false;
@@ -128,6 +134,7 @@ void main() {
                     fine = true;
                     base0 = w;
                     f = clamp(c, lo8, lo8 + 7u);
+                    if (FCOORD != 0u) fu = vec3(f + 1u);
                 } else {
                     lv--;
                     sh -= 3u;

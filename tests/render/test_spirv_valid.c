@@ -281,6 +281,7 @@ static const spec_row spec_rows[] = {
      * test's control (test_control) */
     {"tree64.comp.h brickgrid.comp.h", "SKIP", 2, {0, 1}},
     {"brickgrid.comp.h", "TOP", 3, {1, 2, 3}},
+    {"brickgrid.comp.h", "FCOORD", 2, {0, 1}},
     {"mipgrid.comp.h", "PROBE", 3, {0, 1, 2}},
     {"cache_value.comp.h", "VALUE", 3, {0, 1, 3000}},
     {"spec_control.comp.h", "N", 1, {4}},
