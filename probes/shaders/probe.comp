@@ -228,10 +228,11 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, PT_PREC out float pdf) {
 // the BSDF towards a sampled light direction l and the sample's weight (probes/pathtrace.c nee_f): against the
 // BSDF sampling of each lobe that goes on (go_d: the Lambert lobe or vertex, go_s: a glossy vertex's specular
 // lobe), whole for a lobe that ends the path, nothing there where end_zero (the emissive voxels); a glossy
-// vertex's lobes weighed apart and folded into f (w = 1)
-vec3 nee_f(Bsdf B, vec3 wo, vec3 l, float pdf, bool go_d, bool go_s, bool end_zero, out float w) {
+// vertex's lobes weighed apart and folded into f (w = 1); precise, as its callers' sums were before (the weight
+// leaves through an out parameter, which precise does not follow: test_spirv_precise)
+PT_PREC vec3 nee_f(Bsdf B, vec3 wo, vec3 l, float pdf, bool go_d, bool go_s, bool end_zero, PT_PREC out float w) {
     if (!(MATS && B.kind == B_GLOSSY)) {
-        float bp;
+        PT_PREC float bp;
         vec3 f = bsdf_eval(B, wo, l, bp);
         if (end_zero) w = go_d ? mis(pdf, bp) / pdf : 0.0;
         else w = pdf > 0.0 ? (go_d ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
