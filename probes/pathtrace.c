@@ -8,8 +8,11 @@
  *                 height-correlated G2, Schlick Fresnel with
  *                 F0 = mix(0.08 specular, colour, metalness), plus a Lambert
  *                 lobe (1 - metalness)(1 - 0.08 specular) colour / pi;
- *                 sampled by visible normals (Heitz 2018) with probability
- *                 (1 + metalness) / 2, else cosine
+ *                 the path picks the specular lobe with probability
+ *                 ps = (1 + metalness) / 2 (visible normals, Heitz 2018),
+ *                 else the Lambert lobe (cosine), and weighs the lobe drawn
+ *                 alone (its f cos / (pick probability * pdf)): the
+ *                 specular lobe's event is a metal event (below)
  *  glass          with probability `transmission` a dielectric (exact
  *                 Fresnel, IOR; rough glass: visible-normal GGX sampling,
  *                 alpha = rough^2, smooth below 1e-3), else Lambert. A glass
@@ -38,7 +41,24 @@
  * weighted against light sampling by the power heuristic. Light sampling
  * through glass is blocked (shadow rays stop at every voxel), so a light
  * seen through glass is found by BSDF rays with full weight, and delta
- * lights cast no caustics. Russian roulette from VX__RR_DEPTH bounces on. */
+ * lights cast no caustics. Russian roulette from VX__RR_DEPTH bounces on.
+ *
+ * Bounces: a path ends after `bounces` diffuse or glossy bounces, but a
+ * metal event, the specular lobe drawn at a metal record (whatever its
+ * roughness), spends none, for the first VX__METAL_CHAIN of them on the
+ * path (later ones count): the probe modes' camera chain follows that many
+ * metal events without counting them either (render_gi.c, light.h), and the
+ * reference those modes are judged against (the GI table's: the path tracer
+ * at the probes' bounces + 1) must count what they count. Before, a mirror
+ * facing a metal wall came out at 0.36x the converged light at the default
+ * bounces (test_metal_gi). Where only the specular lobe goes on (bounces
+ * spent, metal events left), light sampling weighs each lobe apart: the
+ * specular lobe's against its own sampling, the Lambert lobe's whole (the
+ * path ends if that lobe is drawn), so the estimate stays unbiased for the
+ * light it defines; no roulette on the free events (at most
+ * VX__METAL_CHAIN). The bake (bake.c) runs the same paths, so the probes'
+ * light counts the same way. A scene without metal runs the code it ran
+ * before (the same numbers, the same bytes). */
 #include <math.h>
 #include <string.h>
 
@@ -175,6 +195,25 @@ static void bsdf_eval(const bsdf* B, const double wo_w[3], const double wi_w[3],
     *pdf = B->ps * d / (1 + lo) / (4 * wo[2]) + (1 - B->ps) * wi[2] / pi;
 }
 
+/* The two lobes of a glossy vertex apart (vx__path's metal events follow the specular one): each lobe's f
+ * and the solid-angle pdf of its own sampler (cosine; visible normals), not weighted by the lobe's pick. */
+static void glossy_lobes(const bsdf* B, const double wo_w[3], const double wi_w[3], double fs[3], double* pss,
+                         double fd[3], double* pdd) {
+    double wo[3], wi[3];
+    to_local(B, wo_w, wo), to_local(B, wi_w, wi);
+    for (int k = 0; k < 3; k++) fs[k] = fd[k] = 0;
+    *pss = *pdd = 0;
+    if (wi[2] <= 0 || wo[2] <= 0) return;
+    double h[3] = {wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]};
+    norm3(h);
+    double d = ggx_d(B->a2, h[2]), lo = ggx_lambda(B->a2, wo[2]), li = ggx_lambda(B->a2, wi[2]);
+    double g2 = 1 / (1 + lo + li), c = fmax(0, dot3(wi, h)), s5 = pow(1 - c, 5);
+    for (int k = 0; k < 3; k++) fs[k] = (B->f0[k] + (1 - B->f0[k]) * s5) * d * g2 / (4 * wo[2] * wi[2]);
+    for (int k = 0; k < 3; k++) fd[k] = B->kd[k] / pi;
+    *pss = d / (1 + lo) / (4 * wo[2]);
+    *pdd = wi[2] / pi;
+}
+
 /* Samples wi for a Lambert or glossy vertex: weight = f cos / pdf. */
 static bool bsdf_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, double wi_w[3], double w[3], double* pdf) {
     double wo[3], wi[3];
@@ -192,6 +231,38 @@ static bool bsdf_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, doubl
     }
     double f[3];
     bsdf_eval(B, wo_w, wi_w, f, pdf);
+    double cs = dot3(wi_w, B->n);
+    if (!(*pdf > 0) || cs <= 0) return false;
+    for (int k = 0; k < 3; k++) w[k] = f[k] * cs / *pdf;
+    return true;
+}
+
+/* Samples wi at a glossy vertex by one lobe, as vx__path needs it (a metal event is the specular lobe's,
+ * and only that lobe may go on where the path's bounces are spent): the specular lobe with probability
+ * ps (visible normals), else the Lambert lobe (cosine); the three numbers of bsdf_sample. w = the lobe's
+ * own f cos / (ps_lobe pdf_lobe) and *pdf = ps_lobe pdf_lobe (the density the lights' MIS weighs
+ * against), *spec the lobe drawn: per lobe an unbiased estimate of its share of the reflected light,
+ * so the two sum to the whole BSDF's (no one-sample MIS between the lobes, which would mix the shares). */
+static bool glossy_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, double wi_w[3], double w[3],
+                          double* pdf, bool* spec) {
+    double wo[3], wi[3];
+    to_local(B, wo_w, wo);
+    double u0 = vx__rng_next(rng), u1 = vx__rng_next(rng), u2 = vx__rng_next(rng);
+    *spec = u0 < B->ps;
+    if (!*spec) {
+        vx__cosine_dir(B->n, u1, u2, wi_w);
+    } else {
+        if (wo[2] <= 0) return false;
+        double m[3];
+        ggx_vndf(B->alpha, wo, u1, u2, m);
+        double c = dot3(wo, m);
+        for (int k = 0; k < 3; k++) wi[k] = 2 * c * m[k] - wo[k];
+        to_world(B, wi, wi_w);
+    }
+    double fs[3], fd[3], pss, pdd;
+    glossy_lobes(B, wo_w, wi_w, fs, &pss, fd, &pdd);
+    const double* f = *spec ? fs : fd;
+    *pdf = *spec ? B->ps * pss : (1 - B->ps) * pdd;
     double cs = dot3(wi_w, B->n);
     if (!(*pdf > 0) || cs <= 0) return false;
     for (int k = 0; k < 3; k++) w[k] = f[k] * cs / *pdf;
@@ -426,14 +497,46 @@ static bool in_cone(const double ax[3], double s2, const double d[3]) {
     return dot3(ax, d) > 0 && dot3(c, c) < s2;
 }
 
+/* The BSDF towards a sampled light direction l and the weight of the
+ * sample, so that f * w * radiance * cos estimates the light: the light's
+ * pdf (0: a delta, weight 1) weighed by the power heuristic against the BSDF
+ * sampling of each lobe that goes on from the vertex (vx__path: go_d the
+ * Lambert lobe, or a Lambert vertex; go_s a glossy vertex's specular lobe),
+ * whole (1 / pdf) for a lobe that ends the path there, or nothing where
+ * end_zero (the emissive voxels: emission past the path's last vertex is
+ * not counted). A glossy vertex's lobes are weighed apart (each with its
+ * own pick probability times pdf, as glossy_sample draws them), folded into
+ * f with w = 1; a Lambert vertex's as before. */
+static void nee_f(const bsdf* B, const double wo[3], const double l[3], double pdf, bool go_d, bool go_s,
+                  bool end_zero, double f[3], double* w) {
+    double bp;
+    if (B->kind != B_GLOSSY) {
+        bsdf_eval(B, wo, l, f, &bp);
+        if (end_zero) *w = go_d ? mis(pdf, bp) / pdf : 0;
+        else *w = pdf > 0 ? (go_d ? mis(pdf, bp) / pdf : 1 / pdf) : 1;
+        return;
+    }
+    double fs[3], fd[3], pss, pdd;
+    glossy_lobes(B, wo, l, fs, &pss, fd, &pdd);
+    double ws = 1, wd = 1;
+    if (pdf > 0 || end_zero) {
+        ws = go_s ? mis(pdf, B->ps * pss) / pdf : (end_zero ? 0 : 1 / pdf);
+        wd = go_d ? mis(pdf, (1 - B->ps) * pdd) / pdf : (end_zero ? 0 : 1 / pdf);
+    }
+    for (int k = 0; k < 3; k++) f[k] = fs[k] * ws + fd[k] * wd;
+    *w = 1;
+}
+
 /* Light arriving at a non-delta vertex by light sampling, through B towards
- * wo: every light once. mis_on: weight area lights against BSDF sampling
- * (off when the path ends here); skip_direct: leave out what the pass
- * pipeline's direct pass delivers (the sun and every frame light; the
- * emissive voxels when a light stands for them). */
-static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const double wo[3], vx__rng* rng, bool mis_on,
-                bool skip_direct, double out[3]) {
+ * wo: every light once. go_d, go_s: which lobes go on from the vertex
+ * (nee_f: the lights are weighed against those lobes' BSDF sampling, whole
+ * for the others); skip_direct: leave out what the pass pipeline's direct
+ * pass delivers (the sun and every frame light; the emissive voxels when a
+ * light stands for them). */
+static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const double wo[3], vx__rng* rng, bool go_d,
+                bool go_s, bool skip_direct, double out[3]) {
     double f[3], bp, l[3];
+    bool go = go_d || (B->kind == B_GLOSSY && go_s); /* some lobe goes on */
     out[0] = out[1] = out[2] = 0;
     if (!skip_direct && (L->sun[0] > 0 || L->sun[1] > 0 || L->sun[2] > 0) && dot3(s->n, L->light_dir) > 0 &&
         !occluded(L, s->p, L->light_dir, INFINITY)) {
@@ -509,11 +612,11 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
         }
         double cs = dot3(s->n, l);
         if (cs <= 0 || g <= 0 || !isfinite(g) || occluded(L, s->p, l, tmax)) continue;
-        bsdf_eval(B, wo, l, f, &bp);
-        double w = pdf > 0 ? (mis_on ? mis(pdf, bp) / pdf : 1 / pdf) : 1;
+        double w;
+        nee_f(B, wo, l, pdf, go_d, go_s, false, f, &w);
         for (int k = 0; k < 3; k++) out[k] += f[k] * e[k] * g * cs * w;
     }
-    if (L->em_count && mis_on && !(skip_direct && L->voxel_lights)) {
+    if (L->em_count && go && !(skip_direct && L->voxel_lights)) {
         /* an emissive voxel by power, a point uniformly on its surface; not
          * at a path's last vertex, where emission counts only when a path
          * hits it (so `bounces` means what it meant before light sampling:
@@ -548,9 +651,8 @@ static void nee(const vx__light* L, const vx__surface* s, const bsdf* B, const d
             for (int k = 0; k < 3; k++) l[k] = v[k] / dist;
             double cy = -dot3(l, n), cs = dot3(s->n, l), cell = sqrt(dot3(ea, ea));
             if (cy > 0 && cs > 0 && !occluded(L, s->p, l, dist - 1e-3 * cell)) {
-                double pdf = lum3(em->rad) / L->em_power * d2 / cy;
-                bsdf_eval(B, wo, l, f, &bp);
-                double w = mis_on ? mis(pdf, bp) / pdf : 1 / pdf;
+                double pdf = lum3(em->rad) / L->em_power * d2 / cy, w;
+                nee_f(B, wo, l, pdf, go_d, go_s, true, f, &w);
                 for (int k = 0; k < 3; k++) out[k] += f[k] * em->rad[k] * cs * w;
             }
         }
@@ -585,7 +687,8 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
     memcpy(rd, d, sizeof rd);
     bool primary_hit = false;
     double prev_pdf = 0; /* the BSDF density of the last direction; 0: a delta or the camera (full weight) */
-    uint32_t depth = 0;  /* diffuse and glossy bounces so far */
+    uint32_t depth = 0;  /* diffuse and glossy bounces so far (metal events not counted) */
+    uint32_t metal = 0;  /* metal events so far, up to VX__METAL_CHAIN (light.h) */
     int vertex = 0;      /* surfaces met, glass events included */
     /* Inside glass: the walk (glass_walk) the next event runs from ro along
      * rd, in glass cell g_cell of instance g_inst (after a refraction into
@@ -678,20 +781,33 @@ bool vx__path(const vx__light* L, const double o[3], const double d[3], uint32_t
             in_glass = true; /* the walk runs at the next event */
             continue;
         }
+        /* Which lobes go on: the Lambert lobe (and a Lambert vertex) while bounces are left; a metal's
+         * specular lobe also while metal events are (light.h VX__METAL_CHAIN: a metal event, the specular
+         * lobe of a metal record whatever its roughness, does not spend a bounce, as the probe modes'
+         * chain of metal events does not) */
+        bool glossy = B.kind == B_GLOSSY, go_d = depth < bounces, go_s = go_d || (glossy && metal < VX__METAL_CHAIN);
         if (!stopped) { /* inside glass no light is sampled (above) */
             double dl[3];
-            nee(L, &s, &B, wo, rng, depth < bounces, indirect && vertex == 1, dl);
+            nee(L, &s, &B, wo, rng, go_d, go_s, indirect && vertex == 1, dl);
             for (int k = 0; k < 3; k++) acc[k] += thr[k] * dl[k];
         }
-        if (depth >= bounces) break;
+        if (!go_s) break;
         double w[3];
-        if (!bsdf_sample(&B, wo, rng, rd, w, &prev_pdf)) break;
-        for (int k = 0; k < 3; k++) thr[k] *= w[k];
-        depth++;
-        if (depth >= VX__RR_DEPTH) {
-            double q = fmin(0.95, fmax(thr[0], fmax(thr[1], thr[2])));
-            if (!(vx__rng_next(rng) < q)) break;
-            for (int k = 0; k < 3; k++) thr[k] /= q;
+        bool spec = false;
+        if (glossy ? !glossy_sample(&B, wo, rng, rd, w, &prev_pdf, &spec) : !bsdf_sample(&B, wo, rng, rd, w, &prev_pdf))
+            break;
+        if (spec && metal < VX__METAL_CHAIN) {
+            metal++; /* (a handful at most: no roulette) */
+            for (int k = 0; k < 3; k++) thr[k] *= w[k];
+        } else {
+            if (!go_d) break; /* the Lambert lobe, drawn where only the specular one goes on (nee: whole) */
+            for (int k = 0; k < 3; k++) thr[k] *= w[k];
+            depth++;
+            if (depth >= VX__RR_DEPTH) {
+                double q = fmin(0.95, fmax(thr[0], fmax(thr[1], thr[2])));
+                if (!(vx__rng_next(rng) < q)) break;
+                for (int k = 0; k < 3; k++) thr[k] /= q;
+            }
         }
         if (thr[0] == 0 && thr[1] == 0 && thr[2] == 0) break;
         memcpy(ro, s.p, sizeof ro);

@@ -205,7 +205,8 @@ typedef enum vx_probe_bake_kernel {
  *  res:        0 == 128 (even, 16..1024, a multiple of 16 for the low map
  *              to tile exactly)
  *  spp:        paths per radiance texel, 0 == 16
- *  bounces:    0 == 1, negative == 0 (direct light and emission only)
+ *  bounces:    0 == 1, negative == 0 (direct light and emission only);
+ *              metal and glass events spend none (vx_probe_render_desc)
  *  light_dir:  towards the light, zero == (0.35, -0.45, 0.82) (svo_render's)
  *  sun:        zero == (3, 3, 3); no_sun: no directional light
  *  sky:        zero == (0.62, 0.75, 0.92) * 0.5; black_sky: no sky light
@@ -444,8 +445,10 @@ typedef struct vx_probe_render_stats {
  * width, height, camera; base.spp and base.mode are ignored.
  *  spp:     paths per pixel for the path tracer, 0 == 16 (gi: 1)
  *  bounces: indirect bounces of the path tracer, 0 == probes' bounces + 1
- *           (or 2 without probes); light, sun and sky: from the probes,
- *           or the bake defaults without probes
+ *           (or 2 without probes); a path's first 4 metal events (a metal
+ *           material's specular lobe) and its glass events spend none, as
+ *           in the probe modes and the bake; light, sun and sky: from the
+ *           probes, or the bake defaults without probes
  *  seed:    path tracer (and light field ray) random seed
  *  lights:  light_count lights (borrowed, validated) for the path tracer
  *           modes; any replace the sun (as in the pass pipeline). In

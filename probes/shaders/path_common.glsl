@@ -194,6 +194,47 @@ bool bsdf_sample(Bsdf B, vec3 wo_w, out vec3 wi_w, out vec3 w, out float pdf) {
     return bsdf_sample_u(B, wo_w, u0, u1, u2, wi_w, w, pdf);
 }
 
+// a glossy vertex's two lobes apart: each lobe's f and its own sampler's pdf (probes/pathtrace.c glossy_lobes)
+void glossy_lobes(Bsdf B, vec3 wo_w, vec3 wi_w, PT_PREC out vec3 fs, PT_PREC out float pss, PT_PREC out vec3 fd,
+                  PT_PREC out float pdd) {
+    vec3 wo = to_local(B, wo_w), wi = to_local(B, wi_w);
+    fs = vec3(0.0), fd = vec3(0.0), pss = 0.0, pdd = 0.0;
+    if (wi.z <= 0.0 || wo.z <= 0.0) return;
+    vec3 h = normalize(wo + wi);
+    float d = ggx_d(B.a2, h.z), lo = ggx_lambda(B.a2, wo.z), li = ggx_lambda(B.a2, wi.z);
+    float g2 = 1.0 / (1.0 + lo + li), s5 = pow(clamp(1.0 - dot(wi, h), 0.0, 1.0), 5.0); // (bsdf_eval: pow(< 0))
+    fs = (B.f0 + (1.0 - B.f0) * s5) * (d * g2 / (4.0 * wo.z * wi.z));
+    fd = B.kd / PI;
+    pss = d / (1.0 + lo) / (4.0 * wo.z);
+    pdd = wi.z / PI;
+}
+
+// a glossy vertex's direction by one lobe (probes/pathtrace.c glossy_sample): the specular lobe where u0 < ps,
+// else the Lambert lobe; w = the lobe's f cos / (its pick probability * pdf), pdf that denominator
+bool glossy_sample_u(Bsdf B, vec3 wo_w, float u0, float u1, float u2, PT_PREC out vec3 wi_w, PT_PREC out vec3 w,
+                     PT_PREC out float pdf, out bool spec) {
+    vec3 wo = to_local(B, wo_w);
+    w = vec3(0.0);
+    pdf = 0.0;
+    spec = u0 < B.ps;
+    if (!spec) {
+        wi_w = cosine_dir(B.n, u1, u2);
+    } else {
+        if (wo.z <= 0.0) return false;
+        vec3 m = ggx_vndf(B.alpha, wo, u1, u2);
+        vec3 wi = 2.0 * dot(wo, m) * m - wo;
+        wi_w = normalize(wi.x * B.t + wi.y * B.b + wi.z * B.n);
+    }
+    PT_PREC vec3 fs, fd;
+    PT_PREC float pss, pdd;
+    glossy_lobes(B, wo_w, wi_w, fs, pss, fd, pdd);
+    pdf = spec ? B.ps * pss : (1.0 - B.ps) * pdd;
+    PT_PREC float cs = dot(wi_w, B.n);
+    if (!(pdf > 0.0) || cs <= 0.0) return false;
+    w = (spec ? fs : fd) * cs / pdf;
+    return true;
+}
+
 // one event at a dielectric interface (n faces the incident side, eta = n_other / n_this)
 bool dielectric(vec3 n, vec3 wo_w, float eta, float alpha, PT_PREC out vec3 wi_w, out bool refracted,
                 PT_PREC out float weight) {

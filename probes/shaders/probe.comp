@@ -78,7 +78,8 @@ const bool GLASS = (PCONST & 0x400u) != 0u;
 // metal lobes) is compiled in; set only with MATS. A scene without metal compiles the code it ran before.
 const bool METAL = (PCONST & 0x800u) != 0u;
 // the most metal events of a render sample's chain (probes/light.h VX__METAL_CHAIN, the same number and why):
-// the size of render()'s arrays of the chain's metal surfaces
+// the size of render()'s arrays of the chain's metal surfaces, and the metal events a path() follows without
+// spending a bounce (probes/pathtrace.c vx__path)
 const int METAL_CHAIN = 4;
 #ifndef PT_PRECISE
 // bits 16-23 (the bake's kernel only, not PT_PRECISE's): its bounces plus one, a constant of the pipeline (0:
@@ -224,10 +225,35 @@ bool area_hit(vec3 o, vec3 d, float tmax, out vec3 le, PT_PREC out float pdf) {
     return found;
 }
 
-// light sampling at a non-delta vertex (probes/pathtrace.c nee)
-vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
+// the BSDF towards a sampled light direction l and the sample's weight (probes/pathtrace.c nee_f): against the
+// BSDF sampling of each lobe that goes on (go_d: the Lambert lobe or vertex, go_s: a glossy vertex's specular
+// lobe), whole for a lobe that ends the path, nothing there where end_zero (the emissive voxels); a glossy
+// vertex's lobes weighed apart and folded into f (w = 1); precise, as its callers' sums were before (the weight
+// leaves through an out parameter, which precise does not follow: test_spirv_precise)
+PT_PREC vec3 nee_f(Bsdf B, vec3 wo, vec3 l, float pdf, bool go_d, bool go_s, bool end_zero, PT_PREC out float w) {
+    if (!(MATS && B.kind == B_GLOSSY)) {
+        PT_PREC float bp;
+        vec3 f = bsdf_eval(B, wo, l, bp);
+        if (end_zero) w = go_d ? mis(pdf, bp) / pdf : 0.0;
+        else w = pdf > 0.0 ? (go_d ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
+        return f;
+    }
+    PT_PREC vec3 fs, fd;
+    PT_PREC float pss, pdd, ws = 1.0, wd = 1.0;
+    glossy_lobes(B, wo, l, fs, pss, fd, pdd);
+    if (pdf > 0.0 || end_zero) {
+        ws = go_s ? mis(pdf, B.ps * pss) / pdf : (end_zero ? 0.0 : 1.0 / pdf);
+        wd = go_d ? mis(pdf, (1.0 - B.ps) * pdd) / pdf : (end_zero ? 0.0 : 1.0 / pdf);
+    }
+    w = 1.0;
+    return fs * ws + fd * wd;
+}
+
+// light sampling at a non-delta vertex (probes/pathtrace.c nee); go_d, go_s: which lobes go on (nee_f)
+vec3 nee(Bsdf B, vec3 wo, bool go_d, bool go_s, bool skip_direct) {
     PT_PREC vec3 out_l = vec3(0.0);
     float bp;
+    bool go = go_d || (MATS && B.kind == B_GLOSSY && go_s); // some lobe goes on
     Surf s = g_s;
     if (!skip_direct && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) && dot(s.n, P.light.xyz) > 0.0 &&
         !sun_occluded(s.p)) {
@@ -289,11 +315,11 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
         }
         PT_PREC float cs = dot(s.n, l);
         if (cs <= 0.0 || !(g > 0.0) || isinf(g) || occluded_to(s.p, l, tmax)) continue;
-        vec3 f = bsdf_eval(B, wo, l, bp);
-        float w = pdf > 0.0 ? (mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf) : 1.0;
+        float w;
+        vec3 f = nee_f(B, wo, l, pdf, go_d, go_s, false, w);
         out_l += f * e * (g * cs * w);
     }
-    if (LIGHTS && P.cnt.y > 0u && mis_on && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
+    if (LIGHTS && P.cnt.y > 0u && go && !(skip_direct && P.cnt.w != 0u)) { // not at the last vertex (probes/pathtrace.c)
         vec3 y, n, rad;
         float edge;
         emitter_point(P.cnt.y, y, n, rad, edge);
@@ -304,9 +330,8 @@ vec3 nee(Bsdf B, vec3 wo, bool mis_on, bool skip_direct) {
             PT_PREC float cy = -dot(l, n), cs = dot(s.n, l);
             precise float tl = dist - 1e-3 * edge;
             if (cy > 0.0 && cs > 0.0 && !occluded_to(s.p, l, tl)) {
-                float pdf = lum(rad) / P.pt.x * d2 / cy;
-                vec3 f = bsdf_eval(B, wo, l, bp);
-                float w = mis_on ? mis(pdf, bp) / pdf : 1.0 / pdf;
+                float pdf = lum(rad) / P.pt.x * d2 / cy, w;
+                vec3 f = nee_f(B, wo, l, pdf, go_d, go_s, true, w);
                 out_l += f * rad * (cs * w);
             }
         }
@@ -330,7 +355,8 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
     PT_PREC vec3 thr = vec3(1.0), acc = vec3(0.0);
     hit_out = false;
     PT_PREC float prev_pdf = 0.0;
-    uint depth = 0u;
+    uint depth = 0u; // diffuse and glossy bounces (metal events not counted)
+    int metal = 0;   // metal events, up to METAL_CHAIN (probes/pathtrace.c vx__path)
     int vertex = 0;
     // Inside glass (probes/pathtrace.c vx__path): the walk the next event runs from o along d, in glass
     // cell g_cell of instance g_inst, after a refraction into the glass or a bounce off an opaque voxel
@@ -419,40 +445,47 @@ vec3 path(vec3 o, vec3 d, uint bounces, bool indirect, out bool hit_out) {
         // registers); the same numbers and sums
         PT_PREC vec3 sun_f = vec3(0.0), thr_v = thr;
         bool sun_ray = false;
+        // the lobes that go on (probes/pathtrace.c vx__path): a metal event (a metal record's specular lobe)
+        // spends no bounce while metal events are left
+        bool glossy = MATS && B.kind == B_GLOSSY, go_d = depth < bounces;
+        bool go_s = go_d || (glossy && metal < METAL_CHAIN);
         // (inside glass, stopped, no light is sampled: above)
         if (!stopped && LIGHTS) {
-            acc += thr * nee(B, wo, depth < bounces, indirect && vertex == 1);
+            acc += thr * nee(B, wo, go_d, go_s, indirect && vertex == 1);
         } else if (!stopped && !(indirect && vertex == 1) && (P.sun.x > 0.0 || P.sun.y > 0.0 || P.sun.z > 0.0) &&
                    dot(g_s.n, P.light.xyz) > 0.0) {
             float bp;
             sun_f = bsdf_eval(B, wo, P.light.xyz, bp) * P.sun.xyz * dot(g_s.n, P.light.xyz);
             sun_ray = true;
         }
-        if (depth >= bounces) {
+        if (!go_s) {
             if (sun_ray && !sun_occluded(g_s.p)) acc += thr_v * sun_f;
             break;
         }
         PT_PREC vec3 w;
-        bool sampled;
-        if (STRAT && PMODE == P_BAKE && depth == 0u) {
-            // the stratified pair replaces u1 and u2; all three numbers are still drawn, so that the
-            // later ones (Russian roulette, deeper bounces) are the independent path's
-            float u0 = rnd();
-            rnd();
-            rnd();
-            sampled = bsdf_sample_u(B, wo, u0, g_bounce_u.x, g_bounce_u.y, d, w, prev_pdf);
-        } else {
-            sampled = bsdf_sample(B, wo, d, w, prev_pdf);
-        }
+        bool sampled, spec = false;
+        // the stratified pair replaces u1 and u2 of the bake's first bounce; all three numbers are still
+        // drawn, so that the later ones (Russian roulette, deeper bounces) are the independent path's
+        bool strat = STRAT && PMODE == P_BAKE && depth == 0u && metal == 0;
+        float u0 = rnd(), u1 = rnd(), u2 = rnd();
+        if (strat) u1 = g_bounce_u.x, u2 = g_bounce_u.y;
+        if (glossy) sampled = glossy_sample_u(B, wo, u0, u1, u2, d, w, prev_pdf, spec);
+        else sampled = bsdf_sample_u(B, wo, u0, u1, u2, d, w, prev_pdf);
         vec3 p_v = g_s.p;
         if (sun_ray && !sun_occluded(p_v)) acc += thr_v * sun_f;
         if (!sampled) break;
-        thr *= w;
-        depth++;
-        if (depth >= 3u) { // VX__RR_DEPTH
-            PT_PREC float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
-            if (!(rnd() < q)) break;
-            thr /= q;
+        if (spec && metal < METAL_CHAIN) {
+            metal++; // (a handful at most: no roulette)
+            thr *= w;
+        } else {
+            if (!go_d) break; // the Lambert lobe, drawn where only the specular one goes on (nee: whole)
+            thr *= w;
+            depth++;
+            if (depth >= 3u) { // VX__RR_DEPTH
+                PT_PREC float q = min(0.95, max(thr.x, max(thr.y, thr.z)));
+                if (!(rnd() < q)) break;
+                thr /= q;
+            }
         }
         if (thr == vec3(0.0)) break;
         o = g_s.p;

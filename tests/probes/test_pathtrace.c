@@ -147,6 +147,130 @@ static void test_ggx_white_furnace(void) {
     CHECK(ggx_albedo(0.81, cos(70 * PI / 180)) < 0.9 && ggx_albedo(0.01, 0.9) > 0.99);
 }
 
+/* ---- the white furnace with facing metal ------------------------------------------------- */
+
+/* A white floor (Lambert albedo 1) in a box of white mirrors (metal of metalness 1, colour white so F0 = 1,
+ * roughness 0.05: GGX alpha 0.0025, whose single-scattering loss is under 1e-4), open above, under a directional
+ * light whose cone is the whole upper hemisphere (angular diameter just under pi, intensity pi sin^2 of its half
+ * angle: radiance 1 from every direction above the horizon), no sun, a black sky. A white furnace: every surface
+ * reflects at most what it receives and nothing brings more than 1, so no pixel's expected radiance exceeds 1, and
+ * with enough bounces every path leaves towards the light: 1 less the mirrors' tiny loss. The light is both
+ * sampled at every vertex and met by the BSDF rays, weighed by multiple importance sampling, so the test sees
+ * the weights at the mirrors (each lobe against its own pick and pdf) and at the vertex where the path's bounces
+ * are spent but its metal events are not (the mirrors' specular lobe goes on: its light weighed, the Lambert
+ * lobe's whole; probes/pathtrace.c vx__path, probe.comp path()): a weight counted twice would pass 1, one left out
+ * would stay under it at 100 bounces (shallow paths cross the box many times: 20 bounces gave 0.95, 100 and 400
+ * 0.9996 and 1.002 on the CPU, 0.991 and 0.995 on the GPU). The camera inside the box sees a mirror wall, the floor
+ * and the light. CPU and GPU, the default bounces (2: with the metal events, paths of up to 6 events; 0.73) and 100. */
+static uint8_t trough_cell(uint32_t x, uint32_t y, uint32_t z, uint32_t n) {
+    if (z == 0) return 1;
+    if (x == 0 || x == n - 1 || y == 0 || y == n - 1) return 2;
+    return 0;
+}
+
+static void test_metal_white_furnace(void) {
+    vx_svo_scene s;
+    cells_scene(&s, 16, trough_cell);
+    s.palette[1] = s.palette[2] = 0xFFFFFFFFu;
+    const char* mirror[] = {"_type", "_metal", "_metal", "1", "_rough", "0.05"};
+    add_material(&s, 2, mirror, 3);
+    double h = 0.5 * 3.14159, black[3] = {0, 0, 0};
+    vx_light hemi = {.type = VX_LIGHT_DIRECTIONAL, .direction = {0, 0, 1}, .color = {1, 1, 1},
+                     .intensity = PI * sin(h) * sin(h), .angular_diameter = 2 * h};
+    vx_render_desc base = {.width = 16, .height = 16};
+    base.camera.set = true;
+    base.camera.eye[0] = 12, base.camera.eye[1] = 8, base.camera.eye[2] = 9;
+    base.camera.target[0] = 0, base.camera.target[1] = 8, base.camera.target[2] = 5;
+    base.camera.up[2] = 1;
+    base.camera.fov = 70;
+    const uint32_t caps[2] = {2, 100};
+    for (int ci = 0; ci < 2; ci++) {
+        vx_probe_set ps = light_only(0, black, caps[ci]);
+        vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 512, .seed = 4, .threads = 2,
+                                  .lights = &hemi, .light_count = 1};
+        vx_render_image c = {0}, g = {0};
+        REQUIRE(render_cpu(&s, &ps, &d, &c));
+        double mc = mean_rgb(&c), mg = NAN, sc = sigma_of_mean(&c), sg = NAN;
+        if (gpu && render_gpu(&s, &ps, &d, &g)) mg = mean_rgb(&g), sg = sigma_of_mean(&g);
+        fprintf(stderr, "  white furnace, facing mirrors, %u bounces: CPU %.4f +- %.4f, GPU %.4f +- %.4f\n", caps[ci], mc,
+                sc, mg, sg);
+        /* the pixels' spread bounds the mean's noise (they differ in mean too, so it is generous) */
+        CHECKF(mc <= 1 + 4 * sc, "CPU %.4f over 1", mc);
+        if (gpu) CHECKF(mg <= 1 + 4 * sg, "GPU %.4f over 1", mg);
+        if (caps[ci] == 100) {
+            CHECKF(mc > 0.98 - 4 * sc, "CPU %.4f: energy lost", mc);
+            if (gpu) CHECKF(mg > 0.98 - 4 * sg, "GPU %.4f: energy lost", mg);
+        }
+        CHECK(non_finite(&c) == 0);
+        vx_render_image_free(&c), vx_render_image_free(&g);
+    }
+    vx_svo_scene_free(&s);
+}
+
+/* ---- a partial metal where only its specular lobe goes on -------------------------------- */
+
+/* The noise of the mean of two images' mean: the pixels' seed-to-seed differences (var of a pixel ~ d^2 / 2). */
+static double noise_of_mean2(const vx_render_image* a, const vx_render_image* b) {
+    size_t n = (size_t)a->width * a->height;
+    double v = 0;
+    for (size_t i = 0; i < n; i++) {
+        double d = 0;
+        for (int k = 0; k < 3; k++) d += (a->pixels[4 * i + k] - b->pixels[4 * i + k]) / 3;
+        v += d * d / 2;
+    }
+    return sqrt(v) / n / sqrt(2.0);
+}
+
+/* A slab of half metal (metalness 0.5, roughness 0.3: a Lambert lobe and a specular one, each drawn apart) under a
+ * sphere and a rect light, both large and near (the BSDF's densities are of the lights' size, so the weights
+ * matter), black sky, no sun: nothing but the lights to see past the slab, so the image is the
+ * slab's direct light whatever the bounces. At 0 bounces the camera's first surface has no bounce left but a
+ * metal event: its specular lobe goes on (probes/pathtrace.c vx__path) and its light is weighed against that
+ * lobe's sampling, while the Lambert lobe's is taken whole (a path that draws it ends); at 3 both lobes go on and
+ * are weighed against their sampling. The two must give the same mean (within 4 sigma of the two-seed noise): a
+ * lobe weighed against a sampling that does not go on would lose light, one taken whole where it also goes on
+ * would count it twice. CPU and GPU, and the two alike at 3 bounces. */
+static void test_partial_metal_spent_bounces(void) {
+    vx_svo_scene s;
+    slab_scene(&s, 16, 0xFF60A0E0u);
+    const char* kv[] = {"_type", "_metal", "_metal", "0.5", "_rough", "0.3"};
+    add_material(&s, 1, kv, 3);
+    const vx_light lights[2] = {
+        {.type = VX_LIGHT_SPHERE, .position = {4, 11, 4.5}, .color = {1, 0.9, 0.8}, .intensity = 3, .radius = 2.5},
+        {.type = VX_LIGHT_RECT, .position = {10, 7, 3}, .direction = {-0.2, 0, -1}, .tangent = {0, 1, 0},
+         .color = {0.7, 0.8, 1}, .intensity = 1, .size = {8, 10}}};
+    double black[3] = {0, 0, 0}, target[3] = {8, 8, 1};
+    vx_render_desc base = ortho_view(target, 35 * PI / 180, 12, 16, 16);
+    double cpu3 = 0, cpu3s = 0;
+    for (int dev = 0; dev < 2; dev++) {
+        if (dev && !gpu) break;
+        double m[2], sg[2];
+        for (int bi = 0; bi < 2; bi++) {
+            vx_probe_set ps = light_only(0, black, 1);
+            ps.bounces = bi ? 2 : UINT32_MAX; /* the renderer's: the set's + 1, 3 or 0 */
+            vx_probe_render_desc d = {.base = &base, .mode = VX_PROBE_RENDER_PATHTRACE, .spp = 512, .threads = 2,
+                                      .lights = lights, .light_count = 2};
+            vx_render_image a = {0}, b = {0};
+            d.seed = 21;
+            REQUIRE(dev ? render_gpu(&s, &ps, &d, &a) : render_cpu(&s, &ps, &d, &a));
+            d.seed = 22;
+            REQUIRE(dev ? render_gpu(&s, &ps, &d, &b) : render_cpu(&s, &ps, &d, &b));
+            m[bi] = 0.5 * (mean_rgb(&a) + mean_rgb(&b)), sg[bi] = noise_of_mean2(&a, &b);
+            vx_render_image_free(&a), vx_render_image_free(&b);
+        }
+        fprintf(stderr, "  half metal, %s: 0 bounces %.5f +- %.5f, 3 bounces %.5f +- %.5f\n", dev ? "GPU" : "CPU", m[0],
+                sg[0], m[1], sg[1]);
+        CHECK(m[0] > 0.01);
+        CHECKF(fabs(m[0] - m[1]) < 4 * sqrt(sg[0] * sg[0] + sg[1] * sg[1]) + 1e-4 * m[1],
+               "%s: 0 bounces %.5f against 3 bounces %.5f", dev ? "GPU" : "CPU", m[0], m[1]);
+        if (!dev) cpu3 = m[1], cpu3s = sg[1];
+        else /* and the devices alike (a lobe counted twice in both bounce settings shows here) */
+            CHECKF(fabs(m[1] - cpu3) < 4 * sqrt(sg[1] * sg[1] + cpu3s * cpu3s) + 5e-3 * cpu3, "GPU %.5f against CPU %.5f",
+                   m[1], cpu3);
+    }
+    vx_svo_scene_free(&s);
+}
+
 /* ---- glass of IOR 1 ------------------------------------------------------------------ */
 
 static bool glass_on;
@@ -720,6 +844,8 @@ int main(void) {
         gpu = NULL;
     }
     RUN(test_ggx_white_furnace);
+    RUN(test_metal_white_furnace);
+    RUN(test_partial_metal_spent_bounces);
     RUN(test_glass_ior1_invisible);
     RUN(test_closed_box_series);
     RUN(test_point_and_spot_over_plane);
