@@ -384,6 +384,11 @@ expect_status 0 "map sky to .glb" "$BIN/svo_info" "$T/skya/m.svo" --to-glb "$T/s
 expect_status 0 "map .glb back" "$BIN/vox2svo" "$T/skyb/m.glb" "$T/m2.svo" --res 32 -q
 "$BIN/svo_info" "$T/m2.svo" | grep -q '^sky          environment map "env/sky.exr" x 2, turned 90 deg about +z$' &&
     ok "the map's path after the round trip" || bad "the map's path after the round trip"
+# --sky default drops the input's sky (the .glb above holds one); svo_render still refuses it (the option left out says it)
+expect_status 0 "vox2svo --sky default" "$BIN/vox2svo" "$T/skyb/g.glb" "$T/skyb/nosky.svo" --res 32 -q --sky default
+"$BIN/svo_info" "$T/skyb/nosky.svo" | grep -q "^sky          default (the renderer's)$" && ok "--sky default drops the sky" ||
+    bad "--sky default drops the sky"
+expect_status 2 "svo_render --sky default" "$BIN/svo_render" "$T/skyb/nosky.svo" "$T/skyb/nosky.ppm" --sky default
 expect_status 2 "vox2svo bad --sky" "$BIN/vox2svo" "$T/demo.vox" "$T/badsky.svo" --sky gradient:1,2
 grep -q "bad --sky 'gradient:1,2'" "$T/err" && [ ! -e "$T/badsky.svo" ] && ok "bad --sky named, no output" ||
     bad "bad --sky named, no output"

@@ -30,13 +30,14 @@ const char vx_tool_sky_syntax[] =
     "                       map:FILE[:INTENSITY[:ROTATION]]  (an HDR environment map read through\n"
     "                       OpenImageIO: equirectangular, top row +z; ROTATION degrees about +z)\n";
 
-bool vx_tool_parse_sky(const char* spec, vx_sky* k, char* why, size_t wn) {
+bool vx_tool_parse_sky(const char* spec, bool allow_default, vx_sky* k, char* why, size_t wn) {
     /* the syntax is the library's (svo.h vx_sky_parse), shared with the
      * Python module and svo_view's `sky` command */
     vx_error err = {0};
     if (vx_sky_parse(spec, k, &err)) return fail(why, wn, err.msg);
     /* nothing to store or replace: the option is left out for the default */
-    if (k->type == VX_SKY_DEFAULT) return fail(why, wn, "'default' is the renderer's own sky: leave --sky out");
+    if (k->type == VX_SKY_DEFAULT && !allow_default)
+        return fail(why, wn, "'default' is the renderer's own sky: leave --sky out");
     return true;
 }
 

@@ -23,9 +23,10 @@ extern const char vx_tool_sky_syntax[];
 /* Parses a --sky spec: R,G,B (constant), gradient:ZENITH:HORIZON:GROUND
  * (R,G,B each) or map:FILE[:INTENSITY[:ROTATION]] (degrees on the command
  * line, radians in vx_sky); svo/svo.h vx_sky_parse, which also checks it
- * with vx_sky_validate, less its "default" (the option left out). false
- * with why filled when malformed or invalid. */
-bool vx_tool_parse_sky(const char* spec, vx_sky* out, char* why, size_t why_size);
+ * with vx_sky_validate. "default" (the renderer's own sky) only where
+ * allow_default (vox2svo: store none, dropping the input's); elsewhere the
+ * option left out says it. false with why filled when malformed or invalid. */
+bool vx_tool_parse_sky(const char* spec, bool allow_default, vx_sky* out, char* why, size_t why_size);
 
 /* "point (1 2 3) colour 1 1 1 x 10, range 5" and the like. */
 void vx_tool_light_str(const vx_light* l, char* buf, size_t n);

@@ -717,7 +717,7 @@ int main(int argc, char** argv) {
             o.voxel_lights = true;
         } else if (!strcmp(a, "--sky")) {
             char why[256];
-            if (!vx_tool_parse_sky(ARG(), &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
+            if (!vx_tool_parse_sky(ARG(), false, &o.sky, why, sizeof why)) usage_error("bad --sky '%s': %s", argv[i], why);
             if (o.sky.type == VX_SKY_CONSTANT) memcpy(o.fd.sky, o.sky.color, sizeof o.fd.sky);
             o.sky_given = true;
         } else if (!strcmp(a, "--light-culling")) {

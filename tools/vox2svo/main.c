@@ -98,7 +98,8 @@ _Noreturn static void usage(int status) {
 #endif
             "    --sky SPEC       store this sky in OUT.svo, replacing the input's (renderers use the\n"
             "                     file's sky unless given another; svo_render --sky's syntax; a map's\n"
-            "                     FILE relative to the current folder is stored relative to OUT's):\n"
+            "                     FILE relative to the current folder is stored relative to OUT's;\n"
+            "                     'default' stores none, dropping the input's):\n"
             "%s"
             "    --y-up           meshes: keep glTF's +Y up axis (default: turned to voxkit's +Z up,\n"
             "                     (x, y, z) -> (x, -z, y), so models stand upright as in MagicaVoxel)\n"
@@ -172,7 +173,7 @@ static options parse(int argc, char** argv) {
 #endif
         else if (!strcmp(a, "--sky")) {
             char why[160];
-            if (!vx_tool_parse_sky(vx_tool_arg(argc, argv, &i, usage), &o.sky, why, sizeof why))
+            if (!vx_tool_parse_sky(vx_tool_arg(argc, argv, &i, usage), true, &o.sky, why, sizeof why))
                 usage_error("bad --sky '%s': %s", argv[i], why);
             o.sky_given = true;
         }
