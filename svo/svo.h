@@ -642,6 +642,19 @@ typedef bool (*vx_svo_voxel_fn)(void* user, uint32_t x, uint32_t y, uint32_t z, 
  * inverse of vx_svo_build_model. The model must be valid (as returned by
  * vx_svo_build_model or vx_svo_read). */
 vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* user, vx_error* err);
+/* Called once per 8^3-cell block that holds a set cell, block (bx, by, bz)
+ * holding cells 8 bx .. 8 bx + 7 and so on, bits[i >> 5] >> (i & 31) & 1
+ * the cell (x, y, z) of the block at i = x + 8 y + 64 z; in Morton order of
+ * the blocks; return false to stop early. */
+typedef bool (*vx_svo_block_fn)(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]);
+
+/* Visits the model's cells as 8^3-cell occupancy blocks (the renderer's and
+ * render_bench's grids, bench/brickgrid.h): the same cells as
+ * vx_svo_decode_model (attributes aside), one call per occupied block, a
+ * uniform leaf 8 or more cells wide given as its full blocks without
+ * visiting its cells, shared subtrees visited once per place. The model
+ * must be valid. */
+vx_result vx_svo_decode_blocks(const vx_svo_model* m, vx_svo_block_fn fn, void* user, vx_error* err);
 /* Whether cell (x, y, z) of a valid model is set: one descent from the root;
  * false outside the model's size. (The emissive lights' and the photons'
  * exposed faces: a face emits when the cell beyond it is empty.) */

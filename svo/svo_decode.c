@@ -890,6 +890,114 @@ vx_result vx_svo_decode_model(const vx_svo_model* m, vx_svo_voxel_fn fn, void* u
     return D.res;
 }
 
+/* ---- blocks ---------------------------------------------------------------------------- */
+
+typedef struct bdec {
+    const vx_svo_model* m;
+    vx_svo_block_fn fn;
+    void* user;
+    bool stop;
+    vx_error* err;
+    vx_result res;
+    uint32_t bits[16]; /* the block being filled (levels below 3) */
+    uint32_t full[16];
+} bdec;
+
+/* The cells of a cube of side 2^lvl (lvl <= 3) at (x0, y0, z0) within the
+ * block, into its bits. */
+static void bits_cube(bdec* B, uint32_t x0, uint32_t y0, uint32_t z0, uint32_t lvl) {
+    uint32_t n = 1u << lvl;
+    for (uint32_t z = z0; z < z0 + n; z++)
+        for (uint32_t y = y0; y < y0 + n; y++)
+            for (uint32_t x = x0; x < x0 + n; x++) {
+                uint32_t i = x + 8 * y + 64 * z;
+                B->bits[i >> 5] |= 1u << (i & 31);
+            }
+}
+
+/* A descriptor's children block, with decode's guards (visit). */
+static bool bdesc(bdec* B, uint32_t w, uint32_t lvl, uint32_t* d, uint32_t* b) {
+    const vx_svo_model* m = B->m;
+    *d = m->nodes[w];
+    uint32_t valid = vx_svo_desc_valid(*d), leaf = vx_svo_desc_leaf(*d), nn = vx__popc8(valid & ~leaf), slot;
+    uint32_t blen = nn + (m->attrs ? 1u : 0u);
+    *b = 0;
+    if (blen && (!block_of(m, w, *d, &slot, b) || (uint64_t)*b + blen > w || lvl == 0 || (lvl == 1 && nn))) {
+        B->res = vx_fail(B->err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: bad descriptor at word %u", w);
+        B->stop = true;
+        return false;
+    }
+    return true;
+}
+
+/* A node of side 2^lvl, lvl <= 3, at (x0, y0, z0) within the block. */
+static void bits_node(bdec* B, uint32_t w, uint32_t lvl, uint32_t x0, uint32_t y0, uint32_t z0) {
+    uint32_t d, b;
+    if (!bdesc(B, w, lvl, &d, &b)) return;
+    uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), half = 1u << (lvl - 1), k = 0;
+    for (uint32_t o = 0; o < 8 && !B->stop; o++) {
+        if (!(valid >> o & 1u)) continue;
+        uint32_t x = x0 + (o & 1u) * half, y = y0 + (o >> 1 & 1u) * half, z = z0 + (o >> 2 & 1u) * half;
+        if (leaf >> o & 1u) bits_cube(B, x, y, z, lvl - 1);
+        else bits_node(B, b + k++, lvl - 1, x, y, z);
+    }
+}
+
+static void emit_block(bdec* B, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t* bits) {
+    if (!B->stop && !B->fn(B->user, bx, by, bz, bits)) B->stop = true;
+}
+
+/* A uniform cube of side 2^lvl (lvl >= 3) at block (bx, by, bz): its full
+ * blocks, in Morton order. */
+static void full_blocks(bdec* B, uint32_t bx, uint32_t by, uint32_t bz, uint32_t lvl) {
+    uint64_t n = (uint64_t)1 << (3 * (lvl - 3));
+    for (uint64_t c = 0; c < n && !B->stop; c++)
+        emit_block(B, bx + vx__compact3(c), by + vx__compact3(c >> 1), bz + vx__compact3(c >> 2), B->full);
+}
+
+/* A node of side 2^lvl, lvl >= 3, at block (bx, by, bz); recursion bounded by the depth. */
+static void blocks_node(bdec* B, uint32_t w, uint32_t lvl, uint32_t bx, uint32_t by, uint32_t bz) {
+    if (lvl == 3) {
+        memset(B->bits, 0, sizeof B->bits);
+        bits_node(B, w, 3, 0, 0, 0);
+        emit_block(B, bx, by, bz, B->bits);
+        return;
+    }
+    uint32_t d, b;
+    if (!bdesc(B, w, lvl, &d, &b)) return;
+    uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), half = 1u << (lvl - 4), k = 0;
+    for (uint32_t o = 0; o < 8 && !B->stop; o++) {
+        if (!(valid >> o & 1u)) continue;
+        uint32_t x = bx + (o & 1u) * half, y = by + (o >> 1 & 1u) * half, z = bz + (o >> 2 & 1u) * half;
+        if (leaf >> o & 1u) full_blocks(B, x, y, z, lvl - 1);
+        else blocks_node(B, b + k++, lvl - 1, x, y, z);
+    }
+}
+
+vx_result vx_svo_decode_blocks(const vx_svo_model* m, vx_svo_block_fn fn, void* user, vx_error* err) {
+    if (!m || !fn) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "svo decode: null argument");
+    if (m->depth > VX_SVO_MAX_DEPTH)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: depth %u above %u", m->depth, VX_SVO_MAX_DEPTH);
+    bdec B = {.m = m, .fn = fn, .user = user, .err = err};
+    memset(B.full, 0xFF, sizeof B.full);
+    if (m->root == VX_SVO_ROOT_EMPTY) return VX_OK;
+    if (m->root == VX_SVO_ROOT_LEAF) {
+        if (m->depth >= 3) full_blocks(&B, 0, 0, 0, m->depth);
+        else bits_cube(&B, 0, 0, 0, m->depth), emit_block(&B, 0, 0, 0, B.bits);
+        return VX_OK;
+    }
+    if (m->root >= m->node_count || !m->nodes || m->depth == 0)
+        return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: root word %u of %u", m->root, m->node_count);
+    if (m->depth >= 3) {
+        blocks_node(&B, m->root, m->depth, 0, 0, 0);
+    } else {
+        /* the whole model within one block */
+        bits_node(&B, m->root, m->depth, 0, 0, 0);
+        emit_block(&B, 0, 0, 0, B.bits);
+    }
+    return B.res;
+}
+
 uint32_t vx_svo_attr_color(const vx_svo_scene* s, const vx_svo_model* m, uint32_t attr) {
     if (!m || attr >= m->attr_count) return 0xFFFFFFFFu;
     if ((m->attrs & VX_ATTR_RGBA8) && m->rgba) return m->rgba[attr];

@@ -2,6 +2,8 @@
  * validation against brute-force references (dense cell arrays). */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "svo/svo.h"
 #include "svo/svo_internal.h"
@@ -48,6 +50,59 @@ static coll decode_all(const vx_svo_model* m) {
     return c;
 }
 
+/* ---- blocks against cells ------------------------------------------------------------- */
+
+typedef struct blocks {
+    coll cells; /* every set bit of every block, as cells */
+    uint64_t blocks, last;
+    bool order_ok, empty_block;
+} blocks;
+
+static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]) {
+    blocks* b = (blocks*)user;
+    uint64_t k = vx_svo_morton(bx, by, bz);
+    if (b->blocks && k <= b->last) b->order_ok = false;
+    b->last = k, b->blocks++;
+    bool any = false;
+    for (uint32_t i = 0; i < 512; i++)
+        if (bits[i >> 5] >> (i & 31) & 1u) {
+            any = true;
+            collect(&b->cells, 8 * bx + (i & 7), 8 * by + (i >> 3 & 7), 8 * bz + (i >> 6), 0);
+        }
+    if (!any) b->empty_block = true;
+    return true;
+}
+
+static int cell_cmp(const void* a, const void* b) {
+    const cell *p = a, *q = b;
+    uint64_t x = vx_svo_morton(p->x, p->y, p->z), y = vx_svo_morton(q->x, q->y, q->z);
+    return x < y ? -1 : x > y;
+}
+
+/* vx_svo_decode_blocks gives the cells vx_svo_decode_model gives, in
+ * occupied blocks only, the blocks in Morton order. */
+static void check_blocks(const vx_svo_model* m, const coll* want) {
+    blocks b = {.order_ok = true};
+    b.cells.order_ok = true;
+    vx_error e;
+    CHECK(vx_svo_decode_blocks(m, block_cb, &b, &e) == VX_OK);
+    CHECK(b.order_ok);
+    CHECK(!b.empty_block);
+    CHECKF(b.cells.n == want->n, "blocks hold %zu cells, decode gives %zu", b.cells.n, want->n);
+    if (b.cells.n == want->n && want->n) {
+        cell* w = malloc(want->n * sizeof *w);
+        memcpy(w, want->c, want->n * sizeof *w);
+        qsort(w, want->n, sizeof *w, cell_cmp);
+        qsort(b.cells.c, b.cells.n, sizeof *b.cells.c, cell_cmp);
+        size_t bad = 0;
+        for (size_t i = 0; i < want->n; i++)
+            bad += w[i].x != b.cells.c[i].x || w[i].y != b.cells.c[i].y || w[i].z != b.cells.c[i].z;
+        CHECKF(bad == 0, "%zu cells of the blocks differ from the decoded cells", bad);
+        free(w);
+    }
+    free(b.cells.c);
+}
+
 /* Dense reference: value+1 per cell, 0 = empty. */
 typedef struct dense {
     uint32_t sx, sy, sz;
@@ -76,6 +131,7 @@ static void check_equal(const vx_svo_model* m, dense* ref, uint32_t (*value)(con
         if (r == 0 || r - 1 != value(m, q->attr)) bad++;
     }
     CHECKF(bad == 0, "%zu decoded cells differ from the reference", bad);
+    check_blocks(m, &c);
     free(c.c);
 }
 
