@@ -80,8 +80,30 @@ typedef struct brick_ctx {
     words coords;   /* each brick's coordinates, 3 words */
     uint64_t lo[3], hi[3];
     double x[12];
+    uint64_t off[3]; /* block_cb's offset in bricks */
     bool nomem;
 } brick_ctx;
+
+/* The brick at brick coordinates b (added empty if new); NULL out of memory. */
+static uint32_t* brick_at(brick_ctx* c, const uint64_t b[3]) {
+    uint32_t bi;
+    bool added;
+    if (!map_get(&c->map, pack(b), (uint32_t)c->m->bricks, &bi, &added)) return c->nomem = true, NULL;
+    if (added) {
+        if (!words_grow(&c->bricks, 16) || !words_grow(&c->coords, 3)) return c->nomem = true, NULL;
+        memset(c->bricks.w + c->bricks.n, 0, 64);
+        c->bricks.n += 16, c->m->bricks++;
+        for (int k = 0; k < 3; k++) c->coords.w[c->coords.n++] = (uint32_t)b[k];
+    }
+    return &c->bricks.w[(uint64_t)bi * 16];
+}
+
+static void grow_box(brick_ctx* c, const uint64_t g[3]) {
+    for (int k = 0; k < 3; k++) {
+        if (g[k] < c->lo[k]) c->lo[k] = g[k];
+        if (g[k] + 1 > c->hi[k]) c->hi[k] = g[k] + 1;
+    }
+}
 
 static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     (void)attr;
@@ -94,22 +116,51 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
         int64_t v = (int64_t)floor(q[k]) - m->lo[k];
         if (v < 0 || v >= ((int64_t)1 << m->depth)) return true;
         g[k] = (uint64_t)v, b[k] = g[k] >> 3;
-        if (g[k] < c->lo[k]) c->lo[k] = g[k];
-        if (g[k] + 1 > c->hi[k]) c->hi[k] = g[k] + 1;
     }
-    uint32_t bi;
-    bool added;
-    if (!map_get(&c->map, pack(b), (uint32_t)m->bricks, &bi, &added)) return c->nomem = true, false;
-    if (added) {
-        if (!words_grow(&c->bricks, 16) || !words_grow(&c->coords, 3)) return c->nomem = true, false;
-        memset(c->bricks.w + c->bricks.n, 0, 64);
-        c->bricks.n += 16, m->bricks++;
-        for (int k = 0; k < 3; k++) c->coords.w[c->coords.n++] = (uint32_t)b[k];
-    }
+    grow_box(c, g);
+    uint32_t* w = brick_at(c, b);
+    if (!w) return false;
     uint32_t i = (uint32_t)((g[0] & 7) | (g[1] & 7) << 3 | (g[2] & 7) << 6);
-    uint32_t* w = &c->bricks.w[(uint64_t)bi * 16 + (i >> 5)];
-    if (!(*w >> (i & 31) & 1)) m->cells++;
-    *w |= UINT32_C(1) << (i & 31);
+    if (!(w[i >> 5] >> (i & 31) & 1)) m->cells++;
+    w[i >> 5] |= UINT32_C(1) << (i & 31);
+    return true;
+}
+
+/* An instance whose grid maps to the cube by a translation of whole bricks
+ * (vx_svo_decode_blocks' blocks are the cube's bricks): its blocks, offset
+ * by off bricks, ORed in (instances may share a brick). */
+static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]) {
+    brick_ctx* c = user;
+    uint64_t b[3] = {bx + c->off[0], by + c->off[1], bz + c->off[2]};
+    for (int k = 0; k < 3; k++)
+        if (b[k] >= ((uint64_t)1 << (c->m->depth - 3))) return true; /* outside the cube: not drawn (as cell_cb) */
+    uint32_t* w = brick_at(c, b);
+    if (!w) return false;
+    for (int j = 0; j < 16; j++) {
+        uint32_t add = bits[j] & ~w[j];
+        c->m->cells += (uint64_t)__builtin_popcount(add);
+        w[j] |= bits[j];
+        for (uint32_t v = bits[j]; v; v &= v - 1) { /* the box: only a block's first and last cells could move it, */
+            uint32_t i = (uint32_t)j * 32 + (uint32_t)__builtin_ctz(v); /* but a block is at most 512 cells */
+            uint64_t g[3] = {8 * b[0] + (i & 7), 8 * b[1] + (i >> 3 & 7), 8 * b[2] + (i >> 6)};
+            grow_box(c, g);
+        }
+    }
+    return true;
+}
+
+/* Whether world-from-grid x is a translation by whole bricks from the cube's
+ * corner lo: off = (translation - lo) / 8 then. */
+static bool brick_aligned(const double x[12], const int64_t lo[3], uint64_t off[3]) {
+    static const double id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++)
+            if (x[4 * r + k] != id[3 * r + k]) return false;
+    for (int k = 0; k < 3; k++) {
+        double t = x[4 * k + 3] - (double)lo[k];
+        if (t != floor(t) || t < 0 || fmod(t, 8) != 0) return false;
+        off[k] = (uint64_t)t / 8;
+    }
     return true;
 }
 
@@ -160,7 +211,10 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
     for (uint32_t i = 0; i < s->instance_count && !r; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
         vx_svo_instance_world(s, &s->instances[i], c.x);
-        r = vx_svo_decode_model(&s->models[s->instances[i].model], cell_cb, &c, err);
+        const vx_svo_model* md = &s->models[s->instances[i].model];
+        /* whole bricks where the instance allows (a terrain's 2^28 cells as 2^19 blocks), else cell by cell */
+        r = brick_aligned(c.x, m->lo, c.off) ? vx_svo_decode_blocks(md, block_cb, &c, err)
+                                               : vx_svo_decode_model(md, cell_cb, &c, err);
         if (c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
     }
     /* the buffer: header, root, bricks, then each level's nodes bottom up */
