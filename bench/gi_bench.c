@@ -31,6 +31,19 @@
  * --name NAME (the scene column; default: the file name), --csv FILE
  * (appends one line per row, with a header when the file is new). A row
  * whose images hold non-finite pixels says how many (its relMSE is then nan).
+ * A method that fails (an error at some sample count) is reported in its
+ * place in the text and on stderr, and the other methods go on.
+ * Exit status: 0; 3 when some method failed (the others' rows are written);
+ * 1 when the scene, the GPU or the reference failed; 2 a usage error.
+ *
+ * The reference's health: after its row, a line gives the share of the two
+ * seeds' squared difference held by the worst pixel, and a warning when the
+ * two seeds' relMSE is above REF_NOISE_WARN (the mean reference's own error,
+ * a quarter of it, would then be above most methods' errors: the scene's
+ * rows say nothing). On the converted DamagedHelmet that is the sun (a
+ * delta light) reflected by its roughness-0 metal (GGX alpha 1e-3) at a
+ * vertex after a diffuse bounce: a caustic only light sampling can find,
+ * rare samples of 10^4 and more (docs/PERFORMANCE.md section 7).
  *
  * Adding a method: one entry in methods[]. Methods of the probe renderer
  * name their two modes; another module's method gives its own render()
@@ -361,6 +374,22 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
     return rs2 > 0 ? se / rs2 : 0;
 }
 
+/* The share of the squared difference between a and b (RGB, over b's hit
+ * pixels) that its worst pixel holds: near 1, a firefly in one image. */
+static double worst_pixel_share(const vx_render_image* a, const vx_render_image* b) {
+    double se = 0, worst = 0;
+    for (size_t i = 0; i < (size_t)b->width * b->height; i++) {
+        if (b->pixels[4 * i + 3] == 0) continue;
+        double e = 0;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - b->pixels[4 * i + c];
+            e += d * d;
+        }
+        se += e, worst = fmax(worst, e);
+    }
+    return se > 0 ? worst / se : 0;
+}
+
 /* Pixels with a non-finite channel (a method's failure: the row says so). */
 static size_t nonfinite(const vx_render_image* a) {
     size_t n = 0;
@@ -368,6 +397,11 @@ static size_t nonfinite(const vx_render_image* a) {
         n += !isfinite(a->pixels[4 * i]) || !isfinite(a->pixels[4 * i + 1]) || !isfinite(a->pixels[4 * i + 2]);
     return n;
 }
+
+/* Above this relMSE between the reference's two seeds, gi_bench warns: the
+ * mean reference's expected error (a quarter of it) would pass 0.025, more
+ * than the error of most rows of section 7's tables. */
+#define REF_NOISE_WARN 0.1
 
 static FILE* csv;
 static const char* scene_name;
@@ -410,7 +444,10 @@ static int method_rows(const gi_method* m, const unsigned* max_spp, const built*
         vx_error err = {0};
         if (render_median(m, b, false, spp, &full, &err) || render_median(m, b, true, spp, &ind, &err)) {
             vx_render_image_free(&full);
+            /* in the table's text too: a method's failure leaves its rows out, not the table's others */
             fprintf(stderr, "%s: %s %s %u spp: %s\n", scene_name, m->name, b->setting, spp, err.msg);
+            printf("%s: %s %s failed at %u spp (its rows from there left out): %s\n", scene_name, m->name, b->setting,
+                   spp, err.msg);
             return 1;
         }
         size_t bad[2] = {nonfinite(&full), nonfinite(&ind)};
@@ -531,9 +568,10 @@ int main(int argc, char** argv) {
             ref_s[ind] += ref[ind][k].gpu_seconds / 2;
         }
     if (rc) return rc;
-    double noise[2];
+    double noise[2], worst_share[2];
     for (int ind = 0; ind < 2; ind++) {
         noise[ind] = rel_mse(&ref[ind][0], &ref[ind][1]);
+        worst_share[ind] = worst_pixel_share(&ref[ind][0], &ref[ind][1]);
         float* a = ref[ind][0].pixels;
         const float* b = ref[ind][1].pixels;
         for (size_t p = 0; p < (size_t)base.width * base.height * 4; p++) a[p] = 0.5f * (a[p] + b[p]);
@@ -543,12 +581,26 @@ int main(int argc, char** argv) {
     snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
     row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1],
         nonfinite(&ref[0][0]) + nonfinite(&ref[1][0]));
+    for (int ind = 0; ind < 2; ind++) {
+        printf("%s: reference %s: the worst pixel holds %.0f%% of the two seeds' squared difference\n", scene_name,
+               ind ? "indirect" : "full", 100 * worst_share[ind]);
+        if (noise[ind] > REF_NOISE_WARN) {
+            printf("%s: WARNING: the %s reference's two seeds differ by relMSE %.3g (above %g): its own error is "
+                   "above most methods', so this scene's %s column says nothing\n", scene_name,
+                   ind ? "indirect" : "full", noise[ind], REF_NOISE_WARN, ind ? "indirect" : "full");
+            fprintf(stderr, "%s: warning: the %s reference is noisy (seeds' relMSE %.3g)\n", scene_name,
+                    ind ? "indirect" : "full", noise[ind]);
+        }
+    }
     pt_ms_per_spp = ref_s[1] * 1e3 / ref_spp;
     warm_with = &none;
 
+    /* A method that fails (e.g. photons-fg at lavapipe's loop limit on the helmet) is reported and the others go
+     * on; the exit status says some failed (3), so a script can go on to the next scene and still know. */
+    unsigned failed = 0;
     for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
         if (use[k] && methods[k].build == BUILD_NONE)
-            rc = method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
+            failed += method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
     for (int s = first_setting; s < argc && !rc; s++) {
         bool needed = false;
         for (size_t k = 0; k < METHOD_COUNT; k++) needed |= use[k] && methods[k].build == BUILD_PROBES;
@@ -581,7 +633,7 @@ int main(int argc, char** argv) {
         }
         for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
             if (use[k] && methods[k].build == BUILD_PROBES)
-                rc = method_rows(&methods[k], max_spp, &b, &ref[0][0], &ref[1][0]);
+                failed += method_rows(&methods[k], max_spp, &b, &ref[0][0], &ref[1][0]);
         vx_probe_gpu_destroy(b.pg);
         vx_probe_set_free(&b.ps);
     }
@@ -596,5 +648,6 @@ int main(int argc, char** argv) {
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
     vx_svo_scene_free(&scene);
-    return rc;
+    if (!rc && failed) fprintf(stderr, "%s: %u method setting(s) failed (above)\n", scene_name, failed);
+    return rc ? rc : failed ? 3 : 0;
 }
