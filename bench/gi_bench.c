@@ -44,6 +44,13 @@
  * delta light) reflected by its roughness-0 metal (GGX alpha 1e-3) at a
  * vertex after a diffuse bounce: a caustic only light sampling can find,
  * rare samples of 10^4 and more (docs/PERFORMANCE.md section 7).
+ * --ref-sun-angle DEG (0: off) gives the reference and the pathtrace rows
+ * the sun as a disc of that angular diameter (the real sun's is 0.53; a
+ * directional vx_light of the same irradiance, which the path tracer samples
+ * as a cone and weighs against BSDF sampling): no longer a delta, so a
+ * near-mirror's reflection of it is found by BSDF rays too. The other
+ * methods keep the delta sun; on the helmet the two suns' images differ by
+ * less than the reference's noise (PERFORMANCE.md section 7).
  *
  * Adding a method: one entry in methods[]. Methods of the probe renderer
  * name their two modes; another module's method gives its own render()
@@ -133,6 +140,8 @@ static const gi_method methods[] = {
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
 static vx_render_desc base;      /* size, camera, sun direction */
+static vx_light ref_sun;         /* --ref-sun-angle: the reference's sun as a disc */
+static uint32_t ref_sun_count;   /* 1 with --ref-sun-angle, else 0 (the delta sun) */
 static vx_gpu* gpu;
 static vx_render_scene* rs;
 static vx_svo_scene scene;
@@ -162,6 +171,7 @@ static vx_result photon_render(const gi_method* m, const built* b, bool indirect
 static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                               vx_error* err) {
     vx_probe_render_desc d = {.base = &base, .mode = indirect ? m->indirect : m->full, .spp = spp, .seed = 7};
+    if (m->full == VX_PROBE_RENDER_PATHTRACE) d.lights = &ref_sun, d.light_count = ref_sun_count; /* as the reference */
     return vx_probe_gpu_render(b->pg, &d, out, err);
 }
 
@@ -428,7 +438,7 @@ static int usage(void) {
             "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--warm MS] [--threads N] [--methods a,b]\n"
             "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
             "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
-            "                [--photons N] [--photon-radius R]\n"
+            "                [--photons N] [--photon-radius R] [--ref-sun-angle DEG]\n"
             "                SCENE.{svo,vox} WxH [spacing:res:spp[:i] ...]  (:i: independent first bounce)\n"
             "methods:");
     for (size_t k = 0; k < METHOD_COUNT; k++) fprintf(stderr, " %s (max spp %u)", methods[k].name, methods[k].max_spp);
@@ -485,6 +495,10 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--csv")) csv_path = v;
         else if (!strcmp(o, "--photons")) photon_desc.photons = (uint32_t)atoi(v);
         else if (!strcmp(o, "--photon-radius")) photon_desc.radius = atof(v);
+        else if (!strcmp(o, "--ref-sun-angle")) {
+            ref_sun.angular_diameter = atof(v) * 3.14159265358979323846 / 180;
+            if (!(ref_sun.angular_diameter >= 0 && ref_sun.angular_diameter < 3)) return usage();
+        }
         else if (!strcmp(o, "--max-spp")) {
             const char* eq = strchr(v, '=');
             size_t k = 0;
@@ -552,6 +566,15 @@ int main(int argc, char** argv) {
     built none = {.setting = "-"};
     if (vx_probe_gpu_create(rs, &scene, NULL, &none.pg, &err)) return fprintf(stderr, "GPU: %s\n", err.msg), 1;
 
+    if (ref_sun.angular_diameter > 0) { /* the probes' sun (direction, irradiance) as a disc */
+        const vx_probe_bake_desc D = vx_probe_bake_desc_defaults();
+        bool dir_set = base.light_dir[0] || base.light_dir[1] || base.light_dir[2];
+        ref_sun.type = VX_LIGHT_DIRECTIONAL;
+        memcpy(ref_sun.direction, dir_set ? base.light_dir : D.light_dir, sizeof ref_sun.direction);
+        memcpy(ref_sun.color, D.sun, sizeof ref_sun.color);
+        ref_sun.intensity = 1;
+        ref_sun_count = 1;
+    }
     /* the reference: two seeds each for the full image and the indirect light */
     vx_render_image ref[2][2] = {{{0}}}; /* [indirect][seed] */
     double ref_s[2] = {0};
@@ -560,7 +583,9 @@ int main(int argc, char** argv) {
             vx_probe_render_desc d = {.base = &base,
                                       .mode = ind ? VX_PROBE_RENDER_PT_INDIRECT : VX_PROBE_RENDER_PATHTRACE,
                                       .spp = ref_spp,
-                                      .seed = 999 + (uint64_t)k};
+                                      .seed = 999 + (uint64_t)k,
+                                      .lights = &ref_sun,
+                                      .light_count = ref_sun_count};
             if (vx_probe_gpu_render(none.pg, &d, &ref[ind][k], &err)) {
                 fprintf(stderr, "%s: reference: %s\n", scene_name, err.msg);
                 rc = 1;
@@ -578,7 +603,10 @@ int main(int argc, char** argv) {
         vx_render_image_free(&ref[ind][1]);
     }
     char ref_setting[64];
-    snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
+    if (ref_sun_count)
+        snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000, sun %.2f deg",
+                 ref_sun.angular_diameter * 180 / 3.14159265358979323846);
+    else snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
     row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1],
         nonfinite(&ref[0][0]) + nonfinite(&ref[1][0]));
     for (int ind = 0; ind < 2; ind++) {
