@@ -604,7 +604,7 @@ int main(int argc, char** argv) {
     }
     char ref_setting[64];
     if (ref_sun_count)
-        snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000, sun %.2f deg",
+        snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000; sun %.2f deg",
                  ref_sun.angular_diameter * 180 / 3.14159265358979323846);
     else snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
     row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1],
