@@ -31,6 +31,26 @@
  * --name NAME (the scene column; default: the file name), --csv FILE
  * (appends one line per row, with a header when the file is new). A row
  * whose images hold non-finite pixels says how many (its relMSE is then nan).
+ * A method that fails (an error at some sample count) is reported in its
+ * place in the text and on stderr, and the other methods go on.
+ * Exit status: 0; 3 when some method failed (the others' rows are written);
+ * 1 when the scene, the GPU or the reference failed; 2 a usage error.
+ *
+ * The reference's health: after its row, a line gives the share of the two
+ * seeds' squared difference held by the worst pixel, and a warning when the
+ * two seeds' relMSE is above REF_NOISE_WARN (the mean reference's own error,
+ * a quarter of it, would then be above most methods' errors: the scene's
+ * rows say nothing). On the converted DamagedHelmet that is the sun (a
+ * delta light) reflected by its roughness-0 metal (GGX alpha 1e-3) at a
+ * vertex after a diffuse bounce: a caustic only light sampling can find,
+ * rare samples of 10^4 and more (docs/PERFORMANCE.md section 7).
+ * --ref-sun-angle DEG (0: off) gives the reference and the pathtrace rows
+ * the sun as a disc of that angular diameter (the real sun's is 0.53; a
+ * directional vx_light of the same irradiance, which the path tracer samples
+ * as a cone and weighs against BSDF sampling): no longer a delta, so a
+ * near-mirror's reflection of it is found by BSDF rays too. The other
+ * methods keep the delta sun; on the helmet the two suns' images differ by
+ * less than the reference's noise (PERFORMANCE.md section 7).
  *
  * Adding a method: one entry in methods[]. Methods of the probe renderer
  * name their two modes; another module's method gives its own render()
@@ -120,6 +140,8 @@ static const gi_method methods[] = {
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
 static vx_render_desc base;      /* size, camera, sun direction */
+static vx_light ref_sun;         /* --ref-sun-angle: the reference's sun as a disc */
+static uint32_t ref_sun_count;   /* 1 with --ref-sun-angle, else 0 (the delta sun) */
 static vx_gpu* gpu;
 static vx_render_scene* rs;
 static vx_svo_scene scene;
@@ -149,6 +171,7 @@ static vx_result photon_render(const gi_method* m, const built* b, bool indirect
 static vx_result probe_render(const gi_method* m, const built* b, bool indirect, unsigned spp, vx_render_image* out,
                               vx_error* err) {
     vx_probe_render_desc d = {.base = &base, .mode = indirect ? m->indirect : m->full, .spp = spp, .seed = 7};
+    if (m->full == VX_PROBE_RENDER_PATHTRACE) d.lights = &ref_sun, d.light_count = ref_sun_count; /* as the reference */
     return vx_probe_gpu_render(b->pg, &d, out, err);
 }
 
@@ -361,6 +384,22 @@ static double rel_mse(const vx_render_image* a, const vx_render_image* ref) {
     return rs2 > 0 ? se / rs2 : 0;
 }
 
+/* The share of the squared difference between a and b (RGB, over b's hit
+ * pixels) that its worst pixel holds: near 1, a firefly in one image. */
+static double worst_pixel_share(const vx_render_image* a, const vx_render_image* b) {
+    double se = 0, worst = 0;
+    for (size_t i = 0; i < (size_t)b->width * b->height; i++) {
+        if (b->pixels[4 * i + 3] == 0) continue;
+        double e = 0;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)a->pixels[4 * i + c] - b->pixels[4 * i + c];
+            e += d * d;
+        }
+        se += e, worst = fmax(worst, e);
+    }
+    return se > 0 ? worst / se : 0;
+}
+
 /* Pixels with a non-finite channel (a method's failure: the row says so). */
 static size_t nonfinite(const vx_render_image* a) {
     size_t n = 0;
@@ -368,6 +407,11 @@ static size_t nonfinite(const vx_render_image* a) {
         n += !isfinite(a->pixels[4 * i]) || !isfinite(a->pixels[4 * i + 1]) || !isfinite(a->pixels[4 * i + 2]);
     return n;
 }
+
+/* Above this relMSE between the reference's two seeds, gi_bench warns: the
+ * mean reference's expected error (a quarter of it) would pass 0.025, more
+ * than the error of most rows of section 7's tables. */
+#define REF_NOISE_WARN 0.1
 
 static FILE* csv;
 static const char* scene_name;
@@ -394,7 +438,7 @@ static int usage(void) {
             "usage: gi_bench [--device N|NAME] [--ref-spp N] [--runs N] [--warm MS] [--threads N] [--methods a,b]\n"
             "                [--max-spp METHOD=N] [--camera EX,EY,EZ,TX,TY,TZ] [--up X,Y,Z] [--fov DEG]\n"
             "                [--light X,Y,Z] [--bounds X0,Y0,Z0,X1,Y1,Z1] [--name NAME] [--csv FILE]\n"
-            "                [--photons N] [--photon-radius R]\n"
+            "                [--photons N] [--photon-radius R] [--ref-sun-angle DEG]\n"
             "                SCENE.{svo,vox} WxH [spacing:res:spp[:i] ...]  (:i: independent first bounce)\n"
             "methods:");
     for (size_t k = 0; k < METHOD_COUNT; k++) fprintf(stderr, " %s (max spp %u)", methods[k].name, methods[k].max_spp);
@@ -410,7 +454,10 @@ static int method_rows(const gi_method* m, const unsigned* max_spp, const built*
         vx_error err = {0};
         if (render_median(m, b, false, spp, &full, &err) || render_median(m, b, true, spp, &ind, &err)) {
             vx_render_image_free(&full);
+            /* in the table's text too: a method's failure leaves its rows out, not the table's others */
             fprintf(stderr, "%s: %s %s %u spp: %s\n", scene_name, m->name, b->setting, spp, err.msg);
+            printf("%s: %s %s failed at %u spp (its rows from there left out): %s\n", scene_name, m->name, b->setting,
+                   spp, err.msg);
             return 1;
         }
         size_t bad[2] = {nonfinite(&full), nonfinite(&ind)};
@@ -448,6 +495,10 @@ int main(int argc, char** argv) {
         else if (!strcmp(o, "--csv")) csv_path = v;
         else if (!strcmp(o, "--photons")) photon_desc.photons = (uint32_t)atoi(v);
         else if (!strcmp(o, "--photon-radius")) photon_desc.radius = atof(v);
+        else if (!strcmp(o, "--ref-sun-angle")) {
+            ref_sun.angular_diameter = atof(v) * 3.14159265358979323846 / 180;
+            if (!(ref_sun.angular_diameter >= 0 && ref_sun.angular_diameter < 3)) return usage();
+        }
         else if (!strcmp(o, "--max-spp")) {
             const char* eq = strchr(v, '=');
             size_t k = 0;
@@ -515,6 +566,15 @@ int main(int argc, char** argv) {
     built none = {.setting = "-"};
     if (vx_probe_gpu_create(rs, &scene, NULL, &none.pg, &err)) return fprintf(stderr, "GPU: %s\n", err.msg), 1;
 
+    if (ref_sun.angular_diameter > 0) { /* the probes' sun (direction, irradiance) as a disc */
+        const vx_probe_bake_desc D = vx_probe_bake_desc_defaults();
+        bool dir_set = base.light_dir[0] || base.light_dir[1] || base.light_dir[2];
+        ref_sun.type = VX_LIGHT_DIRECTIONAL;
+        memcpy(ref_sun.direction, dir_set ? base.light_dir : D.light_dir, sizeof ref_sun.direction);
+        memcpy(ref_sun.color, D.sun, sizeof ref_sun.color);
+        ref_sun.intensity = 1;
+        ref_sun_count = 1;
+    }
     /* the reference: two seeds each for the full image and the indirect light */
     vx_render_image ref[2][2] = {{{0}}}; /* [indirect][seed] */
     double ref_s[2] = {0};
@@ -523,7 +583,9 @@ int main(int argc, char** argv) {
             vx_probe_render_desc d = {.base = &base,
                                       .mode = ind ? VX_PROBE_RENDER_PT_INDIRECT : VX_PROBE_RENDER_PATHTRACE,
                                       .spp = ref_spp,
-                                      .seed = 999 + (uint64_t)k};
+                                      .seed = 999 + (uint64_t)k,
+                                      .lights = &ref_sun,
+                                      .light_count = ref_sun_count};
             if (vx_probe_gpu_render(none.pg, &d, &ref[ind][k], &err)) {
                 fprintf(stderr, "%s: reference: %s\n", scene_name, err.msg);
                 rc = 1;
@@ -531,24 +593,42 @@ int main(int argc, char** argv) {
             ref_s[ind] += ref[ind][k].gpu_seconds / 2;
         }
     if (rc) return rc;
-    double noise[2];
+    double noise[2], worst_share[2];
     for (int ind = 0; ind < 2; ind++) {
         noise[ind] = rel_mse(&ref[ind][0], &ref[ind][1]);
+        worst_share[ind] = worst_pixel_share(&ref[ind][0], &ref[ind][1]);
         float* a = ref[ind][0].pixels;
         const float* b = ref[ind][1].pixels;
         for (size_t p = 0; p < (size_t)base.width * base.height * 4; p++) a[p] = 0.5f * (a[p] + b[p]);
         vx_render_image_free(&ref[ind][1]);
     }
     char ref_setting[64];
-    snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
+    if (ref_sun_count)
+        snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000; sun %.2f deg",
+                 ref_sun.angular_diameter * 180 / 3.14159265358979323846);
+    else snprintf(ref_setting, sizeof ref_setting, "seed 999 vs 1000");
     row("reference", ref_setting, 0, ref_spp, 0, ref_s[0], ref_s[1], noise[0], noise[1],
         nonfinite(&ref[0][0]) + nonfinite(&ref[1][0]));
+    for (int ind = 0; ind < 2; ind++) {
+        printf("%s: reference %s: the worst pixel holds %.0f%% of the two seeds' squared difference\n", scene_name,
+               ind ? "indirect" : "full", 100 * worst_share[ind]);
+        if (noise[ind] > REF_NOISE_WARN) {
+            printf("%s: WARNING: the %s reference's two seeds differ by relMSE %.3g (above %g): its own error is "
+                   "above most methods', so this scene's %s column says nothing\n", scene_name,
+                   ind ? "indirect" : "full", noise[ind], REF_NOISE_WARN, ind ? "indirect" : "full");
+            fprintf(stderr, "%s: warning: the %s reference is noisy (seeds' relMSE %.3g)\n", scene_name,
+                    ind ? "indirect" : "full", noise[ind]);
+        }
+    }
     pt_ms_per_spp = ref_s[1] * 1e3 / ref_spp;
     warm_with = &none;
 
+    /* A method that fails (e.g. photons-fg at lavapipe's loop limit on the helmet) is reported and the others go
+     * on; the exit status says some failed (3), so a script can go on to the next scene and still know. */
+    unsigned failed = 0;
     for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
         if (use[k] && methods[k].build == BUILD_NONE)
-            rc = method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
+            failed += method_rows(&methods[k], max_spp, &none, &ref[0][0], &ref[1][0]);
     for (int s = first_setting; s < argc && !rc; s++) {
         bool needed = false;
         for (size_t k = 0; k < METHOD_COUNT; k++) needed |= use[k] && methods[k].build == BUILD_PROBES;
@@ -581,7 +661,7 @@ int main(int argc, char** argv) {
         }
         for (size_t k = 0; k < METHOD_COUNT && !rc; k++)
             if (use[k] && methods[k].build == BUILD_PROBES)
-                rc = method_rows(&methods[k], max_spp, &b, &ref[0][0], &ref[1][0]);
+                failed += method_rows(&methods[k], max_spp, &b, &ref[0][0], &ref[1][0]);
         vx_probe_gpu_destroy(b.pg);
         vx_probe_set_free(&b.ps);
     }
@@ -596,5 +676,6 @@ int main(int argc, char** argv) {
     vx_render_scene_destroy(rs);
     vx_gpu_destroy(gpu);
     vx_svo_scene_free(&scene);
-    return rc;
+    if (!rc && failed) fprintf(stderr, "%s: %u method setting(s) failed (above)\n", scene_name, failed);
+    return rc ? rc : failed ? 3 : 0;
 }

@@ -666,10 +666,16 @@ static vx_result run_pass(vx_photon_gi* pg, const vx_render_desc* frame, uint32_
         st.dropped = n - c;
     }
     st.stored = ctr[0];
-    if (ctr[2])
+    if (ctr[2]) { /* photon.comp sets one bit for each step whose loops were cut: the message names them */
+        static const char* const step_name[3] = {"the photon trace", "the camera paths' gathers", "the density step"};
+        char steps[96] = "";
+        for (int k = 0; k < 3; k++)
+            if (ctr[2] >> k & 1) strcat(strcat(steps, steps[0] ? " and " : ""), step_name[k]);
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET,
-                       "photon pass %u: the loop limit of %s was reached (fewer photons, a smaller radius)", pass,
-                       vx_gpu_device_name(pg->g));
+                       "photon pass %u: the loop limit of %s was reached in %s (fewer photons, a smaller radius%s)",
+                       pass, vx_gpu_device_name(pg->g), steps[0] ? steps : "a step",
+                       ctr[2] & 2 && d->final_gather ? ", fewer final gather rays" : "");
+    }
     st.build_ms = build;
     st.gather_ms = st.paths_ms + st.density_ms;
     st.wall_ms = (vx_time_now() - t0) * 1e3;

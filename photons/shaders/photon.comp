@@ -337,7 +337,9 @@ void trace_photons() {
         o = g_s.p;
         in_glass = stopped; // a bounce off a voxel set in glass goes back into the glass
     }
-    if (!done || !loops_intact()) ctr[2] = 1u; // photons left untraced
+    // ctr[2]: which step's loops were cut (1 the trace, 2 the camera paths and gathers, 4 the density step), so
+    // that the host's error names it
+    if (!done || !loops_intact()) atomicOr(ctr[2], 1u); // photons left untraced
 }
 
 // Which photons a gather takes: every one; all but those the direct pass's light brought to their
@@ -764,7 +766,7 @@ void gather_pixel() {
         break;
     }
     if (!loops_intact()) {
-        ctr[2] = 1u;
+        atomicOr(ctr[2], 2u);
         return;
     }
     uint ri = P.fu.x + 3u * idx;
@@ -1048,7 +1050,7 @@ void density_pixel() {
     tile_sum(valid, rec0.xyz, n, ncode, 0u, P.r.x, sel, ghi, glo);
     parts_add(chi, clo);
     parts_add(ghi, glo);
-    if (!loops_intact()) ctr[2] = 1u;
+    if (!loops_intact()) atomicOr(ctr[2], 4u);
     if (!inside || gl_LocalInvocationIndex >= 64u) return;
     vec3 c = fx_value(chi, clo, P.fx.y), g = fx_value(ghi, glo, P.fx.y);
     vec4 rec1 = ph[ri + 1u], rec2 = ph[ri + 2u];
