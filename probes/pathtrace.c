@@ -214,21 +214,29 @@ static void glossy_lobes(const bsdf* B, const double wo_w[3], const double wi_w[
     *pdd = wi[2] / pi;
 }
 
+/* The direction of one lobe from u1, u2: the specular lobe's by visible
+ * normals (false where wo is below the surface), else the Lambert lobe's
+ * cosine; bsdf_sample and glossy_sample differ only in how they pick it. */
+static bool lobe_dir(const bsdf* B, const double wo[3], bool spec, double u1, double u2, double wi_w[3]) {
+    if (!spec) {
+        vx__cosine_dir(B->n, u1, u2, wi_w);
+        return true;
+    }
+    if (wo[2] <= 0) return false;
+    double m[3], wi[3];
+    ggx_vndf(B->alpha, wo, u1, u2, m);
+    double c = dot3(wo, m);
+    for (int k = 0; k < 3; k++) wi[k] = 2 * c * m[k] - wo[k];
+    to_world(B, wi, wi_w);
+    return true;
+}
+
 /* Samples wi for a Lambert or glossy vertex: weight = f cos / pdf. */
 static bool bsdf_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, double wi_w[3], double w[3], double* pdf) {
-    double wo[3], wi[3];
+    double wo[3];
     to_local(B, wo_w, wo);
     double u0 = vx__rng_next(rng), u1 = vx__rng_next(rng), u2 = vx__rng_next(rng);
-    if (B->kind == B_LAMBERT || u0 >= B->ps) {
-        vx__cosine_dir(B->n, u1, u2, wi_w);
-    } else {
-        if (wo[2] <= 0) return false;
-        double m[3];
-        ggx_vndf(B->alpha, wo, u1, u2, m);
-        double c = dot3(wo, m);
-        for (int k = 0; k < 3; k++) wi[k] = 2 * c * m[k] - wo[k];
-        to_world(B, wi, wi_w);
-    }
+    if (!lobe_dir(B, wo, B->kind != B_LAMBERT && u0 < B->ps, u1, u2, wi_w)) return false;
     double f[3];
     bsdf_eval(B, wo_w, wi_w, f, pdf);
     double cs = dot3(wi_w, B->n);
@@ -245,20 +253,11 @@ static bool bsdf_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, doubl
  * so the two sum to the whole BSDF's (no one-sample MIS between the lobes, which would mix the shares). */
 static bool glossy_sample(const bsdf* B, const double wo_w[3], vx__rng* rng, double wi_w[3], double w[3],
                           double* pdf, bool* spec) {
-    double wo[3], wi[3];
+    double wo[3];
     to_local(B, wo_w, wo);
     double u0 = vx__rng_next(rng), u1 = vx__rng_next(rng), u2 = vx__rng_next(rng);
     *spec = u0 < B->ps;
-    if (!*spec) {
-        vx__cosine_dir(B->n, u1, u2, wi_w);
-    } else {
-        if (wo[2] <= 0) return false;
-        double m[3];
-        ggx_vndf(B->alpha, wo, u1, u2, m);
-        double c = dot3(wo, m);
-        for (int k = 0; k < 3; k++) wi[k] = 2 * c * m[k] - wo[k];
-        to_world(B, wi, wi_w);
-    }
+    if (!lobe_dir(B, wo, *spec, u1, u2, wi_w)) return false;
     double fs[3], fd[3], pss, pdd;
     glossy_lobes(B, wo_w, wi_w, fs, &pss, fd, &pdd);
     const double* f = *spec ? fs : fd;
