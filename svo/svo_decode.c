@@ -930,19 +930,6 @@ static bool bdesc(bdec* B, uint32_t w, uint32_t lvl, uint32_t* d, uint32_t* b) {
     return true;
 }
 
-/* A node of side 2^lvl, lvl <= 3, at (x0, y0, z0) within the block. */
-static void bits_node(bdec* B, uint32_t w, uint32_t lvl, uint32_t x0, uint32_t y0, uint32_t z0) {
-    uint32_t d, b;
-    if (!bdesc(B, w, lvl, &d, &b)) return;
-    uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), half = 1u << (lvl - 1), k = 0;
-    for (uint32_t o = 0; o < 8 && !B->stop; o++) {
-        if (!(valid >> o & 1u)) continue;
-        uint32_t x = x0 + (o & 1u) * half, y = y0 + (o >> 1 & 1u) * half, z = z0 + (o >> 2 & 1u) * half;
-        if (leaf >> o & 1u) bits_cube(B, x, y, z, lvl - 1);
-        else bits_node(B, b + k++, lvl - 1, x, y, z);
-    }
-}
-
 static void emit_block(bdec* B, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t* bits) {
     if (!B->stop && !B->fn(B->user, bx, by, bz, bits)) B->stop = true;
 }
@@ -955,22 +942,27 @@ static void full_blocks(bdec* B, uint32_t bx, uint32_t by, uint32_t bz, uint32_t
         emit_block(B, bx + vx__compact3(c), by + vx__compact3(c >> 1), bz + vx__compact3(c >> 2), B->full);
 }
 
-/* A node of side 2^lvl, lvl >= 3, at block (bx, by, bz); recursion bounded by the depth. */
-static void blocks_node(bdec* B, uint32_t w, uint32_t lvl, uint32_t bx, uint32_t by, uint32_t bz) {
-    if (lvl == 3) {
-        memset(B->bits, 0, sizeof B->bits);
-        bits_node(B, w, 3, 0, 0, 0);
-        emit_block(B, bx, by, bz, B->bits);
-        return;
-    }
+/* A node of side 2^lvl at cell (x0, y0, z0): above level 3 its uniform
+ * leaves as full blocks and its children in turn, a child of side 8 into
+ * a block of its own; at level 3 and below its cells into B->bits (the
+ * caller clears and emits the block). Recursion bounded by the depth. */
+static void blocks_node(bdec* B, uint32_t w, uint32_t lvl, uint32_t x0, uint32_t y0, uint32_t z0) {
     uint32_t d, b;
     if (!bdesc(B, w, lvl, &d, &b)) return;
-    uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), half = 1u << (lvl - 4), k = 0;
+    uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), half = 1u << (lvl - 1), k = 0;
     for (uint32_t o = 0; o < 8 && !B->stop; o++) {
         if (!(valid >> o & 1u)) continue;
-        uint32_t x = bx + (o & 1u) * half, y = by + (o >> 1 & 1u) * half, z = bz + (o >> 2 & 1u) * half;
-        if (leaf >> o & 1u) full_blocks(B, x, y, z, lvl - 1);
-        else blocks_node(B, b + k++, lvl - 1, x, y, z);
+        uint32_t x = x0 + (o & 1u) * half, y = y0 + (o >> 1 & 1u) * half, z = z0 + (o >> 2 & 1u) * half;
+        if (leaf >> o & 1u) {
+            if (lvl > 3) full_blocks(B, x >> 3, y >> 3, z >> 3, lvl - 1);
+            else bits_cube(B, x & 7u, y & 7u, z & 7u, lvl - 1);
+        } else if (lvl == 4) {
+            memset(B->bits, 0, sizeof B->bits);
+            blocks_node(B, b + k++, 3, x, y, z);
+            emit_block(B, x >> 3, y >> 3, z >> 3, B->bits);
+        } else {
+            blocks_node(B, b + k++, lvl - 1, x, y, z);
+        }
     }
 }
 
@@ -988,13 +980,8 @@ vx_result vx_svo_decode_blocks(const vx_svo_model* m, vx_svo_block_fn fn, void* 
     }
     if (m->root >= m->node_count || !m->nodes || m->depth == 0)
         return vx_fail(err, VX_ERR_BAD_FORMAT, VX_NO_OFFSET, "svo decode: root word %u of %u", m->root, m->node_count);
-    if (m->depth >= 3) {
-        blocks_node(&B, m->root, m->depth, 0, 0, 0);
-    } else {
-        /* the whole model within one block */
-        bits_node(&B, m->root, m->depth, 0, 0, 0);
-        emit_block(&B, 0, 0, 0, B.bits);
-    }
+    blocks_node(&B, m->root, m->depth, 0, 0, 0);
+    if (m->depth <= 3) emit_block(&B, 0, 0, 0, B.bits); /* the whole model within one block */
     return B.res;
 }
 
