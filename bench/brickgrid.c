@@ -1,102 +1,29 @@
 /* bench/brickgrid.c - the grid hierarchy prototype's build (from the
  * scene's cells) and its dispatch; see bench/brickgrid.h.
  *
- * Levels: a level-k cell is 8^k cells wide. Level 0 are the cells; a
- * level-1 cell is a brick (16 words, bit x + 8 y + 64 z its cell (x, y, z));
- * a node (512 words, entry x + 8 y + 64 z) holds the 8^3 level-(k-1) cells
- * of one level-k cell; the root is a dense R^3 grid of level-`top` cells, R
- * = 2^depth / 8^top at most 128 (8 MiB). An entry below 2^31 is the word address of
- * its cell's node or brick; 2^31 | d marks an empty cell whose nearest
- * occupied cell of the same level is d cells away in the Chebyshev metric,
- * within its node (nodes) or the root grid (root), so every cell there
- * within d - 1 of it is empty. Buffer: an 8-word header (top, R, the
- * occupied cells' box [lo, hi) in cells), the root, the bricks, the nodes. */
+ * The layout is the tracer's (render/grid.h: bricks of 512 bits, nodes of
+ * 8^3 entries, a dense root, empty entries holding their Chebyshev distance),
+ * here over the whole scene's cells in one cube, root at most 128 wide by
+ * default. Buffer: an 8-word header (top, R, the occupied cells' box [lo,
+ * hi) in cells), then the grid. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bench/brickgrid.h"
+#include "render/grid.h"
 #include "brickgrid.comp.h"
 
-enum { HEADER = 8, ROOT_LOG = 7, DIST_CAP = 0xFFFF }; /* ROOT_LOG: the root at most 2^7 = 128 wide by default */
-#define EMPTY UINT32_C(0x80000000)
-
-/* Growing word arrays and a hash from a cell's packed coordinates to an index. */
-typedef struct words {
-    uint32_t* w;
-    uint64_t n, cap;
-} words;
-
-static bool words_grow(words* a, uint64_t add) {
-    if (a->n + add <= a->cap) return true;
-    uint64_t c = a->cap ? a->cap : 4096;
-    while (c < a->n + add) c *= 2;
-    uint32_t* w = realloc(a->w, c * 4);
-    if (!w) return false;
-    a->w = w, a->cap = c;
-    return true;
-}
-
-typedef struct cell_map {
-    uint64_t* key; /* packed coordinates + 1 (0: free) */
-    uint32_t* val;
-    uint64_t cap, n;
-} cell_map;
-
-static uint64_t pack(const uint64_t c[3]) { return c[0] | c[1] << 20 | c[2] << 40; }
-
-static uint64_t slot_of(const cell_map* m, uint64_t k) {
-    uint64_t h = (k * UINT64_C(0x9E3779B97F4A7C15)) >> 17, i = h & (m->cap - 1);
-    while (m->key[i] && m->key[i] != k + 1) i = (i + 1) & (m->cap - 1);
-    return i;
-}
-
-/* The index of cell k, *added true when new (given index next). */
-static bool map_get(cell_map* m, uint64_t k, uint32_t next, uint32_t* out, bool* added) {
-    if (2 * (m->n + 1) > m->cap) {
-        cell_map g = {.cap = m->cap ? 2 * m->cap : 4096};
-        g.key = calloc(g.cap, sizeof *g.key), g.val = malloc(g.cap * sizeof *g.val);
-        if (!g.key || !g.val) return free(g.key), free(g.val), false;
-        for (uint64_t i = 0; i < m->cap; i++)
-            if (m->key[i]) {
-                uint64_t j = slot_of(&g, m->key[i] - 1);
-                g.key[j] = m->key[i], g.val[j] = m->val[i];
-            }
-        g.n = m->n;
-        free(m->key), free(m->val);
-        *m = g;
-    }
-    uint64_t i = slot_of(m, k);
-    *added = !m->key[i];
-    if (*added) m->key[i] = k + 1, m->val[i] = next, m->n++;
-    *out = m->val[i];
-    return true;
-}
+enum { HEADER = 8 };
 
 typedef struct brick_ctx {
     bench_brick* m;
-    cell_map map;   /* brick coordinates -> brick index */
-    words bricks;   /* 16 words each */
-    words coords;   /* each brick's coordinates, 3 words */
+    vx__grid_bricks b;
     uint64_t lo[3], hi[3];
     double x[12];
     uint64_t off[3]; /* block_cb's offset in bricks */
     bool nomem;
 } brick_ctx;
-
-/* The brick at brick coordinates b (added empty if new); NULL out of memory. */
-static uint32_t* brick_at(brick_ctx* c, const uint64_t b[3]) {
-    uint32_t bi;
-    bool added;
-    if (!map_get(&c->map, pack(b), (uint32_t)c->m->bricks, &bi, &added)) return c->nomem = true, NULL;
-    if (added) {
-        if (!words_grow(&c->bricks, 16) || !words_grow(&c->coords, 3)) return c->nomem = true, NULL;
-        memset(c->bricks.w + c->bricks.n, 0, 64);
-        c->bricks.n += 16, c->m->bricks++;
-        for (int k = 0; k < 3; k++) c->coords.w[c->coords.n++] = (uint32_t)b[k];
-    }
-    return &c->bricks.w[(uint64_t)bi * 16];
-}
 
 static void grow_box(brick_ctx* c, const uint64_t g[3]) {
     for (int k = 0; k < 3; k++) {
@@ -118,8 +45,8 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
         g[k] = (uint64_t)v, b[k] = g[k] >> 3;
     }
     grow_box(c, g);
-    uint32_t* w = brick_at(c, b);
-    if (!w) return false;
+    uint32_t* w = vx__grid_brick_at(&c->b, (uint32_t)b[0], (uint32_t)b[1], (uint32_t)b[2]);
+    if (!w) return c->nomem = true, false;
     uint32_t i = (uint32_t)((g[0] & 7) | (g[1] & 7) << 3 | (g[2] & 7) << 6);
     if (!(w[i >> 5] >> (i & 31) & 1)) m->cells++;
     w[i >> 5] |= UINT32_C(1) << (i & 31);
@@ -134,8 +61,8 @@ static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const ui
     uint64_t b[3] = {bx + c->off[0], by + c->off[1], bz + c->off[2]};
     for (int k = 0; k < 3; k++)
         if (b[k] >= ((uint64_t)1 << (c->m->depth - 3))) return true; /* outside the cube: not drawn (as cell_cb) */
-    uint32_t* w = brick_at(c, b);
-    if (!w) return false;
+    uint32_t* w = vx__grid_brick_at(&c->b, (uint32_t)b[0], (uint32_t)b[1], (uint32_t)b[2]);
+    if (!w) return c->nomem = true, false;
     for (int j = 0; j < 16; j++) {
         uint32_t add = bits[j] & ~w[j];
         c->m->cells += (uint64_t)__builtin_popcount(add);
@@ -164,31 +91,6 @@ static bool brick_aligned(const double x[12], const int64_t lo[3], uint64_t off[
     return true;
 }
 
-/* The empty entries of an n^3 grid (x fastest) get EMPTY | their Chebyshev
- * distance to the nearest occupied entry (capped): a breadth-first search
- * over the 26 neighbours from all occupied entries at once (a step to any of
- * the 26 is one unit of the metric). queue: n^3 words. */
-static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
-    uint64_t cnt = n * n * n, head = 0, tail = 0;
-    for (uint64_t i = 0; i < cnt; i++)
-        if (g[i] < EMPTY) queue[tail++] = (uint32_t)i;
-        else g[i] = EMPTY | DIST_CAP;
-    while (head < tail) {
-        uint64_t i = queue[head++];
-        int64_t x = (int64_t)(i % n), y = (int64_t)(i / n % n), z = (int64_t)(i / (n * n));
-        uint32_t dn = (g[i] < EMPTY ? 0 : g[i] & DIST_CAP) + 1;
-        if (dn >= DIST_CAP) continue;
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int64_t X = x + dx, Y = y + dy, Z = z + dz;
-                    if (X < 0 || Y < 0 || Z < 0 || X >= (int64_t)n || Y >= (int64_t)n || Z >= (int64_t)n) continue;
-                    uint64_t j = ((uint64_t)Z * n + (uint64_t)Y) * n + (uint64_t)X;
-                    if (g[j] >= EMPTY && (g[j] & DIST_CAP) > dn) g[j] = EMPTY | dn, queue[tail++] = (uint32_t)j;
-                }
-    }
-}
-
 vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_depth, uint32_t root_log, bench_brick* m,
                              vx_error* err) {
     memset(m, 0, sizeof *m);
@@ -198,13 +100,10 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
     if (m->depth > max_depth || m->depth > 20)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide is over the limit 2^%u",
                        m->depth, max_depth < 20 ? max_depth : 20);
-    uint32_t top = 1;
-    if (!root_log) root_log = ROOT_LOG;
-    while ((m->depth - 3 * top) > root_log && m->depth > 3 * (top + 1)) top++; /* R = 2^(depth - 3 top) at most 2^root_log */
+    uint32_t top = vx__grid_top(m->depth, root_log);
     if (top > 3)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: a cube 2^%u cells wide needs %u levels, at most 3",
                        m->depth, top);
-    uint64_t R = (uint64_t)1 << (m->depth - 3 * top), R3 = R * R * R;
     m->top = top;
     brick_ctx c = {.m = m, .lo = {UINT64_MAX, UINT64_MAX, UINT64_MAX}};
     vx_result r = VX_OK;
@@ -217,67 +116,25 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
                                                : vx_svo_decode_model(md, cell_cb, &c, err);
         if (c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
     }
-    /* the buffer: header, root, bricks, then each level's nodes bottom up */
-    words out = {0};
-    uint32_t* queue = malloc((R3 > 512 ? R3 : 512) * 4);
-    if (!r && (!queue || !words_grow(&out, HEADER + R3 + c.bricks.n)))
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
-    if (!r && out.w) {
+    m->bricks = c.b.bits.n / 16;
+    /* the buffer: header, then the grid (render/grid.h: root, bricks, each level's nodes bottom up) */
+    vx__grid_words out = {0};
+    if (!r && !vx__grid_words_grow(NULL, &out, HEADER)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
+    if (!r) {
         memset(out.w, 0, HEADER * 4);
-        out.w[0] = top, out.w[1] = (uint32_t)R;
+        out.w[0] = top, out.w[1] = 1u << (m->depth - 3 * top);
         for (int k = 0; k < 3; k++)
             out.w[2 + k] = m->cells ? (uint32_t)c.lo[k] : 0, out.w[5 + k] = m->cells ? (uint32_t)c.hi[k] : 0;
-        for (uint64_t i = 0; i < R3; i++) out.w[HEADER + i] = EMPTY;
-        memcpy(out.w + HEADER + R3, c.bricks.w, c.bricks.n * 4);
-        out.n = HEADER + R3 + c.bricks.n;
-    }
-    /* the cells of the level being placed: coordinates (3 words) and address */
-    words cc = c.coords, ca = {0};
-    c.coords = (words){0};
-    if (!r && !words_grow(&ca, m->bricks)) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
-    for (uint64_t i = 0; !r && i < m->bricks; i++) ca.w[ca.n++] = (uint32_t)(HEADER + R3 + 16 * i);
-    for (uint32_t lv = 1; lv < top && !r; lv++) {
-        /* nodes of level lv + 1 cells, each the 8^3 level-lv cells below it */
-        cell_map pm = {0};
-        words pc = {0}, pa = {0};
-        for (uint64_t i = 0; i < ca.n && !r; i++) {
-            uint64_t p[3] = {cc.w[3 * i] >> 3, cc.w[3 * i + 1] >> 3, cc.w[3 * i + 2] >> 3};
-            uint32_t ni;
-            bool added;
-            if (!map_get(&pm, pack(p), (uint32_t)pa.n, &ni, &added) ||
-                (added && (!words_grow(&out, 512) || !words_grow(&pc, 3) || !words_grow(&pa, 1)))) {
-                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "brick grid: out of memory");
-                break;
-            }
-            if (added) {
-                if (out.n + 512 >= EMPTY) {
-                    r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: over 2^31 words");
-                    break;
-                }
-                for (int k = 0; k < 3; k++) pc.w[pc.n++] = (uint32_t)p[k];
-                pa.w[pa.n++] = (uint32_t)out.n;
-                for (int e = 0; e < 512; e++) out.w[out.n + e] = EMPTY;
-                out.n += 512;
-            }
-            uint32_t e = (cc.w[3 * i] & 7) | (cc.w[3 * i + 1] & 7) << 3 | (cc.w[3 * i + 2] & 7) << 6;
-            out.w[pa.w[ni] + e] = ca.w[i];
-        }
-        for (uint64_t i = 0; i < pa.n && !r; i++) fill_distances(out.w + pa.w[i], 8, queue);
-        free(pm.key), free(pm.val), free(cc.w), free(ca.w);
-        cc = pc, ca = pa;
+        out.n = HEADER;
+        r = vx__grid_layout(&c.b, m->depth, top, 0, &out, err);
     }
     if (!r) {
-        R3 = R * R * R;
-        for (uint64_t i = 0; i < ca.n; i++)
-            out.w[HEADER + ((uint64_t)cc.w[3 * i + 2] * R + cc.w[3 * i + 1]) * R + cc.w[3 * i]] = ca.w[i];
-        fill_distances(out.w + HEADER, R, queue);
         m->words = out.n;
         /* the kernel reads the header's values from its Frame block (a uniform, not a load per ray) */
         memcpy(m->k.extra, out.w, sizeof m->k.extra);
     }
-    free(cc.w), free(ca.w), free(queue), free(c.map.key), free(c.map.val), free(c.bricks.w), free(c.coords.w);
+    vx__grid_bricks_free(&c.b);
     m->build_seconds = vx_time_now() - t0;
-    if (!r && out.n >= EMPTY) r = vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "brick grid: over 2^31 words");
     if (!r)
         r = vx__buffer_create(gpu, (VkDeviceSize)m->words * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                               "brick grid", &m->buf, err);

@@ -28,6 +28,9 @@
  * (VK_KHR_pipeline_executable_properties where the device has it: registers,
  * local memory, instructions; lines "stats: LABEL [spec ...] ..."), the pass
  * pipeline's frame.comp and gbuffer.comp included (one small frame each).
+ * --octree: voxkit's rows again with every model on its octree walk (the
+ * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
+ * then counts the pixels whose hits differ from the grid walk's).
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
@@ -151,7 +154,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -531,6 +534,7 @@ int main(int argc, char** argv) {
     /* per kernel: the screen cull (-1: the library's) */
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+    int kgrid[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1}; /* the grid walk (-1: the library's) */
     char klabel[9][96];
     uint32_t runs = 15;
     uint32_t brick_root = 0; /* --brick-root: bench_brick_create's root_log */
@@ -583,6 +587,13 @@ int main(int argc, char** argv) {
                 smap_list[nsmap++] = (uint32_t)n;
                 if (!*end) break;
                 bp = end + 1;
+            }
+        }
+        else if (!strcmp(argv[i], "--octree")) {
+            /* the built-in kernel again with every model on its octree walk (no grid walk) */
+            if (nkern < 9) {
+                snprintf(klabel[nkern], sizeof klabel[nkern], "octree walk");
+                kgrid[nkern] = 0, kname[nkern] = klabel[nkern], nkern++;
             }
         }
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
@@ -764,6 +775,12 @@ int main(int argc, char** argv) {
         uint64_t vx_bytes = 0;
         for (uint32_t i = 0; i < s.model_count; i++)
             vx_bytes += (uint64_t)s.models[i].node_count * 4 + (s.models[i].attrs ? (uint64_t)s.models[i].attr_count * 4 : 0);
+        vx_render_layout_info rli;
+        vx_render_scene_layout(rs, &rli);
+        vx_bytes += rli.grid_bytes; /* the grid walk's grids (render/grid.h) */
+        if (rli.grid_models)
+            printf("grid: %s: %u of %u models, %.2f MiB, built in %.3f s\n", name, rli.grid_models, s.model_count,
+                   rli.grid_bytes / 1048576.0, rli.grid_seconds);
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
         bench_tree64 t6 = {0}, *t6p = NULL;
@@ -835,6 +852,7 @@ int main(int argc, char** argv) {
                     vx__render_scene_trace_kernel(rs, kspv[ki], kbytes[ki], bspv[ki], bbytes[ki], (uint32_t)ki);
                     vx__render_scene_trace_variant(rs, kcull[ki]);
                     vx__render_scene_trace_path(rs, kpath[ki]);
+                    vx__render_scene_grid(rs, kgrid[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

@@ -53,7 +53,7 @@ typedef struct vx_gpu_compute_pipeline_desc {
     uint32_t binding_count;
     VkDescriptorType bindings[VX_GPU_MAX_BINDINGS];
     uint32_t spec_count;
-    uint32_t spec[13];           /* 32-bit specialisation constants, ids 0.. */
+    uint32_t spec[16];           /* 32-bit specialisation constants, ids 0.. */
     const char* label;
 } vx_gpu_compute_pipeline_desc;
 

@@ -4,6 +4,7 @@
 add_library(vx_trace STATIC
   ${CMAKE_CURRENT_SOURCE_DIR}/render_common.c
   ${CMAKE_CURRENT_SOURCE_DIR}/bvh.c
+  ${CMAKE_CURRENT_SOURCE_DIR}/grid.c
   ${CMAKE_CURRENT_SOURCE_DIR}/cpu_trace.c
   ${CMAKE_CURRENT_SOURCE_DIR}/compact.c
   ${CMAKE_CURRENT_SOURCE_DIR}/compact_page.c

@@ -379,7 +379,20 @@ typedef struct vx_render_scene_desc {
      * not hold it (render/compact.h, vx_compact_page_build_reader); the reader
      * stays borrowed by the scene until vx_render_scene_destroy */
     uint64_t host_budget;
+    /* the grid walk (issue 21; render/grid.h): vx_render_frame's trace walks
+     * a model that has a grid by a hierarchical DDA over 8^3-cell bricks,
+     * skipping empty space by distance, instead of descending its octree (the
+     * same cells and hits). Grids are built from the plain layout's models of
+     * at most VX_RENDER_GRID_DEPTH levels at creation, in model order while
+     * their bytes stay within grid_budget: 0 VX_RENDER_GRID_BUDGET,
+     * VX_RENDER_NO_GRID none. An edited model (vx_render_scene_update_model)
+     * goes back to its octree walk. The passes, probes and GI kernels walk the
+     * octrees. */
+    uint64_t grid_budget;
 } vx_render_scene_desc;
+#define VX_RENDER_GRID_BUDGET (UINT64_C(1) << 30)
+#define VX_RENDER_NO_GRID UINT64_C(1)
+#define VX_RENDER_GRID_DEPTH 13u
 enum { VX_RENDER_BRICKS_AUTO = 0, VX_RENDER_BRICKS_INLINE = 1, VX_RENDER_BRICKS_DICT = 2 };
 /* vx_render_scene_create with a layout choice (desc NULL: all defaults).
  * A compact scene refuses what only the plain layout serves
@@ -482,6 +495,9 @@ typedef struct vx_render_layout_info {
     double geom_seconds;     /* of which its geometry DAG, on geom_threads threads */
     uint32_t geom_threads;
     double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
+    uint64_t grid_bytes;     /* the grid walk's grids (vx_render_scene_desc.grid_budget), 0: none */
+    uint32_t grid_models;    /* the models that have one */
+    double grid_seconds;     /* their build on the host */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the
  * previous frame's rays requested, as many as the pool holds; rays that

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "render/compact.h"
+#include "render/grid.h"
 #include "render/render_internal.h"
 #include "inst_rows.comp.h"
 #include "refit.comp.h"
@@ -101,6 +102,12 @@ struct vx_render_scene {
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
     vx__buffer beam; /* the beam pass's eye distance per pixel block */
+    /* the grid walk (render/grid.h, trace.comp's GRID): words 0 .. model_count - 1 each model's root address
+     * (UINT32_MAX: none), then the grids; grid_top the greatest root level (0: no grid, the kernel's GRID 0);
+     * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
+    vx__buffer grid;
+    uint32_t grid_top;
+    int grid_on;
     /* the models' regions and table (vx_render_scene_update_model) */
     region* wreg; /* node words, per model */
     region* creg; /* colour records, per model */
@@ -486,6 +493,54 @@ static vx_result prepare_models(vx_render_scene* rs, const vx_svo_scene* s, bool
 done:
     vx_free(&rs->alloc, nw);
     vx_free(&rs->alloc, cw);
+    return r;
+}
+
+/* The grid walk's grids (render/grid.h; trace.comp's grid_walk.glsl walks
+ * them instead of the octrees): one per model of at most
+ * VX_RENDER_GRID_DEPTH levels, built from its octree, in model order while
+ * their words stay within the budget (desc->grid_budget) and one storage
+ * buffer's range; none on a device without them by default (a CPU device:
+ * VX_RENDER_GRID_BUDGET's rule) or for the float64 variant's scenes. A
+ * model the grid cannot lay out keeps its octree walk. */
+static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
+                               vx_error* err) {
+    rs->grid_on = -1;
+    uint64_t budget = desc && desc->grid_budget ? desc->grid_budget : VX_RENDER_GRID_BUDGET;
+    if (budget == VX_RENDER_NO_GRID || rs->precise || !s->model_count) return VX_OK;
+    if (budget > rs->buffer_range) budget = rs->buffer_range;
+    double t0 = vx_time_now();
+    vx__grid_words out = {0};
+    if (!vx__grid_words_grow(&rs->alloc, &out, s->model_count))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
+    memset(out.w, 0xFF, (size_t)s->model_count * 4);
+    out.n = s->model_count;
+    uint32_t made = 0, top = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        const vx_svo_model* m = &s->models[i];
+        if (m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes)) continue;
+        size_t before = out.n;
+        vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
+        if (vx__grid_model(&rs->alloc, m, 0, &out, &e) || (uint64_t)out.n * 4 > budget) {
+            out.n = before;
+            continue;
+        }
+        out.w[i] = (uint32_t)before;
+        made++;
+        uint32_t t = vx__grid_top(m->depth < 3 ? 3 : m->depth, 0);
+        if (t > top) top = t;
+    }
+    vx_result r = VX_OK;
+    if (made && !(r = vx__buffer_create(rs->gpu, (VkDeviceSize)out.n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                                        "grid", &rs->grid, err)))
+        r = vx__buffer_upload(rs->gpu, &rs->grid, out.w, (VkDeviceSize)out.n * 4, err);
+    if (!r && made) {
+        rs->grid_top = top;
+        rs->layout.grid_bytes = (uint64_t)out.n * 4;
+        rs->layout.grid_models = made;
+        rs->layout.grid_seconds = vx_time_now() - t0;
+    }
+    vx_free(&rs->alloc, out.w);
     return r;
 }
 
@@ -999,7 +1054,8 @@ vx_result vx_render_scene_create_ex(vx_gpu* gpu, const vx_svo_scene* s, const vx
     bool plain = li.layout == VX_RENDER_LAYOUT_PLAIN;
     vx_render_scene* rs = new_scene(gpu, s, &li, range, max_depth);
     if (!rs) return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory");
-    if ((r = prepare_models(rs, s, plain, err)) || (r = prepare_instances(rs, s, err))) {
+    if ((r = prepare_models(rs, s, plain, err)) || (r = prepare_instances(rs, s, err)) ||
+        (plain && (r = prepare_grids(rs, s, desc, err)))) {
         vx_render_scene_destroy(rs);
         return r;
     }
@@ -1370,7 +1426,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_render_sun_nodes_free(rs->smap_pre);
     destroy_instance_buffers(rs);
     vx__buffer* bufs[] = {&rs->beam,   &rs->dense_bits, &rs->hits,  &rs->pixels, &rs->models,
-                          &rs->colors, &rs->nodes,      &rs->stage};
+                          &rs->colors, &rs->nodes,      &rs->stage, &rs->grid};
     for (size_t i = 0; i < sizeof bufs / sizeof bufs[0]; i++) vx__buffer_destroy(g, bufs[i]);
     if (rs->refit_pool) vkDestroyDescriptorPool(g->device, rs->refit_pool, NULL);
     vx_bvh_free(&rs->bvh);
@@ -1587,6 +1643,12 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
     settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
+    if (rs->grid.buf) {
+        /* the edited model walks its octree from now on (its grid is not made again) */
+        uint32_t none = UINT32_MAX;
+        vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
+        if (gr) return gr;
+    }
     /* the shadow map's node list is the models' as made: an edited scene has
      * no map (listing the nodes again would cost a stroke tens of ms on a
      * large model) */
@@ -1764,6 +1826,10 @@ void vx__render_scene_trace_variant(vx_render_scene* rs, int cull) {
 
 void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
     if (rs) rs->path = path < 0 ? -1 : path > 0;
+}
+
+void vx__render_scene_grid(vx_render_scene* rs, int on) {
+    if (rs) rs->grid_on = on < 0 ? -1 : on > 0;
 }
 
 /* Whether the trace kernel starts primary rays below the root (its
@@ -2159,9 +2225,13 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if ((r = write_frame_tables(rs, f, err))) return r;
     fill_gpu_frame(rs, f, rs->frame.map); /* with the map's frame (grid_lo, dims2) where smap */
     fill_single_instance(rs);
+    /* the grid walk (shaders/grid_walk.glsl): float variant, without LOD; the
+     * kernel's GRID the grids' greatest root level. The beam pass and the
+     * starts below the root serve the octree walk: off with it. */
+    uint32_t grid = !precise && !f->lod && rs->grid_on != 0 && !rs->alt_spv ? rs->grid_top : 0;
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
-    uint32_t beam = !precise && !f->lod && f->beam > 1 ? f->beam : 0;
-    if (rs->inst_count <= 1) frame_paths(rs, f, precise, beam, rs->frame.map);
+    uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;
+    if (rs->inst_count <= 1 && !grid) frame_paths(rs, f, precise, beam, rs->frame.map);
     uint32_t bw = beam ? (f->width + beam - 1) / beam : 0, bh = beam ? (f->height + beam - 1) / beam : 0;
     /* the float kernel declares the beam binding either way */
     if (!precise && (r = vx__buffer_ensure(g, &rs->beam, beam ? (VkDeviceSize)bw * bh * 4 : 16, "beam", err))) return r;
@@ -2182,17 +2252,18 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 the starts below the root
      * (PATH_START; other kernels' 7 is theirs); 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
-    uint32_t spec[13] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
-                         rs->inst_count <= 1 && path_on(rs),
-                         vx__render_scene_deep(rs), rs->far, 0, smap, 0};
-    uint64_t key = vx__spec_key(1 + precise, spec, 13);
+    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
+                         rs->inst_count <= 1 && path_on(rs) && !grid,
+                         vx__render_scene_deep(rs), rs->far, 0, smap, 0, grid};
+    uint64_t key = vx__spec_key(1 + precise, spec, 14);
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
-    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances */
-    uint32_t nb = precise ? 10 : 14;
+    /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances,
+     * 14 the grids (a kernel of vx__render_scene_trace_kernel declares 0-13) */
+    uint32_t nb = precise ? 10 : rs->alt_spv ? 14 : 15;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
-                                       .spec_count = 13, .label = precise ? "trace (float64)" : "trace"};
+                                       .spec_count = 14, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     for (uint32_t i = 1; i < nb; i++) pd.bindings[i] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     memcpy(pd.spec, spec, sizeof spec);
@@ -2218,7 +2289,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     if (miss) {
         vx_gpu_compute_pipeline_desc md = pd;
         md.spec[12] = 1, md.label = "trace (misses)";
-        uint64_t mkey = vx__spec_key(1 + precise, md.spec, 13);
+        uint64_t mkey = vx__spec_key(1 + precise, md.spec, 14);
         if (!precise && rs->alt_spv) mkey = mkey * 131 + 0x5EED0000u + rs->alt_tag;
         if ((r = vx__pipeline_get(g, mkey, &md, &post, err))) return r;
     }
@@ -2227,7 +2298,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
                                         smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
-                                        smap ? &rs->smap.insts : &rs->beam},
+                                        smap ? &rs->smap.insts : &rs->beam, grid ? &rs->grid : &rs->beam},
                             .groups = {groups[0], groups[1], groups[2]},
                             .repeat = repeat,
                             .label = "trace",

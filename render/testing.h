@@ -46,6 +46,10 @@ void vx__render_scene_trace_variant(vx_render_scene* rs, int cull);
  * default: on for GPUs, off for CPU devices; 0 off: every walk from the
  * root; 1 on). */
 void vx__render_scene_trace_path(vx_render_scene* rs, int path);
+/* Benchmarks and tests: the grid walk (vx_render_scene_desc.grid_budget)
+ * for the models that have a grid (-1 the default, on; 0 off: every model
+ * walks its octree; 1 on). */
+void vx__render_scene_grid(vx_render_scene* rs, int on);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

@@ -46,6 +46,8 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #ifndef PRECISE
 #define TRACE_STACK_SELECTS
 #define TRACE_PATH
+// models with a grid (render/grid.h) walk it: grid_walk.glsl, constant 13 GRID, binding 14
+#define TRACE_GRID
 #endif
 #include "trace_common.glsl"
 

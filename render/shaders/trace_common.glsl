@@ -1244,6 +1244,12 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     return true;
 }
 
+#if defined(TRACE_GRID) && !defined(PRECISE)
+// trace.comp: models with a grid walk it (grid_walk.glsl; GRID, id 13, 0: none has one)
+#define GRID_WALK
+#include "grid_walk.glsl"
+#endif
+
 #ifdef BEAM_PASS
 // beam.comp: the tube's box test and model walk replace the ray's
 vec2 scene_box(vec3 o, vec3 dinv, vec3 lo, vec3 hi);
@@ -1283,7 +1289,13 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     if (beam_model(I.model, om, dm, scale, t0, h)) {
 #else
     float lod_b = F.uy.w, lod_a = F.misc.x;
+#ifdef GRID_WALK
+    uint groot = GRID != 0u && !LOD ? gwords[I.model] : NO_HIT;
+    if (groot != NO_HIT ? trace_model_grid(I.model, groot, om, om_lo, dm, t0, h.t, any_hit, h)
+                        : trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+#else
     if (trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
+#endif
 #endif
         h.inst = i;
         return true;

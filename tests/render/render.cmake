@@ -2,6 +2,8 @@
 # lavapipe (skipped when no Vulkan device exists).
 # the CPU reference needs only the plain-C trace layer (no Vulkan)
 vx_add_test(test_render_cpu SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_render_cpu.c LIBS vx_trace vx_svo)
+# the grid walk's layout (render/grid.h) read back against the octree
+vx_add_test(test_grid SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_grid.c LIBS vx_trace vx_svo)
 if(VX_WITH_VULKAN)
   set(VX_RENDER_LSAN "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_LIST_DIR}/lsan.supp")
   if(EXISTS ${CMAKE_CURRENT_LIST_DIR}/test_render_gpu.c)

@@ -231,22 +231,40 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
                deepest);
     }
     if (!r) vx__render_scene_force_precise(rs, g_force);
-    if (!r) r = vx_render_frame(rs, &d, &gi, &err);
-    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     vx_result rc = vx_render_cpu(s, &d, NULL, &ci, &err);
     CHECKF(rc == VX_OK, "%s: %s", name, err.msg);
-    if (!r && !rc) c = compare(name, &gi, &ci);
-    if (!r) check_beam(name, rs, d, &gi);
-    if (!r && d.mode == VX_RENDER_DEPTH) check_lean(name, rs, d, &gi);
-    if (!r && d.mode == VX_RENDER_DEPTH && g_force != 1) check_lean_colour(name, rs, s, d);
-    if (!r && !rc && g_force != 0) {
-        CHECKF(c.hits >= min_hits, "%s: %zu hits, expected at least %zu", name, c.hits, min_hits);
-        CHECKF((double)(c.exact + c.tie) >= g_min_share * (c.pixels - c.ambiguous), "%s: %zu of %zu pixels differ",
-               name, c.bad, c.pixels);
-        CHECKF(c.depth_bad <= (1 - g_min_share) * c.pixels, "%s: %zu depths off by more than 1e-4", name, c.depth_bad);
-        /* exact edge/corner ties may go either way, but only on a small share */
-        CHECKF(c.ambiguous <= g_max_ambiguous * c.pixels, "%s: %zu ambiguous pixels", name, c.ambiguous);
+    /* the models with a grid (render/grid.h) walk it by default: then the octree walk too (grid off), each
+     * against the reference */
+    vx_render_layout_info li = {0};
+    if (!r) vx_render_scene_layout(rs, &li);
+    bool grids = !r && li.grid_models && !vx_render_scene_precise(rs) && !d.lod;
+    for (int walk = 0; walk < (grids ? 2 : 1) && !r; walk++) {
+        char wname[112];
+        snprintf(wname, sizeof wname, "%s%s", name, !grids ? "" : walk ? " [octree]" : " [grid]");
+        vx__render_scene_grid(rs, walk ? 0 : -1);
+        vx_render_image_free(&gi);
+        r = vx_render_frame(rs, &d, &gi, &err);
+        CHECKF(r == VX_OK, "%s: %s", wname, err.msg);
+        cmp_result cw = {0};
+        if (!r && !rc) cw = compare(wname, &gi, &ci);
+        if (!walk) c = cw;
+        /* the beam pass (octree walk only) against the frame without it; each walk without hits against the
+         * same walk with them; the colour modes (and the passes, octree walks) once, on the default walk */
+        bool octree = !grids || walk == 1;
+        if (!r && octree) check_beam(name, rs, d, &gi);
+        if (!r && d.mode == VX_RENDER_DEPTH) check_lean(wname, rs, d, &gi);
+        if (!r && !walk && d.mode == VX_RENDER_DEPTH && g_force != 1) check_lean_colour(name, rs, s, d);
+        if (!r && !rc && g_force != 0) {
+            CHECKF(cw.hits >= min_hits, "%s: %zu hits, expected at least %zu", wname, cw.hits, min_hits);
+            CHECKF((double)(cw.exact + cw.tie) >= g_min_share * (cw.pixels - cw.ambiguous), "%s: %zu of %zu pixels differ",
+                   wname, cw.bad, cw.pixels);
+            CHECKF(cw.depth_bad <= (1 - g_min_share) * cw.pixels, "%s: %zu depths off by more than 1e-4", wname,
+                   cw.depth_bad);
+            /* exact edge/corner ties may go either way, but only on a small share */
+            CHECKF(cw.ambiguous <= g_max_ambiguous * cw.pixels, "%s: %zu ambiguous pixels", wname, cw.ambiguous);
+        }
     }
+    if (!r) vx__render_scene_grid(rs, -1);
     vx_render_image_free(&gi);
     vx_render_image_free(&ci);
     vx_render_scene_destroy(rs);
@@ -788,6 +806,7 @@ static void test_path_start(void) {
             vx_render_scene* rs = NULL;
             vx_error err = {0};
             REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+            vx__render_scene_grid(rs, 0); /* the starts serve the octree walk (the grid walk has none) */
             for (int v = 0; v < 24; v++) {
                 /* the eye in model cells: random, on planes, beside them */
                 double e[3];
@@ -929,6 +948,7 @@ static void test_path_start_deep(void) {
             vx_render_scene* rs = NULL;
             vx_error err = {0};
             REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
+            vx__render_scene_grid(rs, 0); /* the starts serve the octree walk (the grid walk has none) */
             for (int c = 0; c < 3; c++) {
                 double t[3] = {base[c][0] + 5.0, base[c][1] + 3.0, base[c][2] + 3.0};
                 for (int v = 0; v < 8; v++) {

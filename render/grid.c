@@ -1,0 +1,190 @@
+/* render/grid.c - the grid walk's layout: bricks collected, then the levels
+ * above them with their distances (render/grid.h). */
+#include <string.h>
+
+#include "render/grid.h"
+
+enum { DIST_CAP = 0xFFFF };
+#define EMPTY VX__GRID_EMPTY
+
+bool vx__grid_words_grow(const vx_allocator* a, vx__grid_words* v, size_t add) {
+    if (add > SIZE_MAX - v->n) return false;
+    void* p = v->w;
+    if (!vx_grow(a, &p, &v->cap, v->n + add, 4)) return false;
+    v->w = p;
+    return true;
+}
+
+static uint64_t pack(uint64_t x, uint64_t y, uint64_t z) { return x | y << 20 | z << 40; }
+
+static size_t slot_of(const uint64_t* key, size_t cap, uint64_t k) {
+    size_t i = (size_t)((k * UINT64_C(0x9E3779B97F4A7C15)) >> 17) & (cap - 1);
+    while (key[i] && key[i] != k + 1) i = (i + 1) & (cap - 1);
+    return i;
+}
+
+/* The hash's value for key k, *added when new (given value next); false out of memory. */
+static bool map_get(const vx_allocator* a, uint64_t** key, uint32_t** val, size_t* cap, size_t* n, uint64_t k,
+                    uint32_t next, uint32_t* out, bool* added) {
+    if (2 * (*n + 1) > *cap) {
+        size_t nc = *cap ? 2 * *cap : 4096;
+        uint64_t* nk = vx_calloc(a, nc, sizeof *nk);
+        uint32_t* nv = vx_calloc(a, nc, sizeof *nv);
+        if (!nk || !nv) return vx_free(a, nk), vx_free(a, nv), false;
+        for (size_t i = 0; i < *cap; i++)
+            if ((*key)[i]) {
+                size_t j = slot_of(nk, nc, (*key)[i] - 1);
+                nk[j] = (*key)[i], nv[j] = (*val)[i];
+            }
+        vx_free(a, *key), vx_free(a, *val);
+        *key = nk, *val = nv, *cap = nc;
+    }
+    size_t i = slot_of(*key, *cap, k);
+    *added = !(*key)[i];
+    if (*added) (*key)[i] = k + 1, (*val)[i] = next, (*n)++;
+    *out = (*val)[i];
+    return true;
+}
+
+uint32_t* vx__grid_brick_at(vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz) {
+    /* room for a new brick first, so that a failure leaves no key without its brick */
+    if (!vx__grid_words_grow(b->alloc, &b->bits, 16) || !vx__grid_words_grow(b->alloc, &b->coords, 3)) return NULL;
+    uint32_t bi;
+    bool added;
+    if (!map_get(b->alloc, &b->key, &b->val, &b->cap, &b->count, pack(bx, by, bz), (uint32_t)(b->bits.n / 16), &bi,
+                 &added))
+        return NULL;
+    if (added) {
+        memset(b->bits.w + b->bits.n, 0, 64);
+        b->bits.n += 16;
+        b->coords.w[b->coords.n++] = bx, b->coords.w[b->coords.n++] = by, b->coords.w[b->coords.n++] = bz;
+    }
+    return &b->bits.w[(size_t)bi * 16];
+}
+
+void vx__grid_bricks_free(vx__grid_bricks* b) {
+    vx_free(b->alloc, b->bits.w), vx_free(b->alloc, b->coords.w), vx_free(b->alloc, b->key), vx_free(b->alloc, b->val);
+    *b = (vx__grid_bricks){.alloc = b->alloc};
+}
+
+uint32_t vx__grid_top(uint32_t depth, uint32_t root_log) {
+    if (!root_log) root_log = VX__GRID_ROOT_LOG;
+    uint32_t top = 1;
+    while (depth > 3 * top + root_log && depth > 3 * (top + 1)) top++;
+    return top;
+}
+
+/* The empty entries of an n^3 grid (x fastest) get EMPTY | their Chebyshev
+ * distance to the nearest occupied entry (capped): a breadth-first search
+ * over the 26 neighbours from all occupied entries at once (a step to any of
+ * the 26 is one unit of the metric). queue: n^3 words. */
+static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
+    uint64_t cnt = n * n * n, head = 0, tail = 0;
+    for (uint64_t i = 0; i < cnt; i++)
+        if (g[i] < EMPTY) queue[tail++] = (uint32_t)i;
+        else g[i] = EMPTY | DIST_CAP;
+    while (head < tail) {
+        uint64_t i = queue[head++];
+        int64_t x = (int64_t)(i % n), y = (int64_t)(i / n % n), z = (int64_t)(i / (n * n));
+        uint32_t dn = (g[i] < EMPTY ? 0 : g[i] & DIST_CAP) + 1;
+        if (dn >= DIST_CAP) continue;
+        for (int dz = -1; dz <= 1; dz++)
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int64_t X = x + dx, Y = y + dy, Z = z + dz;
+                    if (X < 0 || Y < 0 || Z < 0 || X >= (int64_t)n || Y >= (int64_t)n || Z >= (int64_t)n) continue;
+                    uint64_t j = ((uint64_t)Z * n + (uint64_t)Y) * n + (uint64_t)X;
+                    if (g[j] >= EMPTY && (g[j] & DIST_CAP) > dn) g[j] = EMPTY | dn, queue[tail++] = (uint32_t)j;
+                }
+    }
+}
+
+vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
+                          vx_error* err) {
+    const vx_allocator* a = b->alloc;
+    if (depth < 3 || top < 1 || top > VX__GRID_MAX_TOP || depth < 3 * top || depth - 3 * top > 10)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: no layout for a 2^%u cube with its root at level %u",
+                       depth, top);
+    uint64_t R = (uint64_t)1 << (depth - 3 * top), R3 = R * R * R;
+    size_t root = out->n, nb = b->bits.n / 16;
+    /* every address below EMPTY: root, bricks and at most one node per brick and level */
+    if (base + root + R3 + 16 * (uint64_t)nb + 512 * (uint64_t)nb * (top - 1) >= EMPTY)
+        return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: %zu bricks and a %llu^3 root over 2^31 words", nb,
+                       (unsigned long long)R);
+    uint32_t* queue = vx_alloc(a, (R3 > 512 ? R3 : 512) * 4);
+    vx__grid_words cc = {0}, ca = {0}; /* the cells of the level being placed: coordinates (3 words) and address */
+    vx_result r = VX_OK;
+    if (!queue || !vx__grid_words_grow(a, out, R3 + b->bits.n) || !vx__grid_words_grow(a, &cc, b->coords.n) ||
+        !vx__grid_words_grow(a, &ca, nb)) {
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks", nb);
+        goto done;
+    }
+    for (uint64_t i = 0; i < R3; i++) out->w[root + i] = EMPTY;
+    memcpy(out->w + root + R3, b->bits.w, b->bits.n * 4);
+    out->n = root + R3 + b->bits.n;
+    memcpy(cc.w, b->coords.w, b->coords.n * 4), cc.n = b->coords.n;
+    for (size_t i = 0; i < nb; i++) ca.w[ca.n++] = (uint32_t)(base + root + R3 + 16 * i);
+    for (uint32_t lv = 1; lv < top && !r; lv++) {
+        /* nodes of level lv + 1 cells, each the 8^3 level-lv cells below it */
+        uint64_t* pk = NULL;
+        uint32_t* pv = NULL;
+        size_t pcap = 0, pn = 0;
+        vx__grid_words pc = {0}, pa = {0};
+        for (size_t i = 0; i < ca.n && !r; i++) {
+            uint32_t ni;
+            bool added;
+            if (!map_get(a, &pk, &pv, &pcap, &pn, pack(cc.w[3 * i] >> 3, cc.w[3 * i + 1] >> 3, cc.w[3 * i + 2] >> 3),
+                         (uint32_t)pa.n, &ni, &added) ||
+                (added && (!vx__grid_words_grow(a, out, 512) || !vx__grid_words_grow(a, &pc, 3) ||
+                           !vx__grid_words_grow(a, &pa, 1)))) {
+                r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for level %u", lv + 1);
+                break;
+            }
+            if (added) {
+                for (int k = 0; k < 3; k++) pc.w[pc.n++] = cc.w[3 * i + k] >> 3;
+                pa.w[pa.n++] = (uint32_t)(base + out->n);
+                for (int e = 0; e < 512; e++) out->w[out->n + e] = EMPTY;
+                out->n += 512;
+            }
+            uint32_t e = (cc.w[3 * i] & 7) | (cc.w[3 * i + 1] & 7) << 3 | (cc.w[3 * i + 2] & 7) << 6;
+            out->w[pa.w[ni] - base + e] = ca.w[i];
+        }
+        for (size_t i = 0; i < pa.n && !r; i++) fill_distances(out->w + (pa.w[i] - base), 8, queue);
+        vx_free(a, pk), vx_free(a, pv), vx_free(a, cc.w), vx_free(a, ca.w);
+        cc = pc, ca = pa;
+    }
+    if (!r) {
+        for (size_t i = 0; i < ca.n; i++)
+            out->w[root + ((uint64_t)cc.w[3 * i + 2] * R + cc.w[3 * i + 1]) * R + cc.w[3 * i]] = ca.w[i];
+        fill_distances(out->w + root, R, queue);
+    }
+done:
+    vx_free(a, cc.w), vx_free(a, ca.w), vx_free(a, queue);
+    return r;
+}
+
+typedef struct model_ctx {
+    vx__grid_bricks* b;
+    bool nomem;
+} model_ctx;
+
+static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]) {
+    model_ctx* c = user;
+    uint32_t* w = vx__grid_brick_at(c->b, bx, by, bz);
+    if (!w) return c->nomem = true, false;
+    for (int j = 0; j < 16; j++) w[j] |= bits[j];
+    return true;
+}
+
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
+                         vx_error* err) {
+    uint32_t depth = m->depth < 3 ? 3 : m->depth;
+    vx__grid_bricks b = {.alloc = a};
+    model_ctx c = {&b, false};
+    vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
+    if (!r && c.nomem)
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
+    if (!r) r = vx__grid_layout(&b, depth, vx__grid_top(depth, 0), base, out, err);
+    vx__grid_bricks_free(&b);
+    return r;
+}

@@ -1,0 +1,71 @@
+/* render/grid.h - the grid walk's layout (issue 21): a model's cells as a
+ * hierarchy of grids that trace.comp walks by a hierarchical DDA
+ * (render/shaders/grid_walk.glsl) instead of descending the octree. Shared by
+ * render_scene.c (one grid per model, built at upload from the octree) and
+ * bench/brickgrid.c (the prototype of stop 75: one grid of a whole scene).
+ *
+ * Levels: a level-k cell is 8^k cells wide. A level-1 cell is a brick: 16
+ * words, bit x + 8 y + 64 z its cell (x, y, z). A node (512 words, entry x +
+ * 8 y + 64 z) holds the 8^3 level-(k-1) cells of one level-k cell. The root
+ * is a dense R^3 grid of level-`top` cells (x fastest), R = 2^depth / 8^top.
+ * An entry below VX__GRID_EMPTY is the word address (in the buffer the grid
+ * is placed in) of its cell's node or brick; VX__GRID_EMPTY | d marks an
+ * empty cell whose nearest occupied cell of the same level is d cells away in
+ * the Chebyshev metric, within its node (nodes) or the root, so every cell
+ * there within d - 1 of it is empty: a ray leaves that whole cube in one
+ * step. Words: the root, the bricks, then each level's nodes bottom up.
+ *
+ * Memory: 4 R^3 bytes of root, 64 bytes a brick, 2 KiB a node (issue 21's
+ * terrain4096: 63 MiB at root level 2, against the octree's 2.3 MiB and the
+ * ESVO baseline's 1176); render_scene.c keeps the grids within a budget. */
+#ifndef VX_RENDER_GRID_H
+#define VX_RENDER_GRID_H
+
+#include "svo/svo.h"
+
+#define VX__GRID_EMPTY UINT32_C(0x80000000)
+/* The default root: at most 2^7 = 128 cells of level `top` a side (8 MiB). */
+enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
+
+/* Growing 32-bit words (allocator a, NULL: malloc). */
+typedef struct vx__grid_words {
+    uint32_t* w;
+    size_t n, cap;
+} vx__grid_words;
+bool vx__grid_words_grow(const vx_allocator* a, vx__grid_words* v, size_t add);
+
+/* Bricks being collected: 16 words each, their brick coordinates (3 words
+ * each), and a hash from coordinates to index (so that cells and blocks of
+ * several sources OR into one brick). Zero-initialised is empty. */
+typedef struct vx__grid_bricks {
+    const vx_allocator* alloc;
+    vx__grid_words bits, coords;
+    uint64_t* key; /* packed coordinates + 1 (0: free) */
+    uint32_t* val;
+    size_t cap, count;
+} vx__grid_bricks;
+/* The 16 words of the brick at brick coordinates (bx, by, bz), each below
+ * 2^20, added empty if new; NULL out of memory (the words may move at the
+ * next call). */
+uint32_t* vx__grid_brick_at(vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz);
+void vx__grid_bricks_free(vx__grid_bricks* b);
+
+/* The root's level for a 2^depth cube whose root is at most 2^root_log wide
+ * (0: VX__GRID_ROOT_LOG): the smallest top >= 1 with depth - 3 top <=
+ * root_log (trace.comp's walk: grid_walk.glsl grid_top, the same rule for
+ * root_log 0). */
+uint32_t vx__grid_top(uint32_t depth, uint32_t root_log);
+
+/* Appends the grid of bricks b (a 2^depth cube, depth >= 3, top from
+ * vx__grid_top) to out, its root first at word out->n; addresses are out's
+ * word indices plus base (where out's word 0 will lie). VX_ERR_LIMIT where
+ * an address would reach VX__GRID_EMPTY, VX_ERR_NOMEM. */
+vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
+                          vx_error* err);
+
+/* Appends model m's grid (root level vx__grid_top(max(depth, 3), 0)) to out
+ * as vx__grid_layout does, its bricks from the octree (vx_svo_decode_blocks).
+ * A model of depth < 3 is walked in one brick (depth 3). m must be valid. */
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
+                         vx_error* err);
+#endif

@@ -1,0 +1,170 @@
+// render/shaders/grid_walk.glsl - the grid walk (issue 21): trace.comp's walk of a model that has a grid
+// (render/grid.h: bricks of 8^3 cells as 512 bits, nodes of 8^3 entries above them, a dense root on top; an
+// empty entry holds its Chebyshev distance to the nearest occupied one), by a hierarchical DDA instead of
+// the octree's descent: a brick's cells by the plain DDA (one word load and bit test a cell), an empty
+// entry left with its whole empty cube in one step, an occupied one entered at the cell the ray is in.
+// Stop 75's prototype (bench/shaders/brickgrid.comp) traced every view of issue 21's table with fewer
+// steps than ESVO at about its cost a step. Included by trace_common.glsl (trace.comp's float variant,
+// TRACE_GRID): other kernels and models without a grid (LOD rays, deep models, the compact layout, those
+// past the grid budget: render_scene.c) take trace_model's octree walk.
+
+// GRID: 0 no model has a grid (the walk is compiled out); k >= 1 the grids' roots are at level at most k
+// (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the level's bookkeeping
+// folds away and the loop is the two-level walk (stop 75: 15% faster than the general one)
+layout(constant_id = 13) const uint GRID = 0u;
+// words 0 .. model count - 1: each model's root address (NO_HIT: no grid), then the grids
+layout(std430, binding = 14) readonly buffer Grid { uint gwords[]; };
+
+#include "model_cell_leaf.glsl"
+
+// render/grid.c vx__grid_top(depth, 0) for the depths that have grids
+uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u); }
+
+// As trace_model (same arguments and Hit), for model mi whose root is at word groot of gwords. The walk
+// runs in the model's cells from the box entry point with the direction normalised and mirrored to be
+// positive (a mirrored axis's stored index is the walked one xor (2^depth - 1)); the hit's cell is the
+// first set cell walked, its t the exact entry of that cell (entry_tau, against the hi/lo origin), its
+// axis the entry plane crossed last, so that t, cell and face are those of the cell, not of the walk's
+// rounding.
+bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
+    Model m = model_at(mi);
+    uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
+    uvec3 bq = (uvec3(m.box, m.box >> 10, m.box >> 20) & 1023u) + 1u;
+    vec2 tb = box_t(o, safe_inv(d), vec3(0.0), vec3(bq << bsh));
+    float te = max(tb.x, t0), tx = min(tb.y, t1);
+    if (!(te < tx)) return false;
+    vec3 oa = o + d * te;
+    float L = length(d);
+    vec3 dl = d / L;
+    // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
+    // axis keeps its sign, so -0 walks as negative, as safe_inv makes it
+    vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
+    vec3 invd = 1.0 / ad;
+    float tl1 = (tx - te) * L; // the ray's end in the walk's units
+    uint depth = max(m.depth, 3u);
+    uint top = GRID == 1u ? 1u : grid_top(depth);
+    uint R = 1u << (depth - 3u * top), N = 1u << depth;
+    // The walk's coordinates start at the start cell's (mirrored) lower corner, not at the cube's: mirrored
+    // about the cube's far side (2^depth - x), a start near the near side kept 2^(depth - 24) of a cell and
+    // its cell decisions went wrong at depth 12 (test_render_gpu test_deep_float); from the start cell the
+    // crossing times lose about (cells walked) 2^-24 of a cell. c0: the start cell (a ray on a plane lies in
+    // the cell its direction leads into, as safe_inv displaces it), fr the start's offset in it (mirrored).
+    bvec3 neg = bvec3(sign_neg(dl.x), sign_neg(dl.y), sign_neg(dl.z));
+    vec3 c0 = clamp(mix(floor(oa), ceil(oa) - 1.0, neg), vec3(0.0), vec3(float(N - 1u)));
+    vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
+    uvec3 flip = mix(uvec3(0u), uvec3(N - 1u), neg);
+    uvec3 f0 = uvec3(c0) ^ flip; // the start cell, mirrored
+    ivec3 if0 = ivec3(f0);
+    vec3 bias = -fr * invd;
+    uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
+
+    float t = 0.0;
+    uint lv = top, sh = 3u * top; // the walk's level above the bricks (in a brick: 1)
+    // LV and SH: the level and its shift, constants where every root is at level 1
+#define LV (GRID == 1u ? 1u : lv)
+#define SH (GRID == 1u ? 3u : sh)
+#define TOPL (GRID == 1u ? 1u : top)
+    uvec3 f = f0;      // the cell (in a brick)
+    uvec3 P = f >> SH; // the cell at level lv
+    bool fine = false;
+    uint base0 = 0u, base1 = 0u, base2 = 0u; // the brick and the nodes of levels 1 and 2 the walk is in
+    // (three words, not an array: an array indexed by the level went to local memory, stop 75)
+    uint steps = 0u;
+    bool hit = false;
+    while (steps < MAX_ITER) {
+        steps++;
+        uvec3 Pn;
+        if (fine) {
+            // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
+            uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
+            if (((gwords[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
+            vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
+            float tmin = min(min(tc.x, tc.y), tc.z);
+            t = max(t, tmin);
+            f += uvec3(lessThanEqual(tc, vec3(tmin)));
+            Pn = f >> 3u;
+            if (Pn == P) continue; // (a hit past the ray's end is refused below: at most a brick's steps)
+            fine = false;
+        } else {
+            uvec3 lf = flip >> SH; // a mirrored axis's index at this level: xor all ones
+            uint w;
+            if (LV == TOPL) {
+                uvec3 q = P ^ lf;
+                w = gwords[groot + (q.z * R + q.y) * R + q.x];
+            } else {
+                uvec3 q = (P ^ lf) & 7u;
+                w = gwords[(LV == 1u ? base1 : base2) + (q.x | (q.y << 3) | (q.z << 6))];
+            }
+            if (w < 0x80000000u) {
+                // occupied: one level down, the cell the ray is in (at level 1: the brick's cell)
+                uvec3 lo8 = P << 3u;
+                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));
+                if (LV == 1u) {
+                    fine = true;
+                    base0 = w;
+                    f = clamp(c, lo8, lo8 + 7u);
+                } else {
+                    lv--;
+                    sh -= 3u;
+                    if (LV == 1u) base1 = w;
+                    else base2 = w;
+                    P = clamp(c >> SH, lo8, lo8 + 7u);
+                }
+                continue;
+            }
+            // empty: leave the empty cube [P - dist + 1, P + dist) (within the node below the root)
+            uint dist = w & 0xFFFFu;
+            uvec3 up = P + dist;
+            if (LV < TOPL) up = min(up, (P | 7u) + 1u);
+            vec3 tc = fma(vec3(ivec3(up << SH) - if0), invd, bias);
+            float tmin = min(min(tc.x, tc.y), tc.z);
+            t = max(t, tmin);
+            Pn = P;
+            if (dist > 1u) Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> SH, P, up - 1u);
+            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
+        }
+        if (t >= tl1) break; // out of the model's box or past the ray's end
+        // a step out of its node: the cell beside it one level up (and so on)
+        while (LV < TOPL && (Pn >> 3u) != (P >> 3u)) {
+            P >>= 3u;
+            Pn >>= 3u;
+            lv++;
+            sh += 3u;
+        }
+        P = Pn;
+        if (LV == TOPL && max(max(P.x, P.y), P.z) >= R) break;
+    }
+#undef LV
+#undef SH
+#undef TOPL
+    if (MODE == MODE_ITER) g_iter += steps;
+    if (!hit) return false;
+    uvec3 cell = f ^ flip;
+    vec3 cf = vec3(cell);
+    // the hit: the cell's entry planes (exact, against the hi/lo origin), the last one crossed its face
+    vec3 pl = vec3(d.x < 0.0 ? cf.x + 1.0 : cf.x, d.y < 0.0 ? cf.y + 1.0 : cf.y, d.z < 0.0 ? cf.z + 1.0 : cf.z);
+    vec3 ta = (pl - o) / d;
+    int axis = d.x != 0.0 ? 0 : (d.y != 0.0 ? 1 : 2);
+    float ba = axis == 0 ? ta.x : (axis == 1 ? ta.y : ta.z);
+    if (d.y != 0.0 && ta.y > ba) { axis = 1; ba = ta.y; }
+    if (d.z != 0.0 && ta.z > ba) axis = 2;
+    float th = max(entry_tau(o, o_lo, d, cf, 1.0), te);
+    if (!(th <= h.t)) return false;
+    h.t = th;
+    if (any_hit) return true;
+    float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+    h.cell = cell;
+    h.axis = axis;
+    h.nsign = sign_neg(da) ? 1.0 : -1.0;
+    h.color = 0xFFFFFFFFu;
+    h.attr = NO_HIT;
+    if (HAS_COLOR && (m.flags & 1u) != 0u) {
+        uint level;
+        uint a = model_cell_leaf(mi, cell, level);
+        if (a != NO_HIT) {
+            h.attr = a;
+            h.color = colors[a];
+        }
+    }
+    return true;
+}

@@ -1,0 +1,187 @@
+/* tests/render/test_grid.c - the grid walk's layout (render/grid.h) read
+ * back by a reader written here from the header's description, against the
+ * octree (vx_svo_model_cell_set) for every cell of small models and for
+ * sampled and set cells of large ones; every empty entry's distance checked
+ * by brute force (no occupied entry nearer, one at that distance); the root
+ * level rule against the shader's (grid_walk.glsl grid_top). CPU only. */
+#include <stdio.h>
+
+#include "tests/test.h"
+#include "tests/render/scenes.h"
+#include "render/grid.h"
+
+/* Whether cell (x, y, z) is set in the grid at word `base` of w (root at base). */
+static bool grid_cell(const uint32_t* w, uint64_t base, uint64_t root, uint32_t depth, uint32_t top, uint32_t x,
+                      uint32_t y, uint32_t z) {
+    uint32_t R = 1u << (depth - 3 * top);
+    uint32_t sh = 3 * top;
+    uint32_t e = w[root + ((uint64_t)(z >> sh) * R + (y >> sh)) * R + (x >> sh)];
+    for (uint32_t lv = top; lv > 1; lv--) {
+        if (e >= VX__GRID_EMPTY) return false;
+        sh -= 3;
+        e = w[e - base + (((x >> sh) & 7) | ((y >> sh) & 7) << 3 | ((z >> sh) & 7) << 6)];
+    }
+    if (e >= VX__GRID_EMPTY) return false;
+    uint32_t i = (x & 7) | (y & 7) << 3 | (z & 7) << 6;
+    return w[e - base + (i >> 5)] >> (i & 31) & 1;
+}
+
+/* Every empty entry of an n^3 grid g (x fastest): no occupied entry within
+ * Chebyshev distance d - 1, and one at d exactly (where any is occupied and
+ * d is below the cap). Returns the entries that fail. */
+static size_t check_distances(const uint32_t* g, uint32_t n) {
+    size_t bad = 0;
+    bool any = false;
+    for (uint64_t i = 0; i < (uint64_t)n * n * n; i++) any |= g[i] < VX__GRID_EMPTY;
+    for (uint32_t z = 0; z < n; z++)
+        for (uint32_t y = 0; y < n; y++)
+            for (uint32_t x = 0; x < n; x++) {
+                uint32_t e = g[((uint64_t)z * n + y) * n + x];
+                if (e < VX__GRID_EMPTY) continue;
+                uint32_t d = e & 0xFFFF, nearest = 0xFFFF;
+                for (uint32_t Z = 0; Z < n; Z++)
+                    for (uint32_t Y = 0; Y < n; Y++)
+                        for (uint32_t X = 0; X < n; X++) {
+                            if (g[((uint64_t)Z * n + Y) * n + X] >= VX__GRID_EMPTY) continue;
+                            uint32_t c = (uint32_t)abs((int)X - (int)x);
+                            if ((uint32_t)abs((int)Y - (int)y) > c) c = (uint32_t)abs((int)Y - (int)y);
+                            if ((uint32_t)abs((int)Z - (int)z) > c) c = (uint32_t)abs((int)Z - (int)z);
+                            if (c < nearest) nearest = c;
+                        }
+                if (d < 1 || (any && d != nearest) || (!any && d != 0xFFFF)) {
+                    if (bad < 4) fprintf(stderr, "  entry %u,%u,%u of %u^3: distance %u, nearest %u\n", x, y, z, n, d, nearest);
+                    bad++;
+                }
+            }
+    return bad;
+}
+
+/* The grid of m at base 1000 (addresses offset, as in a buffer after other grids) read back. */
+static void check_model(const char* name, const vx_svo_model* m, bool every_cell) {
+    vx__grid_words out = {0};
+    CHECK(vx__grid_words_grow(NULL, &out, 7));
+    out.n = 7; /* words before the grid: its addresses count from the buffer's start */
+    vx_error err = {0};
+    vx_result r = vx__grid_model(NULL, m, 993, &out, &err);
+    CHECKF(r == VX_OK, "%s: %s", name, err.msg);
+    if (r) return;
+    uint32_t depth = m->depth < 3 ? 3 : m->depth, top = vx__grid_top(depth, 0), R = 1u << (depth - 3 * top);
+    const uint32_t* w = out.w;
+    uint64_t base = 993, root = 7;
+    size_t wrong = 0, cells = 0;
+    uint32_t side = 1u << depth;
+    if (every_cell) {
+        for (uint32_t z = 0; z < side; z++)
+            for (uint32_t y = 0; y < side; y++)
+                for (uint32_t x = 0; x < side; x++) {
+                    bool a = grid_cell(w, base, root, depth, top, x, y, z), b = vx_svo_model_cell_set(m, x, y, z);
+                    cells += b;
+                    if (a != b && wrong++ < 4) fprintf(stderr, "  %s: cell %u,%u,%u grid %d octree %d\n", name, x, y, z, a, b);
+                }
+    } else {
+        uint32_t seed = 99;
+        for (int i = 0; i < 200000; i++) {
+            uint32_t x = ts_rng(&seed) % side, y = ts_rng(&seed) % side, z = ts_rng(&seed) % side;
+            bool a = grid_cell(w, base, root, depth, top, x, y, z), b = vx_svo_model_cell_set(m, x, y, z);
+            cells += b;
+            if (a != b && wrong++ < 4) fprintf(stderr, "  %s: cell %u,%u,%u grid %d octree %d\n", name, x, y, z, a, b);
+        }
+    }
+    CHECKF(wrong == 0, "%s: %zu cells differ", name, wrong);
+    /* the distances: the root by brute force where small, and every node */
+    if (R <= 16) CHECKF(check_distances(w + root, R) == 0, "%s: root distances", name);
+    size_t nodes = 0, bad_nodes = 0;
+    for (uint64_t i = 0; i < (uint64_t)R * R * R; i++) {
+        uint32_t e = w[root + i];
+        if (e >= VX__GRID_EMPTY || top < 2) continue;
+        nodes++;
+        bad_nodes += check_distances(w + (e - base), 8) != 0;
+    }
+    CHECKF(bad_nodes == 0, "%s: %zu of %zu level-%u nodes with wrong distances", name, bad_nodes, nodes, top);
+    printf("%-28s depth %2u top %u root %3u^3: %zu words, %zu cells checked set%s\n", name, m->depth, top, R, out.n, cells,
+           every_cell ? " (every cell)" : " (sampled)");
+    vx_free(NULL, out.w);
+}
+
+static void test_models(void) {
+    static const uint32_t sizes[][4] = {{1, 1, 1, 100}, {3, 2, 4, 60}, {8, 8, 8, 30}, {12, 12, 12, 35},
+                                        {17, 5, 9, 20}, {40, 3, 70, 3}, {64, 64, 64, 1}};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+        vx_svo_model m;
+        CHECK(ts_random_model(&m, sizes[i][0], sizes[i][1], sizes[i][2], sizes[i][3], 7 + (uint32_t)i) == VX_OK);
+        char nm[64];
+        snprintf(nm, sizeof nm, "random %ux%ux%u %u%%", sizes[i][0], sizes[i][1], sizes[i][2], sizes[i][3]);
+        check_model(nm, &m, true);
+        vx_svo_model_free(NULL, &m);
+    }
+}
+
+/* Root level 2 and 3 (depth 11 and 14): a few cells far apart and a solid
+ * block (a uniform leaf: full bricks without cells), sampled plus every set
+ * cell's neighbourhood through the random samples' misses. */
+static void test_deep_levels(void) {
+    for (uint32_t depth = 11; depth <= 14; depth += 3) {
+        uint32_t n = 0, xyz[3 * 600];
+        uint32_t seed = depth, side = (1u << depth) - 1;
+        for (int i = 0; i < 88; i++, n++)
+            for (int k = 0; k < 3; k++) xyz[3 * n + k] = ts_rng(&seed) % side;
+        for (uint32_t z = 0; z < 8; z++) /* an 8^3 block at 64: one full brick */
+            for (uint32_t y = 0; y < 8; y++)
+                for (uint32_t x = 0; x < 8; x++, n++) xyz[3 * n] = 64 + x, xyz[3 * n + 1] = 64 + y, xyz[3 * n + 2] = 64 + z;
+        uint32_t size[3] = {side + 1, side + 1, side + 1};
+        vx_svo_model m;
+        CHECK(ts_model(&m, size, xyz, NULL, n) == VX_OK);
+        char nm[64];
+        snprintf(nm, sizeof nm, "sparse 2^%u", depth);
+        check_model(nm, &m, false);
+        /* every set cell, and its 26 neighbours */
+        vx__grid_words out = {0};
+        vx_error err = {0};
+        CHECK(vx__grid_model(NULL, &m, 0, &out, &err) == VX_OK);
+        uint32_t top = vx__grid_top(depth, 0);
+        size_t wrong = 0;
+        for (uint32_t i = 0; i < n; i++)
+            for (int dz = -1; dz <= 1; dz++)
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int64_t x = (int64_t)xyz[3 * i] + dx, y = (int64_t)xyz[3 * i + 1] + dy, z = (int64_t)xyz[3 * i + 2] + dz;
+                        if (x < 0 || y < 0 || z < 0 || x > side || y > side || z > side) continue;
+                        bool a = grid_cell(out.w, 0, 0, depth, top, (uint32_t)x, (uint32_t)y, (uint32_t)z);
+                        wrong += a != vx_svo_model_cell_set(&m, (uint32_t)x, (uint32_t)y, (uint32_t)z);
+                    }
+        CHECKF(wrong == 0, "%s: %zu cells near set ones differ", nm, wrong);
+        vx_free(NULL, out.w);
+        vx_svo_model_free(NULL, &m);
+    }
+}
+
+/* The root level: render/grid.c's rule against grid_walk.glsl's table (depth
+ * <= 10: 1, <= 13: 2, else 3), and the layout's refusals. */
+static void test_top_rule(void) {
+    for (uint32_t d = 3; d <= 16; d++) {
+        uint32_t shader = d <= 10 ? 1 : d <= 13 ? 2 : 3;
+        CHECKF(vx__grid_top(d, 0) == shader, "depth %u: top %u, the shader's %u", d, vx__grid_top(d, 0), shader);
+        CHECKF((d - 3 * vx__grid_top(d, 0)) <= VX__GRID_ROOT_LOG, "depth %u: root over 128 wide", d);
+    }
+    CHECK(vx__grid_top(12, 9) == 1); /* render_bench --brick-root 9: terrain4096 in two levels */
+    vx__grid_bricks b = {0};
+    vx__grid_words out = {0};
+    vx_error err = {0};
+    CHECK(vx__grid_layout(&b, 2, 1, 0, &out, &err) == VX_ERR_LIMIT);
+    CHECK(vx__grid_layout(&b, 12, 4, 0, &out, &err) == VX_ERR_LIMIT);
+    CHECK(vx__grid_layout(&b, 12, 2, UINT64_C(0x7FFFFFF0), &out, &err) == VX_ERR_LIMIT); /* addresses past 2^31 */
+    CHECK(out.n == 0);
+    /* two sources ORed into one brick */
+    uint32_t* w = vx__grid_brick_at(&b, 1, 2, 3);
+    CHECK(w && (w[0] |= 1, true));
+    w = vx__grid_brick_at(&b, 1, 2, 3);
+    CHECK(w && w[0] == 1 && b.count == 1 && b.bits.n == 16);
+    vx__grid_bricks_free(&b);
+}
+
+int main(void) {
+    RUN(test_top_rule);
+    RUN(test_models);
+    RUN(test_deep_levels);
+    return vx_test_finish();
+}
