@@ -30,7 +30,8 @@
  * pipeline's frame.comp and gbuffer.comp included (one small frame each).
  * --octree: voxkit's rows again with every model on its octree walk (the
  * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
- * then counts the pixels whose hits differ from the grid walk's).
+ * then counts the pixels whose hits differ from the grid walk's). --grid: the
+ * grids built on a CPU device too (none there by default).
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
@@ -154,7 +155,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--grid] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -545,6 +546,7 @@ int main(int argc, char** argv) {
     size_t ev_bytes[8] = {0};
     const char* ev_name[8] = {NULL};
     int nev = 0;
+    bool force_grid = false;
     bool gen = false, deep = false, use_esvo = true, use_tree64 = false, use_mip = false, use_brick = false, stats = false, mrays = false, cpu = false;
     uint32_t t6_variants = 2;
     bool grid_world = false;
@@ -589,6 +591,7 @@ int main(int argc, char** argv) {
                 bp = end + 1;
             }
         }
+        else if (!strcmp(argv[i], "--grid")) force_grid = true;
         else if (!strcmp(argv[i], "--octree")) {
             /* the built-in kernel again with every model on its octree walk (no grid walk) */
             if (nkern < 9) {
@@ -765,7 +768,9 @@ int main(int argc, char** argv) {
         }
         double t_load = vx_time_now() - t0;
         vx_render_scene* rs;
-        if (vx_render_scene_create(gpu, &s, &rs, &err)) {
+        /* --grid: the grids also on a CPU device (render.h grid_budget: none there by default) */
+        vx_render_scene_desc sdesc = {.grid_budget = force_grid ? VX_RENDER_GRID_BUDGET : 0};
+        if (vx_render_scene_create_ex(gpu, &s, &sdesc, &rs, &err)) {
             fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);
             vx_svo_scene_free(&s);
             failed = 1;

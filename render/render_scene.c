@@ -102,8 +102,10 @@ struct vx_render_scene {
     double lo[3], hi[3];
     vx__buffer frame, nodes, colors, models, insts, pinsts, bvh_nodes, bvh_items, pixels, hits, dense_bits;
     vx__buffer beam; /* the beam pass's eye distance per pixel block */
-    /* the grid walk (render/grid.h, trace.comp's GRID): words 0 .. model_count - 1 each model's root address
-     * (UINT32_MAX: none), then the grids; grid_top the greatest root level (0: no grid, the kernel's GRID 0);
+    /* the grid walk (render/grid.h, trace.comp's GRID): words 0 .. model_count - 1 each model's grid address
+     * (UINT32_MAX: none), then the grids, each after a 4-word header (its cells' box: lo.x | lo.y << 16,
+     * lo.z | hi.x << 16, hi.y | hi.z << 16, 0; hi exclusive); grid_top the kernel's GRID: the greatest root level (0: no grid),
+     * | 4 where every model that holds a cell has one (the octree walk compiled out);
      * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
     vx__buffer grid;
     uint32_t grid_top;
@@ -500,13 +502,14 @@ done:
  * them instead of the octrees): one per model of at most
  * VX_RENDER_GRID_DEPTH levels, built from its octree, in model order while
  * their words stay within the budget (desc->grid_budget) and one storage
- * buffer's range; none on a device without them by default (a CPU device:
- * VX_RENDER_GRID_BUDGET's rule) or for the float64 variant's scenes. A
- * model the grid cannot lay out keeps its octree walk. */
+ * buffer's range; by default none on a CPU device, and none for the float64
+ * variant's scenes. A model the grid cannot lay out keeps its octree walk. */
 static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                vx_error* err) {
     rs->grid_on = -1;
     uint64_t budget = desc && desc->grid_budget ? desc->grid_budget : VX_RENDER_GRID_BUDGET;
+    /* by default none on a CPU device: lavapipe traced the grid walk at 0.2-0.7 of the octree walk's rays/s */
+    if (!(desc && desc->grid_budget) && vx_gpu_is_cpu(rs->gpu)) return VX_OK;
     if (budget == VX_RENDER_NO_GRID || rs->precise || !s->model_count) return VX_OK;
     if (budget > rs->buffer_range) budget = rs->buffer_range;
     double t0 = vx_time_now();
@@ -515,11 +518,18 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
     memset(out.w, 0xFF, (size_t)s->model_count * 4);
     out.n = s->model_count;
-    uint32_t made = 0, top = 0;
+    uint32_t made = 0, top = 0, cells = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
+        cells += m->root != VX_SVO_ROOT_EMPTY;
         if (m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes)) continue;
         size_t before = out.n;
+        /* the header: the cells' box (grid_walk.glsl clips the ray to it, not to the model's extent: a slab
+         * of cells in a large model's cube, ogt_doom's, walked 7x the steps of the prototype that clipped) */
+        const uint32_t* cb = &rs->mcells[6 * i];
+        if (!vx__grid_words_grow(&rs->alloc, &out, 4)) continue;
+        out.w[out.n++] = cb[0] | cb[1] << 16, out.w[out.n++] = cb[2] | cb[3] << 16, out.w[out.n++] = cb[4] | cb[5] << 16;
+        out.w[out.n++] = 0;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
         if (vx__grid_model(&rs->alloc, m, 0, &out, &e) || (uint64_t)out.n * 4 > budget) {
             out.n = before;
@@ -535,7 +545,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
                                         "grid", &rs->grid, err)))
         r = vx__buffer_upload(rs->gpu, &rs->grid, out.w, (VkDeviceSize)out.n * 4, err);
     if (!r && made) {
-        rs->grid_top = top;
+        rs->grid_top = top | (made == cells ? 4u : 0u); /* grid_walk.glsl's GRID: GRID_ALL where every model has one */
         rs->layout.grid_bytes = (uint64_t)out.n * 4;
         rs->layout.grid_models = made;
         rs->layout.grid_seconds = vx_time_now() - t0;
@@ -1648,6 +1658,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         uint32_t none = UINT32_MAX;
         vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
         if (gr) return gr;
+        rs->grid_top &= 3u; /* not every model has a grid now: the octree walk is compiled in */
     }
     /* the shadow map's node list is the models' as made: an edited scene has
      * no map (listing the nodes again would cost a stroke tens of ms on a

@@ -8,11 +8,15 @@
 // TRACE_GRID): other kernels and models without a grid (LOD rays, deep models, the compact layout, those
 // past the grid budget: render_scene.c) take trace_model's octree walk.
 
-// GRID: 0 no model has a grid (the walk is compiled out); k >= 1 the grids' roots are at level at most k
-// (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the level's bookkeeping
-// folds away and the loop is the two-level walk (stop 75: 15% faster than the general one)
+// GRID: 0 no model has a grid (the walk is compiled out); else bits 0-1 k >= 1: the grids' roots are at
+// level at most k (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the
+// level's bookkeeping folds away and the loop is the two-level walk (stop 75: 15% faster than the general
+// one); bit 2 (GRID_ALL): every model that holds a cell has a grid, so the octree walk is compiled out
 layout(constant_id = 13) const uint GRID = 0u;
-// words 0 .. model count - 1: each model's root address (NO_HIT: no grid), then the grids
+const uint GRID_TOP = GRID & 3u;
+const bool GRID_ALL = (GRID & 4u) != 0u;
+// words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
+// (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root
 layout(std430, binding = 14) readonly buffer Grid { uint gwords[]; };
 
 #include "model_cell_leaf.glsl"
@@ -27,10 +31,14 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // axis the entry plane crossed last, so that t, cell and face are those of the cell, not of the walk's
 // rounding.
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
+    if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
-    uint bsh = m.depth > 10u ? m.depth - 10u : 0u;
-    uvec3 bq = (uvec3(m.box, m.box >> 10, m.box >> 20) & 1023u) + 1u;
-    vec2 tb = box_t(o, safe_inv(d), vec3(0.0), vec3(bq << bsh));
+    // the header (render_scene.c prepare_grids): the cells' box, which the ray is clipped to (tighter than
+    // Model.box, the model's extent: a slab of cells in a large cube is walked only where it lies)
+    uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
+    groot += 4u;
+    vec3 blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
+    vec2 tb = box_t(o, safe_inv(d), blo, bhi);
     float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
     vec3 oa = o + d * te;
@@ -42,7 +50,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     vec3 invd = 1.0 / ad;
     float tl1 = (tx - te) * L; // the ray's end in the walk's units
     uint depth = max(m.depth, 3u);
-    uint top = GRID == 1u ? 1u : grid_top(depth);
+    uint top = GRID_TOP == 1u ? 1u : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
     // The walk's coordinates start at the start cell's (mirrored) lower corner, not at the cube's: mirrored
     // about the cube's far side (2^depth - x), a start near the near side kept 2^(depth - 24) of a cell and
@@ -61,9 +69,9 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     float t = 0.0;
     uint lv = top, sh = 3u * top; // the walk's level above the bricks (in a brick: 1)
     // LV and SH: the level and its shift, constants where every root is at level 1
-#define LV (GRID == 1u ? 1u : lv)
-#define SH (GRID == 1u ? 3u : sh)
-#define TOPL (GRID == 1u ? 1u : top)
+#define LV (GRID_TOP == 1u ? 1u : lv)
+#define SH (GRID_TOP == 1u ? 3u : sh)
+#define TOPL (GRID_TOP == 1u ? 1u : top)
     uvec3 f = f0;      // the cell (in a brick)
     uvec3 P = f >> SH; // the cell at level lv
     bool fine = false;
@@ -137,7 +145,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
 #undef LV
 #undef SH
 #undef TOPL
-    if (MODE == MODE_ITER) g_iter += steps;
+    if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
     uvec3 cell = f ^ flip;
     vec3 cf = vec3(cell);
@@ -158,7 +166,9 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     h.nsign = sign_neg(da) ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
-    if (HAS_COLOR && (m.flags & 1u) != 0u) {
+    // the record: one descent of the octree, only where the kernel reads the colour (trace.comp's colour and
+    // albedo modes; the depth, normal and instance images and the hits record have no use for it)
+    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
         uint level;
         uint a = model_cell_leaf(mi, cell, level);
         if (a != NO_HIT) {

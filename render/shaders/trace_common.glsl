@@ -1291,7 +1291,7 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     float lod_b = F.uy.w, lod_a = F.misc.x;
 #ifdef GRID_WALK
     uint groot = GRID != 0u && !LOD ? gwords[I.model] : NO_HIT;
-    if (groot != NO_HIT ? trace_model_grid(I.model, groot, om, om_lo, dm, t0, h.t, any_hit, h)
+    if (GRID_ALL || groot != NO_HIT ? trace_model_grid(I.model, groot, om, om_lo, dm, t0, h.t, any_hit, h)
                         : trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
 #else
     if (trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {

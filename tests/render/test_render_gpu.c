@@ -220,7 +220,9 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     vx_render_scene* rs = NULL;
     vx_render_image gi = {0}, ci = {0};
     cmp_result c = {0};
-    vx_result r = vx_render_scene_create(gpu, s, &rs, &err);
+    /* the grids asked for (a CPU device builds none by default) */
+    vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
+    vx_result r = vx_render_scene_create_ex(gpu, s, &sd, &rs, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (!r && g_force < 0) {
         /* the variant follows the deepest drawn model */

@@ -167,7 +167,15 @@ if [ -x "$BIN/svo_render" ]; then
         bad "auto takes the compact layout under a small budget"
     cmp -s "$T/lay_p.pfm" "$T/lay_c.pfm" && ok "compact and plain layouts give the same image" ||
         bad "compact and plain layouts give the same image"
+    # the grid walk (issue 21, render/grid.h; off by default on a CPU device): asked for, -v states it and the
+    # image is the octree walk's
+    expect_status 0 "svo_render --grid 16M" svo_render "$T/demo.svo" "$T/lay_gr.pfm" --layout plain --grid 16M --mode albedo --size 48x32 -v
+    grep -Eq "^grid walk: [1-9][0-9]* models with a grid" "$T/out" && ok "-v states the grids" || bad "-v states the grids: $(cat "$T/out")"
+    cmp -s "$T/lay_p.pfm" "$T/lay_gr.pfm" && ok "grid and octree walks give the same image" ||
+        bad "grid and octree walks give the same image"
+    expect_status 2 "svo_render --grid 12" svo_render "$T/demo.svo" "$T/lay_x.pfm" --grid 12
     expect_status 0 "svo_render default layout" svo_render "$T/demo.svo" "$T/lay_a.pfm" --mode albedo --size 48x32 -v
+    grep -q "^grid walk" "$T/out" && bad "no grids by default on a CPU device" || ok "no grids by default on a CPU device"
     grep -q "^layout: plain, .* auto: budget" "$T/out" && ok "auto keeps the plain layout where it fits" ||
         bad "auto keeps the plain layout where it fits"
     # the passes read the whole compact layout (issue 18): the plain layout's image

@@ -187,6 +187,10 @@ _Noreturn static void usage(int status) {
             "                       them into a pool that the budget bounds, frames repeated until the view's\n"
             "                       pages are resident; pages that do not fit are drawn coarse (-v says so;\n"
             "                       a paged scene: the single-shader modes only)\n"
+            "  --grid SIZE|off      GPU memory the grid walk may take (render/grid.h: the single-shader modes\n"
+            "                       walk a model's grid of 8^3-cell bricks with empty-space distances instead\n"
+            "                       of its octree, the same hits; grids for models of at most 13 levels, in\n"
+            "                       model order; default 1G on a GPU, off on a CPU device); off: none\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
             "  --host-budget SIZE   paging from the file (--load models, the compact layout): the layout is\n"
             "                       paged whatever its size and the host holds its top and a cache of at\n"
@@ -665,6 +669,11 @@ int main(int argc, char** argv) {
         } else if (!strcmp(a, "--gpu-budget")) {
             if (!vx_tool_parse_bytes(ARG(), &o.scene_desc.memory_budget) || !o.scene_desc.memory_budget)
                 usage_error("bad --gpu-budget value '%s' (bytes, e.g. 512M or 4G)", argv[i]);
+        } else if (!strcmp(a, "--grid")) {
+            const char* g = ARG();
+            if (!strcmp(g, "off")) o.scene_desc.grid_budget = VX_RENDER_NO_GRID;
+            else if (!vx_tool_parse_bytes(g, &o.scene_desc.grid_budget) || o.scene_desc.grid_budget < 64)
+                usage_error("bad --grid value '%s' (bytes, at least 64, e.g. 256M; or off)", g);
         } else if (!strcmp(a, "--host-budget")) {
             if (!vx_tool_parse_bytes(ARG(), &o.scene_desc.host_budget) || !o.scene_desc.host_budget)
                 usage_error("bad --host-budget value '%s' (bytes, e.g. 64M)", argv[i]);
@@ -1160,6 +1169,9 @@ int main(int argc, char** argv) {
                    vx_render_layout_name(li.layout), li.brick_dict ? " (brick dictionary)" : "", li.bytes / 1e6, li.voxels ? (double)li.bytes / (double)li.voxels : 0.0,
                    li.plain_bytes / 1e6, o.scene_desc.layout != VX_RENDER_LAYOUT_AUTO ? "asked for; the" : "auto:",
                    li.budget / 1e6);
+            if (li.grid_models)
+                printf("grid walk: %u models with a grid, %.3f MB on the GPU, built in %.3f s\n", li.grid_models,
+                       li.grid_bytes / 1e6, li.grid_seconds);
             if (li.compact_bytes && have_paged)
                 printf("compact: paged from the file (the models' own layouts %.3f MB): its top and page table built "
                        "model by model in %.3f s, the top and pool made in %.3f s\n",
