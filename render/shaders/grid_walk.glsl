@@ -27,9 +27,8 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // As trace_model (same arguments and Hit), for model mi whose root is at word groot of gwords. The walk
 // runs in the model's cells from the box entry point with the direction normalised and mirrored to be
 // positive (a mirrored axis's stored index is the walked one xor (2^depth - 1)); the hit's cell is the
-// first set cell walked, its t the exact entry of that cell (entry_tau, against the hi/lo origin), its
-// axis the entry plane crossed last, so that t, cell and face are those of the cell, not of the walk's
-// rounding.
+// first set cell walked, its axis the entry plane crossed last, its t that plane's crossing (exact models:
+// the cell's entry against the hi/lo origin, entry_tau).
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
@@ -148,22 +147,24 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
     uvec3 cell = f ^ flip;
-    vec3 cf = vec3(cell);
-    // the hit: the cell's entry planes (exact, against the hi/lo origin), the last one crossed its face
-    vec3 pl = vec3(d.x < 0.0 ? cf.x + 1.0 : cf.x, d.y < 0.0 ? cf.y + 1.0 : cf.y, d.z < 0.0 ? cf.z + 1.0 : cf.z);
-    vec3 ta = (pl - o) / d;
-    int axis = d.x != 0.0 ? 0 : (d.y != 0.0 ? 1 : 2);
-    float ba = axis == 0 ? ta.x : (axis == 1 ? ta.y : ta.z);
-    if (d.y != 0.0 && ta.y > ba) { axis = 1; ba = ta.y; }
-    if (d.z != 0.0 && ta.z > ba) axis = 2;
-    float th = max(entry_tau(o, o_lo, d, cf, 1.0), te);
+    // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
+    // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
+    // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau), as trace_model;
+    // elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
+    vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
+    int axis = 0;
+    float ta = tent.x;
+    if (tent.y > ta) { axis = 1; ta = tent.y; }
+    if (tent.z > ta) { axis = 2; ta = tent.z; }
+    float th = te + max(ta, 0.0) / L;
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;
     if (any_hit) return true;
-    float da = axis == 0 ? d.x : (axis == 1 ? d.y : d.z);
+    uint fa = axis == 0 ? flip.x : (axis == 1 ? flip.y : flip.z); // mirrored: the direction's sign bit set
     h.cell = cell;
     h.axis = axis;
-    h.nsign = sign_neg(da) ? 1.0 : -1.0;
+    h.nsign = fa != 0u ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
     // the record: one descent of the octree, only where the kernel reads the colour (trace.comp's colour and
