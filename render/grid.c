@@ -120,9 +120,9 @@ vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint
         goto done;
     }
     for (uint64_t i = 0; i < R3; i++) out->w[root + i] = EMPTY;
-    memcpy(out->w + root + R3, b->bits.w, b->bits.n * 4);
+    if (nb) memcpy(out->w + root + R3, b->bits.w, b->bits.n * 4), memcpy(cc.w, b->coords.w, b->coords.n * 4);
     out->n = root + R3 + b->bits.n;
-    memcpy(cc.w, b->coords.w, b->coords.n * 4), cc.n = b->coords.n;
+    cc.n = b->coords.n;
     for (size_t i = 0; i < nb; i++) ca.w[ca.n++] = (uint32_t)(base + root + R3 + 16 * i);
     for (uint32_t lv = 1; lv < top && !r; lv++) {
         /* nodes of level lv + 1 cells, each the 8^3 level-lv cells below it */
