@@ -177,14 +177,15 @@ static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const ui
 }
 
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
-                         vx_error* err) {
+                         uint32_t* top, vx_error* err) {
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
+    *top = vx__grid_top(depth, 0);
     vx__grid_bricks b = {.alloc = a};
     model_ctx c = {&b, false};
     vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
     if (!r && c.nomem)
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
-    if (!r) r = vx__grid_layout(&b, depth, vx__grid_top(depth, 0), base, out, err);
+    if (!r) r = vx__grid_layout(&b, depth, *top, base, out, err);
     vx__grid_bricks_free(&b);
     return r;
 }

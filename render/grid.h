@@ -63,9 +63,10 @@ uint32_t vx__grid_top(uint32_t depth, uint32_t root_log);
 vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
                           vx_error* err);
 
-/* Appends model m's grid (root level vx__grid_top(max(depth, 3), 0)) to out
- * as vx__grid_layout does, its bricks from the octree (vx_svo_decode_blocks).
- * A model of depth < 3 is walked in one brick (depth 3). m must be valid. */
+/* Appends model m's grid to out as vx__grid_layout does, its bricks from the
+ * octree (vx_svo_decode_blocks); *top its root's level (vx__grid_top(max(depth,
+ * 3), 0)). A model of depth < 3 is walked in one brick (depth 3). m must be
+ * valid. */
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
-                         vx_error* err);
+                         uint32_t* top, vx_error* err);
 #endif

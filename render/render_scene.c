@@ -108,6 +108,7 @@ struct vx_render_scene {
      * | 4 where every model that holds a cell has one (the octree walk compiled out);
      * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
     vx__buffer grid;
+    uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
     uint32_t grid_top;
     int grid_on;
     /* the models' regions and table (vx_render_scene_update_model) */
@@ -506,7 +507,6 @@ done:
  * variant's scenes. A model the grid cannot lay out keeps its octree walk. */
 static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                vx_error* err) {
-    rs->grid_on = -1;
     uint64_t budget = desc && desc->grid_budget ? desc->grid_budget : VX_RENDER_GRID_BUDGET;
     /* by default none on a CPU device: lavapipe traced the grid walk at 0.2-0.7 of the octree walk's rays/s */
     if (!(desc && desc->grid_budget) && vx_gpu_is_cpu(rs->gpu)) return VX_OK;
@@ -531,20 +531,23 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         out.w[out.n++] = cb[0] | cb[1] << 16, out.w[out.n++] = cb[2] | cb[3] << 16, out.w[out.n++] = cb[4] | cb[5] << 16;
         out.w[out.n++] = 0;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
-        if (vx__grid_model(&rs->alloc, m, 0, &out, &e) || (uint64_t)out.n * 4 > budget) {
+        uint32_t t;
+        if (vx__grid_model(&rs->alloc, m, 0, &out, &t, &e) || (uint64_t)out.n * 4 > budget) {
             out.n = before;
             continue;
         }
         out.w[i] = (uint32_t)before;
         made++;
-        uint32_t t = vx__grid_top(m->depth < 3 ? 3 : m->depth, 0);
         if (t > top) top = t;
     }
     vx_result r = VX_OK;
-    if (made && !(r = vx__buffer_create(rs->gpu, (VkDeviceSize)out.n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+    if (made && !(rs->grid_at = vx_alloc(&rs->alloc, (size_t)s->model_count * 4)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
+    if (made && !r && !(r = vx__buffer_create(rs->gpu, (VkDeviceSize)out.n * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                                         "grid", &rs->grid, err)))
         r = vx__buffer_upload(rs->gpu, &rs->grid, out.w, (VkDeviceSize)out.n * 4, err);
     if (!r && made) {
+        memcpy(rs->grid_at, out.w, (size_t)s->model_count * 4);
         rs->grid_top = top | (made == cells ? 4u : 0u); /* grid_walk.glsl's GRID: GRID_ALL where every model has one */
         rs->layout.grid_bytes = (uint64_t)out.n * 4;
         rs->layout.grid_models = made;
@@ -1003,6 +1006,7 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     rs->force_precise = -1;
     rs->cull = -1;
     rs->path = -1;
+    rs->grid_on = -1;
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
@@ -1444,6 +1448,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     vx_free(&a, rs->inst);
     for (uint32_t i = 0; rs->top && i < rs->model_count; i++) vx_free(&a, rs->top[i]);
     vx_free(&a, rs->top);
+    vx_free(&a, rs->grid_at);
     vx_free(&a, rs->top_count);
     for (uint32_t i = 0; rs->df && i < rs->model_count; i++) vx_free(&a, rs->df[i].bits);
     vx_free(&a, rs->df);
@@ -1653,11 +1658,13 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
     settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
-    if (rs->grid.buf) {
-        /* the edited model walks its octree from now on (its grid is not made again) */
+    if (rs->grid_at && rs->grid_at[mi] != UINT32_MAX) {
+        /* the edited model walks its octree from now on (its grid is not made again); models without one
+         * (most strokes after the first) need no upload */
         uint32_t none = UINT32_MAX;
         vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
         if (gr) return gr;
+        rs->grid_at[mi] = UINT32_MAX;
         rs->grid_top &= 3u; /* not every model has a grid now: the octree walk is compiled in */
     }
     /* the shadow map's node list is the models' as made: an edited scene has

@@ -62,10 +62,13 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
     CHECK(vx__grid_words_grow(NULL, &out, 7));
     out.n = 7; /* words before the grid: its addresses count from the buffer's start */
     vx_error err = {0};
-    vx_result r = vx__grid_model(NULL, m, 993, &out, &err);
+    uint32_t top;
+    vx_result r = vx__grid_model(NULL, m, 993, &out, &top, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return;
-    uint32_t depth = m->depth < 3 ? 3 : m->depth, top = vx__grid_top(depth, 0), R = 1u << (depth - 3 * top);
+    uint32_t depth = m->depth < 3 ? 3 : m->depth;
+    CHECKF(top == vx__grid_top(depth, 0), "%s: root level %u", name, top);
+    uint32_t R = 1u << (depth - 3 * top);
     const uint32_t* w = out.w;
     uint64_t base = 993, root = 7;
     size_t wrong = 0, cells = 0;
@@ -137,8 +140,8 @@ static void test_deep_levels(void) {
         /* every set cell, and its 26 neighbours */
         vx__grid_words out = {0};
         vx_error err = {0};
-        CHECK(vx__grid_model(NULL, &m, 0, &out, &err) == VX_OK);
-        uint32_t top = vx__grid_top(depth, 0);
+        uint32_t top;
+        CHECK(vx__grid_model(NULL, &m, 0, &out, &top, &err) == VX_OK);
         size_t wrong = 0;
         for (uint32_t i = 0; i < n; i++)
             for (int dz = -1; dz <= 1; dz++)
