@@ -24,7 +24,7 @@
 
 /* ---- Vulkan ------------------------------------------------------------------------ */
 
-#define VX_GPU_MAX_BINDINGS 26
+#define VX_GPU_MAX_BINDINGS 27
 
 typedef struct vx__buffer {
     VkBuffer buf;
@@ -322,6 +322,12 @@ static inline void vx__render_scene_trace_ids(const vx_render_scene* rs, uint32_
     spec[VX__SPEC_FAR_ID] = 1;
     spec[VX__SPEC_COMPACT_ID] = vx__render_scene_compact_form(rs);
 }
+/* The grid walk (render/grid.h, render/shaders/grid_walk.glsl) for a float
+ * kernel that traces frame f and includes it (trace.comp; the pass kernels
+ * through pass_grid.glsl): its GRID constant (id 13), 0 where no model walks
+ * a grid (none built, the scene's switch off, f a LOD frame), and *buf the
+ * grids' buffer to bind (NULL with 0). One rule for all those kernels. */
+uint32_t vx__render_scene_grid_spec(vx_render_scene* rs, const vx__frame* f, vx__buffer** buf);
 /* The directional light's conservative depth map (render/shadow_map.c) for
  * another pass's shadow rays towards a directional light: a kernel includes
  * render/shaders/smap_lookup.glsl (SMAP_BINDING: its first of three

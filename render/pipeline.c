@@ -138,14 +138,15 @@ bool vx_light_culling_parse(const char* s, vx_light_culling* out) {
 
 enum { B_GB0, B_GB1, B_GB2, B_DIRECT, B_AO, B_GI, B_ACC, B_EMIT, B_OUT2, B_LIGHTS, B_CULL, B_LIDX, B_SKY, B_MAT, B_COUNT };
 /* 0-19 the passes' (passes_common.glsl), 20-22 the sun's depth map (smap_lookup.glsl: the direct pass's sun
- * rays), 23 the records' materials (pass_bodies.glsl MAT_BINDING: metal seen directly), then a display
- * variant's 24 and 25 (display_out.glsl) */
-#define NBIND 24
-_Static_assert(NBIND + 2 <= VX_GPU_MAX_BINDINGS, "pass shaders use 26 bindings");
+ * rays), 23 the records' materials (pass_bodies.glsl MAT_BINDING: metal seen directly), 24 the models' grids
+ * (pass_grid.glsl: the grid walk), then a display variant's 25 and 26 (display_out.glsl) */
+#define NBIND 25
+_Static_assert(NBIND + 2 <= VX_GPU_MAX_BINDINGS, "pass shaders use 27 bindings");
 /* the side of the GGX albedo table after the material records (pass_bodies.glsl MAT_ENV_N) */
 #define MAT_ENV_N 32
-/* the specialisation constants: the tracer's ids 0-10, then 11 SMAP (smap_lookup.glsl) */
-#define PASS_SPECS (VX__SPEC_TRACE_IDS + 1)
+/* the specialisation constants: the tracer's ids 0-10, then 11 SMAP (smap_lookup.glsl), 12 unused (trace.comp's
+ * miss pass), 13 GRID (grid_walk.glsl: the kernels that trace, pass_grid.glsl) */
+enum { PASS_SPEC_SMAP = VX__SPEC_TRACE_IDS, PASS_SPEC_GRID = VX__SPEC_TRACE_IDS + 2, PASS_SPECS };
 
 /* The light grid (render/pipeline.h, shaders/passes_common.glsl). */
 enum { CLUSTER_TILE = 32, CLUSTER_SLICES = 32, TILED_TILE = 16 /* = cull.comp's depth step: 256 pixels a tile */ };
@@ -945,6 +946,10 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     uint32_t spec[PASS_SPECS] = {0};
     memcpy(spec, tspec, sizeof tspec);
     vx__render_scene_trace_ids(fr->rs, spec);
+    /* the grid walk (grid_walk.glsl) in the kernels that trace: trace.comp's rule for this frame */
+    vx__buffer* grid_buf = NULL;
+    uint32_t grid = vx__render_scene_grid_spec(fr->rs, &f, &grid_buf);
+    spec[PASS_SPEC_GRID] = grid;
     vx__pipeline *p_gb, *p_direct = NULL, *p_ao = NULL, *p_resolve = NULL, *p_aa = NULL, *p_tm = NULL, *p_merged = NULL;
     /* gbuffer, direct and resolve merge into one dispatch when nothing needs
      * their images in between (no ao, no gi, no intermediate shown) */
@@ -969,11 +974,12 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
      * kernel alone, and on lavapipe the direct kernel's compile was half of a default svo_render (1.8 of 3.7 s). */
     if ((r = get_pipeline(g, SH_GBUFFER, spec, false, &p_gb, err))) return r;
     spec[5] = 0, spec[6] = phys, spec[7] = light_spec;
-    spec[PASS_SPECS - 1] = sun_map.map != NULL; /* SMAP: the direct pass and the merged kernel only */
+    spec[PASS_SPEC_SMAP] = sun_map.map != NULL; /* SMAP: the direct pass and the merged kernel only */
     if (has_direct && !merge && (r = get_pipeline(g, SH_DIRECT, spec, false, &p_direct, err))) return r;
-    spec[PASS_SPECS - 1] = 0;
+    spec[PASS_SPEC_SMAP] = 0;
     spec[6] = 0, spec[7] = 0;
     if (has_ao && !merge && (r = get_pipeline(g, SH_AO, spec, false, &p_ao, err))) return r;
+    spec[PASS_SPEC_GRID] = 0; /* the kernels below do not trace: one pipeline whatever the grids */
     spec[5] = (has_direct ? 1u : 0u) | (has_gi ? 2u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) |
               (phys ? 16u : 0u) | (sky ? 32u : 0u) | (metal ? 64u : 0u) | (glass ? 128u : 0u);
     spec[6] = (uint32_t)desc->show;
@@ -981,7 +987,8 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
     if (merge) {
         uint32_t ms[PASS_SPECS];
         memcpy(ms, spec, sizeof ms);
-        ms[PASS_SPECS - 1] = has_direct && sun_map.map != NULL;
+        ms[PASS_SPEC_SMAP] = has_direct && sun_map.map != NULL;
+        ms[PASS_SPEC_GRID] = grid;
         ms[5] = (has_direct ? 1u : 0u) | (has_ao ? 4u : 0u) | (emit ? 8u : 0u) | (phys ? 16u : 0u) | (sky ? 32u : 0u) |
                 (metal ? 64u : 0u) | (glass ? 128u : 0u);
         ms[6] = has_dof && !f.ortho;
@@ -1091,7 +1098,9 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
                                       /* the sun's map, else placeholders */
                                       sun_map.map ? sun_map.map : &fr->b[B_SKY],
                                       sun_map.map ? sun_map.nodes : &fr->b[B_SKY],
-                                      sun_map.map ? sun_map.insts_buf : &fr->b[B_SKY], &fr->b[B_MAT]};
+                                      sun_map.map ? sun_map.insts_buf : &fr->b[B_SKY], &fr->b[B_MAT],
+                                      /* the grids, else a placeholder */
+                                      grid_buf ? grid_buf : &fr->b[B_SKY]};
             VkDescriptorBufferInfo infos[NBIND];
             VkWriteDescriptorSet w[NBIND];
             for (uint32_t i = 0; i < NBIND; i++) {

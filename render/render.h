@@ -388,7 +388,9 @@ typedef struct vx_render_scene_desc {
      * and none on a CPU device (lavapipe traced the grid walk at 0.2-0.7 of
      * the octree walk's rays/s; a budget given builds them there too),
      * VX_RENDER_NO_GRID none. An edited model (vx_render_scene_update_model)
-     * goes back to its octree walk. The passes, probes and GI kernels walk the
+     * goes back to its octree walk. The pass pipeline's kernels that trace
+     * (G-buffer, direct, AO, the merged frame: render/pipeline.h) take the
+     * same walk by the same rule; probes and the GI methods' kernels walk the
      * octrees. */
     uint64_t grid_budget;
 } vx_render_scene_desc;

@@ -1846,6 +1846,13 @@ void vx__render_scene_trace_path(vx_render_scene* rs, int path) {
     if (rs) rs->path = path < 0 ? -1 : path > 0;
 }
 
+uint32_t vx__render_scene_grid_spec(vx_render_scene* rs, const vx__frame* f, vx__buffer** buf) {
+    /* without LOD: a coarse hit is its node's cube, which the grids do not hold */
+    uint32_t grid = rs && rs->grid_at && !f->lod && rs->grid_on != 0 ? rs->grid_top : 0;
+    *buf = grid ? &rs->grid : NULL;
+    return grid;
+}
+
 void vx__render_scene_grid(vx_render_scene* rs, int on) {
     if (rs) rs->grid_on = on < 0 ? -1 : on > 0;
 }
@@ -2246,7 +2253,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* the grid walk (shaders/grid_walk.glsl): float variant, without LOD; the
      * kernel's GRID the grids' greatest root level. The beam pass and the
      * starts below the root serve the octree walk: off with it. */
-    uint32_t grid = !precise && !f->lod && rs->grid_on != 0 && !rs->alt_spv ? rs->grid_top : 0;
+    vx__buffer* grid_buf = NULL;
+    uint32_t grid = !precise && !rs->alt_spv ? vx__render_scene_grid_spec(rs, f, &grid_buf) : 0;
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;
     if (rs->inst_count <= 1 && !grid) frame_paths(rs, f, precise, beam, rs->frame.map);
@@ -2316,7 +2324,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
                             .buffers = {&rs->frame, &rs->nodes, &rs->colors, &rs->models, &rs->insts, &rs->bvh_nodes,
                                         &rs->bvh_items, &rs->pixels, &rs->hits, &rs->pinsts, &rs->beam,
                                         smap ? &rs->smap.map : &rs->beam, smap ? &rs->smap.nodes : &rs->beam,
-                                        smap ? &rs->smap.insts : &rs->beam, grid ? &rs->grid : &rs->beam},
+                                        smap ? &rs->smap.insts : &rs->beam, grid ? grid_buf : &rs->beam},
                             .groups = {groups[0], groups[1], groups[2]},
                             .repeat = repeat,
                             .label = "trace",

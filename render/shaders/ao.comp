@@ -12,6 +12,7 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
+#include "pass_grid.glsl"
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 

@@ -28,11 +28,11 @@ uvec3 display_rgb(vec4 s, uint o, bool bgra, bool overlay) {
 #ifdef DISPLAY_OUT
 // The frame's last pass writes the image shown (a storage image without a
 // format: B,G,R,A ones have no GLSL format qualifier) through PC.u3: x 1 for
-// B,G,R,A overlay bytes, y 1 to lay the overlay (binding 24) over the frame,
-// zw the image's size (pixels outside it are not stored). Bindings 24 and 25
-// follow the passes' 0-23 (render/pipeline.c NBIND).
-layout(std430, binding = 24) readonly buffer DisplayOvl { uint display_ovl[]; };
-layout(binding = 25) uniform writeonly image2D display_img;
+// B,G,R,A overlay bytes, y 1 to lay the overlay (binding 25) over the frame,
+// zw the image's size (pixels outside it are not stored). Bindings 25 and 26
+// follow the passes' 0-24 (render/pipeline.c NBIND).
+layout(std430, binding = 25) readonly buffer DisplayOvl { uint display_ovl[]; };
+layout(binding = 26) uniform writeonly image2D display_img;
 
 void display_store(uvec2 px, uint i, vec4 c) {
     if (px.x >= PC.u3.z || px.y >= PC.u3.w) return;

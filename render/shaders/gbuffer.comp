@@ -21,6 +21,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #define TRACE_LEAN_BVH
 #define TRACE_LEAN_DEEP2
 #define TRACE_LEAN_DEEP2_COLOR
+#include "pass_grid.glsl"
 #include "trace_common.glsl"
 #include "passes_common.glsl"
 

@@ -4,9 +4,10 @@
 // the octree's descent: a brick's cells by the plain DDA (one word load and bit test a cell), an empty
 // entry left with its whole empty cube in one step, an occupied one entered at the cell the ray is in.
 // Stop 75's prototype (bench/shaders/brickgrid.comp) traced every view of issue 21's table with fewer
-// steps than ESVO at about its cost a step. Included by trace_common.glsl (trace.comp's float variant,
-// TRACE_GRID): other kernels and models without a grid (LOD rays, deep models, the compact layout, those
-// past the grid budget: render_scene.c) take trace_model's octree walk.
+// steps than ESVO at about its cost a step. Included by trace_common.glsl in the float kernels that define
+// TRACE_GRID (trace.comp, the pass pipeline's tracing kernels): other kernels and models without a grid (LOD
+// rays, deep models, the compact layout, those past the grid budget: render_scene.c) take trace_model's
+// octree walk.
 
 // GRID: 0 no model has a grid (the walk is compiled out); else bits 0-1 k >= 1: the grids' roots are at
 // level at most k (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the
@@ -16,8 +17,19 @@ layout(constant_id = 13) const uint GRID = 0u;
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
-// (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root
-layout(std430, binding = 14) readonly buffer Grid { uint gwords[]; };
+// (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root. Binding 14 in
+// trace.comp; the pass kernels, whose 14 is taken, name theirs (GRID_BINDING, render/pipeline.c)
+#ifndef GRID_BINDING
+#define GRID_BINDING 14
+#endif
+layout(std430, binding = GRID_BINDING) readonly buffer Grid { uint gwords[]; };
+// whether a hit's record (Hit.color, Hit.attr) is looked up: trace.comp's colour and albedo modes (its depth,
+// normal and instance images and hits record have no use for it); the pass kernels always (materials, glass)
+#ifdef GRID_RECORD_ALWAYS
+const bool GRID_RECORD = true;
+#else
+const bool GRID_RECORD = MODE == MODE_COLOR || MODE == MODE_ALBEDO;
+#endif
 
 #include "model_cell_leaf.glsl"
 
@@ -29,6 +41,8 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // positive (a mirrored axis's stored index is the walked one xor (2^depth - 1)); the hit's cell is the
 // first set cell walked, its axis the entry plane crossed last, its t that plane's crossing (exact models:
 // the cell's entry against the hi/lo origin, entry_tau).
+// WPREC: the float arithmetic not contracted in the WALK_PRECISE kernels (the passes': cmake/shaders.cmake), as
+// trace_model's; plain in trace.comp.
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
@@ -37,17 +51,17 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
     groot += 4u;
     vec3 blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
-    vec2 tb = box_t(o, safe_inv(d), blo, bhi);
-    float te = max(tb.x, t0), tx = min(tb.y, t1);
+    WPREC vec2 tb = box_t(o, safe_inv(d), blo, bhi);
+    WPREC float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
-    vec3 oa = o + d * te;
-    float L = length(d);
-    vec3 dl = d / L;
+    WPREC vec3 oa = o + d * te;
+    WPREC float L = length(d);
+    WPREC vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
     // axis keeps its sign, so -0 walks as negative, as safe_inv makes it
-    vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
-    vec3 invd = 1.0 / ad;
-    float tl1 = (tx - te) * L; // the ray's end in the walk's units
+    WPREC vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
+    WPREC vec3 invd = 1.0 / ad;
+    WPREC float tl1 = (tx - te) * L; // the ray's end in the walk's units
     uint depth = max(m.depth, 3u);
     uint top = GRID_TOP == 1u ? 1u : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
@@ -57,15 +71,15 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // crossing times lose about (cells walked) 2^-24 of a cell. c0: the start cell (a ray on a plane lies in
     // the cell its direction leads into, as safe_inv displaces it), fr the start's offset in it (mirrored).
     bvec3 neg = bvec3(sign_neg(dl.x), sign_neg(dl.y), sign_neg(dl.z));
-    vec3 c0 = clamp(mix(floor(oa), ceil(oa) - 1.0, neg), vec3(0.0), vec3(float(N - 1u)));
-    vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
+    WPREC vec3 c0 = clamp(mix(floor(oa), ceil(oa) - 1.0, neg), vec3(0.0), vec3(float(N - 1u)));
+    WPREC vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
     uvec3 flip = mix(uvec3(0u), uvec3(N - 1u), neg);
     uvec3 f0 = uvec3(c0) ^ flip; // the start cell, mirrored
     ivec3 if0 = ivec3(f0);
-    vec3 bias = -fr * invd;
+    WPREC vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
 
-    float t = 0.0;
+    WPREC float t = 0.0;
     uint lv = top, sh = 3u * top; // the walk's level above the bricks (in a brick: 1)
     // LV and SH: the level and its shift, constants where every root is at level 1
 #define LV (GRID_TOP == 1u ? 1u : lv)
@@ -85,8 +99,8 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
             uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
             if (((gwords[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
-            float tmin = min(min(tc.x, tc.y), tc.z);
+            WPREC vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
+            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
             f += uvec3(lessThanEqual(tc, vec3(tmin)));
             Pn = f >> 3u;
@@ -123,8 +137,8 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             uint dist = w & 0xFFFFu;
             uvec3 up = P + dist;
             if (LV < TOPL) up = min(up, (P | 7u) + 1u);
-            vec3 tc = fma(vec3(ivec3(up << SH) - if0), invd, bias);
-            float tmin = min(min(tc.x, tc.y), tc.z);
+            WPREC vec3 tc = fma(vec3(ivec3(up << SH) - if0), invd, bias);
+            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
             Pn = P;
             if (dist > 1u) Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> SH, P, up - 1u);
@@ -151,12 +165,12 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
     // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau), as trace_model;
     // elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
-    vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
+    WPREC vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
     int axis = 0;
-    float ta = tent.x;
+    WPREC float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
-    float th = te + max(ta, 0.0) / L;
+    WPREC float th = te + max(ta, 0.0) / L;
     if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;
@@ -167,9 +181,8 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     h.nsign = fa != 0u ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
-    // the record: one descent of the octree, only where the kernel reads the colour (trace.comp's colour and
-    // albedo modes; the depth, normal and instance images and the hits record have no use for it)
-    if (HAS_COLOR && (MODE == MODE_COLOR || MODE == MODE_ALBEDO) && (m.flags & 1u) != 0u) {
+    // the record: one descent of the octree, only where the kernel reads it (GRID_RECORD)
+    if (HAS_COLOR && GRID_RECORD && (m.flags & 1u) != 0u) {
         uint level;
         uint a = model_cell_leaf(mi, cell, level);
         if (a != NO_HIT) {

@@ -1245,7 +1245,8 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
 }
 
 #if defined(TRACE_GRID) && !defined(PRECISE)
-// trace.comp: models with a grid walk it (grid_walk.glsl; GRID, id 13, 0: none has one)
+// trace.comp and the pass kernels that trace: models with a grid walk it (grid_walk.glsl; GRID, id 13, 0: none
+// has one)
 #define GRID_WALK
 #include "grid_walk.glsl"
 #endif

@@ -2,8 +2,9 @@
  * lavapipe: the default list equals the single-shader colour mode bit for
  * bit, every pass can be left out, bad lists are usage errors naming the
  * pass, per-pass times add up to the frame, ambient occlusion against the
- * analytic value at an inner corner and on an open plane, the gi hook, and
- * models of 10-16 levels traced as trace.comp traces them.
+ * analytic value at an inner corner and on an open plane, the gi hook,
+ * models of 10-16 levels traced as trace.comp traces them, and the grid walk
+ * in the kernels that trace (against trace.comp's and the octree walk).
  * Skips (with a message) when there is no Vulkan device. */
 #include <dlfcn.h>
 #include <math.h>
@@ -11,6 +12,7 @@
 
 #include "render/pipeline.h"
 #include "render/gpu.h" /* vx__buffer, for the fake gi method; vx__render_scene_deep */
+#include "render/testing.h" /* vx__render_scene_grid: the octree walk against the grid walk */
 #include "tests/render/scenes.h"
 #include "tests/test.h"
 #include "tests/test_vox.h"
@@ -37,16 +39,18 @@ typedef struct fixture {
     vx_frame_renderer* fr;
 } fixture;
 
-static bool fx_open(const vx_svo_scene* s, fixture* fx) {
+/* sd: the render scene's layout choices (NULL: the defaults) */
+static bool fx_open_desc(const vx_svo_scene* s, const vx_render_scene_desc* sd, fixture* fx) {
     vx_error err = {0};
     memset(fx, 0, sizeof *fx);
-    if (vx_render_scene_create(gpu, s, &fx->rs, &err) || vx_frame_renderer_create(fx->rs, s, &fx->fr, &err)) {
+    if (vx_render_scene_create_ex(gpu, s, sd, &fx->rs, &err) || vx_frame_renderer_create(fx->rs, s, &fx->fr, &err)) {
         fprintf(stderr, "  create: %s\n", err.msg);
         vx_render_scene_destroy(fx->rs);
         return false;
     }
     return true;
 }
+static bool fx_open(const vx_svo_scene* s, fixture* fx) { return fx_open_desc(s, NULL, fx); }
 static void fx_close(fixture* fx) {
     vx_frame_renderer_destroy(fx->fr);
     vx_render_scene_destroy(fx->rs);
@@ -69,9 +73,10 @@ static bool render_list(fixture* fx, const char* list, vx_frame_desc d, vx_frame
 
 /* The default list against vx_render_frame's colour mode: the same floats (at most max_share of them apart:
  * compare_default_deep's). */
-static void compare_default_share(const char* name, const vx_svo_scene* s, vx_render_desc base, double max_share) {
+static void compare_default_in(const char* name, const vx_svo_scene* s, const vx_render_scene_desc* sd,
+                               vx_render_desc base, double max_share) {
     fixture fx;
-    if (!fx_open(s, &fx)) {
+    if (!fx_open_desc(s, sd, &fx)) {
         CHECKF(false, "%s: scene", name);
         return;
     }
@@ -100,6 +105,10 @@ static void compare_default_share(const char* name, const vx_svo_scene* s, vx_re
     }
     vx_render_image_free(&ref);
     fx_close(&fx);
+}
+
+static void compare_default_share(const char* name, const vx_svo_scene* s, vx_render_desc base, double max_share) {
+    compare_default_in(name, s, NULL, base, max_share);
 }
 
 static void compare_default(const char* name, const vx_svo_scene* s, vx_render_desc base) {
@@ -141,6 +150,86 @@ static void test_default_equals_color(void) {
         vx_svo_scene_free(&s);
     }
     if (!done) fprintf(stderr, "  corpus not available: generated scene only\n");
+}
+
+/* The grid walk in the pass kernels (pass_grid.glsl; render/grid.h), with the grids asked for (a CPU device
+ * builds none by default): (1) the default list equals vx_render_frame's colour mode bit for bit, merged and
+ * separate, as without grids: trace.comp and the passes take the walk by one rule (vx__render_scene_grid_spec),
+ * so a kernel left on the octree walk would show as a t's last bits apart; (2) against the octree walk (the same
+ * scene, its grids switched off) the lists with shadow and AO rays hit the same pixels with near colours: the
+ * grid walk's t is from its own planes, so a few ulps apart, not the same bits. */
+static void grid_walk_scene(const char* name, const vx_svo_scene* s, uint32_t w, uint32_t h) {
+    vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
+    compare_default_in(name, s, &sd, (vx_render_desc){.width = w, .height = h}, 0.0);
+    fixture fx;
+    if (!fx_open_desc(s, &sd, &fx)) {
+        CHECKF(false, "%s: scene", name);
+        return;
+    }
+    vx_render_layout_info li = {0};
+    vx_render_scene_layout(fx.rs, &li);
+    CHECKF(li.grid_models > 0, "%s: no grid built", name);
+    static const char* lists[] = {"gbuffer,direct", "gbuffer,direct,ao"};
+    for (size_t l = 0; l < sizeof lists / sizeof lists[0]; l++)
+        for (int separate = 0; separate < 2; separate++) {
+            vx_frame_desc d = vx_frame_desc_defaults();
+            d.base.width = w, d.base.height = h;
+            d.ao_rays = 8;
+            d.separate_passes = separate;
+            vx_frame_result a = {0}, b = {0};
+            vx__render_scene_grid(fx.rs, -1);
+            bool ok = render_list(&fx, lists[l], d, &a);
+            vx__render_scene_grid(fx.rs, 0);
+            ok = render_list(&fx, lists[l], d, &b) && ok;
+            vx__render_scene_grid(fx.rs, -1);
+            CHECKF(ok, "%s: '%s'", name, lists[l]);
+            if (ok) {
+                size_t n = (size_t)w * h, hit = 0, hit_diff = 0, diff = 0;
+                double worst = 0;
+                for (size_t i = 0; i < n; i++) {
+                    const float *p = &a.image.pixels[4 * i], *q = &b.image.pixels[4 * i];
+                    hit += p[3] > 0;
+                    hit_diff += (p[3] > 0) != (q[3] > 0);
+                    diff += memcmp(p, q, 16) != 0;
+                    for (int k = 0; k < 3; k++) worst = fmax(worst, fabs((double)p[k] - q[k]));
+                }
+                printf("  %-34s '%s' %s: %zu hit pixels, grid against octree walk: %zu hits differ, %zu pixels "
+                       "differ, at most %.2g\n", name, lists[l], separate ? "separate" : "merged", hit, hit_diff, diff,
+                       worst);
+                CHECKF(hit > 0, "%s: nothing hit", name);
+                /* a ray along a cell's face may take the cell beside it (the reference's rule: test_render_gpu) */
+                CHECKF(hit_diff * 1000 <= n, "%s '%s': %zu of %zu pixels hit by one walk only", name, lists[l],
+                       hit_diff, n);
+                /* AO's few rays a pixel: a shifted origin may turn one of 8 rays (0.125 of the share) */
+                CHECKF(diff * 50 <= n, "%s '%s': %zu of %zu pixels apart between the walks", name, lists[l], diff, n);
+                CHECKF(worst <= 0.2, "%s '%s': a colour %g apart between the walks", name, lists[l], worst);
+            }
+            vx_render_image_free(&a.image);
+            vx_render_image_free(&b.image);
+        }
+    fx_close(&fx);
+}
+
+static void test_grid_walk(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    generated_scene(&s);
+    grid_walk_scene("generated [grids]", &s, 96, 64);
+    vx_svo_scene_free(&s);
+    static const char* files[] = {"eph_monu1.vox", "ogt_doom.vox", "ogt_test_groups.vox"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        vx_test_vox st = vx_test_vox_scene(files[i], &s);
+        if (st == VX_TEST_VOX_ABSENT) {
+            fprintf(stderr, "  vox/%s: not in the corpus, skipped\n", files[i]);
+            continue;
+        }
+        CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
+        if (st != VX_TEST_VOX_OK) continue;
+        char name[64];
+        snprintf(name, sizeof name, "%s [grids]", files[i]);
+        grid_walk_scene(name, &s, 120, 90);
+        vx_svo_scene_free(&s);
+    }
 }
 
 static void test_parse(void) {
@@ -1089,6 +1178,7 @@ int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){0}, false, &gpu);
     RUN(test_parse);
     RUN(test_default_equals_color);
+    RUN(test_grid_walk);
     RUN(test_merged_equals_separate);
     RUN(test_switch_off);
     RUN(test_timings);
