@@ -16,6 +16,14 @@
 layout(constant_id = 13) const uint GRID = 0u;
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
+// bench variants (render/testing.h vx__render_scene_grid_variant; measured against the default in one process):
+// bit 3 FLAT, roots above level 1: the walk's coarse cells are always level 1, the levels above looked up from
+// the root down at each coarse step (an empty entry at level k skips its empty cube at that level), so no level
+// is kept and none is climbed; bit 4 NOFR: the position at t as (t - bias) ad (fr not kept across the loop);
+// bit 5 PACKFLIP: the mirrored axes kept as 3 bits, their index masks made where used (one register, not three)
+const bool GRID_FLAT = (GRID & 8u) != 0u && GRID_TOP > 1u;
+const bool GRID_NOFR = (GRID & 16u) != 0u;
+const bool GRID_PACKFLIP = (GRID & 32u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
 // (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root. Binding 14 in
 // trace.comp; the pass kernels, whose 14 is taken, name theirs (GRID_BINDING, render/pipeline.c)
@@ -78,6 +86,10 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     ivec3 if0 = ivec3(f0);
     WPREC vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
+    uint negm = (neg.x ? 1u : 0u) | (neg.y ? 2u : 0u) | (neg.z ? 4u : 0u); // PACKFLIP's mirrored axes
+    // flip >> s (a mirrored axis's index at that level: xor all ones)
+#define FLIP_SH(s) (GRID_PACKFLIP ? mix(uvec3(0u), uvec3(((R << (3u * top)) - 1u) >> (s)), \
+                                        notEqual(uvec3(negm) & uvec3(1u, 2u, 4u), uvec3(0u))) : flip >> (s))
 
     WPREC float t = 0.0;
     uint lv = top, sh = 3u * top; // the walk's level above the bricks (in a brick: 1)
@@ -86,7 +98,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
 #define SH (GRID_TOP == 1u ? 3u : sh)
 #define TOPL (GRID_TOP == 1u ? 1u : top)
     uvec3 f = f0;      // the cell (in a brick)
-    uvec3 P = f >> SH; // the cell at level lv
+    uvec3 P = f >> (GRID_FLAT ? 3u : SH); // the cell at level lv (FLAT: level 1)
     bool fine = false;
     uint base0 = 0u, base1 = 0u, base2 = 0u; // the brick and the nodes of levels 1 and 2 the walk is in
     // (three words, not an array: an array indexed by the level went to local memory, stop 75)
@@ -106,8 +118,50 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             Pn = f >> 3u;
             if (Pn == P) continue; // (a hit past the ray's end is refused below: at most a brick's steps)
             fine = false;
+        } else if (GRID_FLAT) {
+            // P a level-1 cell: its entry from the root down (top - 1 node loads below the root's)
+            uvec3 q = (P >> (3u * (top - 1u))) ^ FLIP_SH(3u * top);
+            uint w = gwords[groot + (q.z * R + q.y) * R + q.x];
+            uint s3 = 3u * (top - 1u); // the shift from level-1 cells to the level of w
+            if (w < 0x80000000u && top == 3u) {
+                q = ((P >> 3u) ^ FLIP_SH(6u)) & 7u;
+                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
+                s3 = 3u;
+            }
+            if (w < 0x80000000u) {
+                q = (P ^ FLIP_SH(3u)) & 7u;
+                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
+                s3 = 0u;
+            }
+            if (w < 0x80000000u) {
+                // the brick: the cell the ray is in
+                uvec3 lo8 = P << 3u;
+                uvec3 c = f0 + uvec3(max(GRID_NOFR ? (vec3(t) - bias) * ad : fma(vec3(t), ad, fr), vec3(0.0)));
+                fine = true;
+                base0 = w;
+                f = clamp(c, lo8, lo8 + 7u);
+                continue;
+            }
+            // empty at level 1 + s3 / 3: leave its empty cube (within its node below the root), in level-1 cells
+            uint dist = w & 0xFFFFu;
+            uvec3 Pk = P >> s3;
+            uvec3 up = Pk + dist;
+            if (s3 < 3u * (top - 1u)) up = min(up, (Pk | 7u) + 1u);
+            up <<= s3;
+            WPREC vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);
+            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
+            t = max(t, tmin);
+            Pn = P;
+            if (dist > 1u || s3 > 0u)
+                Pn = clamp((f0 + uvec3(max(GRID_NOFR ? (vec3(tmin) - bias) * ad : fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u,
+                           P, up - 1u);
+            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
+            if (t >= tl1) break;
+            P = Pn;
+            if (max(max(P.x, P.y), P.z) >= (R << (3u * (top - 1u)))) break;
+            continue;
         } else {
-            uvec3 lf = flip >> SH; // a mirrored axis's index at this level: xor all ones
+            uvec3 lf = FLIP_SH(SH); // a mirrored axis's index at this level: xor all ones
             uint w;
             if (LV == TOPL) {
                 uvec3 q = P ^ lf;
@@ -119,7 +173,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             if (w < 0x80000000u) {
                 // occupied: one level down, the cell the ray is in (at level 1: the brick's cell)
                 uvec3 lo8 = P << 3u;
-                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));
+                uvec3 c = f0 + uvec3(max(GRID_NOFR ? (vec3(t) - bias) * ad : fma(vec3(t), ad, fr), vec3(0.0)));
                 if (LV == 1u) {
                     fine = true;
                     base0 = w;
@@ -141,25 +195,30 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             WPREC float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
             Pn = P;
-            if (dist > 1u) Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> SH, P, up - 1u);
+            if (dist > 1u)
+                Pn = clamp((f0 + uvec3(max(GRID_NOFR ? (vec3(tmin) - bias) * ad : fma(vec3(tmin), ad, fr), vec3(0.0)))) >> SH,
+                           P, up - 1u);
             Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
         }
         if (t >= tl1) break; // out of the model's box or past the ray's end
         // a step out of its node: the cell beside it one level up (and so on)
-        while (LV < TOPL && (Pn >> 3u) != (P >> 3u)) {
+        while (!GRID_FLAT && LV < TOPL && (Pn >> 3u) != (P >> 3u)) {
             P >>= 3u;
             Pn >>= 3u;
             lv++;
             sh += 3u;
         }
         P = Pn;
-        if (LV == TOPL && max(max(P.x, P.y), P.z) >= R) break;
+        if (GRID_FLAT ? max(max(P.x, P.y), P.z) >= (R << (3u * (top - 1u)))
+                      : LV == TOPL && max(max(P.x, P.y), P.z) >= R) break;
     }
 #undef LV
 #undef SH
 #undef TOPL
     if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
+    if (GRID_PACKFLIP) flip = FLIP_SH(0u);
+#undef FLIP_SH
     uvec3 cell = f ^ flip;
     // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
