@@ -31,10 +31,7 @@
  * --octree: voxkit's rows again with every model on its octree walk (the
  * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
  * then counts the pixels whose hits differ from the grid walk's). --grid: the
- * grids built on a CPU device too (none there by default). --grid-variant
- * BITS (repeatable): voxkit's rows again with the grid walk's bench variant
- * (render/testing.h vx__render_scene_grid_variant: 8 FLAT, 16 NOFR, 32
- * PACKFLIP, or their sums).
+ * grids built on a CPU device too (none there by default).
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
@@ -158,7 +155,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--grid-variant BITS] [--grid] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--grid] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -539,7 +536,6 @@ int main(int argc, char** argv) {
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     int kgrid[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1}; /* the grid walk (-1: the library's) */
-    uint32_t kgvar[9] = {0}; /* the grid walk's bench variant bits (vx__render_scene_grid_variant) */
     char klabel[9][96];
     uint32_t runs = 15;
     uint32_t brick_root = 0; /* --brick-root: bench_brick_create's root_log */
@@ -596,19 +592,6 @@ int main(int argc, char** argv) {
             }
         }
         else if (!strcmp(argv[i], "--grid")) force_grid = true;
-        else if (!strcmp(argv[i], "--grid-variant") && i + 1 < argc) {
-            /* the built-in kernel again with the grid walk's bench variant bits (grid_walk.glsl: 8 FLAT, 16 NOFR, 32 PACKFLIP) */
-            char* end = NULL;
-            unsigned long bits = strtoul(argv[++i], &end, 10);
-            if (!end || *end || !bits || (bits & ~56ul)) {
-                fprintf(stderr, "render_bench: --grid-variant wants a sum of 8, 16 and 32, not '%s'\n", argv[i]);
-                return 2;
-            }
-            if (nkern < 9) {
-                snprintf(klabel[nkern], sizeof klabel[nkern], "grid variant %lu", bits);
-                kgvar[nkern] = (uint32_t)bits, kname[nkern] = klabel[nkern], nkern++;
-            }
-        }
         else if (!strcmp(argv[i], "--octree")) {
             /* the built-in kernel again with every model on its octree walk (no grid walk) */
             if (nkern < 9) {
@@ -875,7 +858,6 @@ int main(int argc, char** argv) {
                     vx__render_scene_trace_variant(rs, kcull[ki]);
                     vx__render_scene_trace_path(rs, kpath[ki]);
                     vx__render_scene_grid(rs, kgrid[ki]);
-                    vx__render_scene_grid_variant(rs, kgvar[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

@@ -111,7 +111,6 @@ struct vx_render_scene {
     uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
     uint32_t grid_top;
     int grid_on;
-    uint32_t grid_variant; /* vx__render_scene_grid_variant */
     /* the models' regions and table (vx_render_scene_update_model) */
     region* wreg; /* node words, per model */
     region* creg; /* colour records, per model */
@@ -1851,11 +1850,7 @@ uint32_t vx__render_scene_grid_spec(vx_render_scene* rs, const vx__frame* f, vx_
     /* without LOD: a coarse hit is its node's cube, which the grids do not hold */
     uint32_t grid = rs && rs->grid_at && !f->lod && rs->grid_on != 0 ? rs->grid_top : 0;
     *buf = grid ? &rs->grid : NULL;
-    return grid ? grid | rs->grid_variant : 0;
-}
-
-void vx__render_scene_grid_variant(vx_render_scene* rs, uint32_t bits) {
-    if (rs) rs->grid_variant = bits & 56u;
+    return grid;
 }
 
 void vx__render_scene_grid(vx_render_scene* rs, int on) {

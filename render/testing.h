@@ -50,10 +50,6 @@ void vx__render_scene_trace_path(vx_render_scene* rs, int path);
  * for the models that have a grid (-1 the default, on; 0 off: every model
  * walks its octree; 1 on). */
 void vx__render_scene_grid(vx_render_scene* rs, int on);
-/* Benchmarks: the grid walk's bench variants (grid_walk.glsl GRID bits 3-5:
- * FLAT 8, NOFR 16, PACKFLIP 32; 0 none), OR'ed into the kernels' GRID where
- * a model walks a grid. */
-void vx__render_scene_grid_variant(vx_render_scene* rs, uint32_t bits);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

@@ -1,5 +1,6 @@
 #!/bin/bash
-# Stop 77 (issue 21): the grid walk's bench variants against its default in the same processes (render_bench
+# Stop 77 (issue 21), run at 4b566bb (the variants and render_bench --grid-variant were folded into the walk or
+# dropped after it): the grid walk's bench variants against its default in the same processes (render_bench
 # --grid-variant: 8 FLAT, roots above level 1 walked on level-1 cells with the levels above looked up; 16 NOFR,
 # the position at t without fr; 32 PACKFLIP, the mirrored axes as 3 bits), every view at 1920x1080 with the driver's
 # shader statistics; then the render tests on the GPU with grids on by default (test_passes: the pass kernels'

@@ -11,19 +11,11 @@
 
 // GRID: 0 no model has a grid (the walk is compiled out); else bits 0-1 k >= 1: the grids' roots are at
 // level at most k (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the
-// level's bookkeeping folds away and the loop is the two-level walk (stop 75: 15% faster than the general
-// one); bit 2 (GRID_ALL): every model that holds a cell has a grid, so the octree walk is compiled out
+// lookups below the root fold away and the loop is the two-level walk; bit 2 (GRID_ALL): every model that
+// holds a cell has a grid, so the octree walk is compiled out
 layout(constant_id = 13) const uint GRID = 0u;
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
-// bench variants (render/testing.h vx__render_scene_grid_variant; measured against the default in one process):
-// bit 3 FLAT, roots above level 1: the walk's coarse cells are always level 1, the levels above looked up from
-// the root down at each coarse step (an empty entry at level k skips its empty cube at that level), so no level
-// is kept and none is climbed; bit 4 NOFR: the position at t as (t - bias) ad (fr not kept across the loop);
-// bit 5 PACKFLIP: the mirrored axes kept as 3 bits, their index masks made where used (one register, not three)
-const bool GRID_FLAT = (GRID & 8u) != 0u && GRID_TOP > 1u;
-const bool GRID_NOFR = (GRID & 16u) != 0u;
-const bool GRID_PACKFLIP = (GRID & 32u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
 // (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root. Binding 14 in
 // trace.comp; the pass kernels, whose 14 is taken, name theirs (GRID_BINDING, render/pipeline.c)
@@ -49,8 +41,10 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // positive (a mirrored axis's stored index is the walked one xor (2^depth - 1)); the hit's cell is the
 // first set cell walked, its axis the entry plane crossed last, its t that plane's crossing (exact models:
 // the cell's entry against the hi/lo origin, entry_tau).
-// WPREC: the float arithmetic not contracted in the WALK_PRECISE kernels (the passes': cmake/shaders.cmake), as
-// trace_model's; plain in trace.comp.
+// The float arithmetic is `precise` (not contracted) in every kernel: trace.comp's colour mode and the pass
+// kernels (WALK_PRECISE, cmake/shaders.cmake) must give the same t bits (test_passes), and a compiler may
+// contract the setup's o + d te or length(d) in one and not the other (stop 77: 3 floats of a 5-sample frame
+// apart on the H100). The loop's own arithmetic is explicit fma, min and max: nothing there to contract.
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
@@ -59,17 +53,17 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
     groot += 4u;
     vec3 blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
-    WPREC vec2 tb = box_t(o, safe_inv(d), blo, bhi);
-    WPREC float te = max(tb.x, t0), tx = min(tb.y, t1);
+    precise vec2 tb = box_t(o, safe_inv(d), blo, bhi);
+    precise float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
-    WPREC vec3 oa = o + d * te;
-    WPREC float L = length(d);
-    WPREC vec3 dl = d / L;
+    precise vec3 oa = o + d * te;
+    precise float L = length(d);
+    precise vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
     // axis keeps its sign, so -0 walks as negative, as safe_inv makes it
-    WPREC vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
-    WPREC vec3 invd = 1.0 / ad;
-    WPREC float tl1 = (tx - te) * L; // the ray's end in the walk's units
+    precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
+    precise vec3 invd = 1.0 / ad;
+    precise float tl1 = (tx - te) * L; // the ray's end in the walk's units
     uint depth = max(m.depth, 3u);
     uint top = GRID_TOP == 1u ? 1u : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
@@ -79,56 +73,60 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // crossing times lose about (cells walked) 2^-24 of a cell. c0: the start cell (a ray on a plane lies in
     // the cell its direction leads into, as safe_inv displaces it), fr the start's offset in it (mirrored).
     bvec3 neg = bvec3(sign_neg(dl.x), sign_neg(dl.y), sign_neg(dl.z));
-    WPREC vec3 c0 = clamp(mix(floor(oa), ceil(oa) - 1.0, neg), vec3(0.0), vec3(float(N - 1u)));
-    WPREC vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
+    precise vec3 c0 = clamp(mix(floor(oa), ceil(oa) - 1.0, neg), vec3(0.0), vec3(float(N - 1u)));
+    precise vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
     uvec3 flip = mix(uvec3(0u), uvec3(N - 1u), neg);
     uvec3 f0 = uvec3(c0) ^ flip; // the start cell, mirrored
     ivec3 if0 = ivec3(f0);
-    WPREC vec3 bias = -fr * invd;
+    precise vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
-    uint negm = (neg.x ? 1u : 0u) | (neg.y ? 2u : 0u) | (neg.z ? 4u : 0u); // PACKFLIP's mirrored axes
-    // flip >> s (a mirrored axis's index at that level: xor all ones)
-#define FLIP_SH(s) (GRID_PACKFLIP ? mix(uvec3(0u), uvec3(((R << (3u * top)) - 1u) >> (s)), \
-                                        notEqual(uvec3(negm) & uvec3(1u, 2u, 4u), uvec3(0u))) : flip >> (s))
+    // The mirrored axes as 3 bits across the loop, their index masks made where used: FLIP_SH(s) = flip >> s,
+    // a mirrored axis's index at level s / 3 xor all ones (one register, not flip's three: stop 77, H100, 0.5-2%
+    // more rays/s on the .vox scenes' views, and with the lookups below it 6% more on terrain4096's)
+    uint negm = (neg.x ? 1u : 0u) | (neg.y ? 2u : 0u) | (neg.z ? 4u : 0u);
+#define FLIP_SH(s) \
+    mix(uvec3(0u), uvec3(((R << (3u * top)) - 1u) >> (s)), notEqual(uvec3(negm) & uvec3(1u, 2u, 4u), uvec3(0u)))
 
-    WPREC float t = 0.0;
-    uint lv = top, sh = 3u * top; // the walk's level above the bricks (in a brick: 1)
-    // LV and SH: the level and its shift, constants where every root is at level 1
-#define LV (GRID_TOP == 1u ? 1u : lv)
-#define SH (GRID_TOP == 1u ? 3u : sh)
-#define TOPL (GRID_TOP == 1u ? 1u : top)
+    precise float t = 0.0;
+    // The coarse walk is on level-1 cells (bricks) whatever the root's level: at each coarse step the cell's
+    // entry is looked up from the root down (top - 1 node loads below the root's, the upper ones cached), and
+    // an empty entry at level k skips its empty cube at that level. So no level is kept across the loop and
+    // none is climbed on leaving a node (stop 77, H100: terrain4096, root level 2, 6.6 steps a close-up ray
+    // against 9.0 for the walk that kept its level, 1.13-1.23x its rays/s); where every root is at level 1,
+    // GRID_TOP's constant folds the lookups away (the two-level loop).
+    uint top3 = 3u * (top - 1u); // the shift from level-1 cells to the root's
     uvec3 f = f0;      // the cell (in a brick)
-    uvec3 P = f >> (GRID_FLAT ? 3u : SH); // the cell at level lv (FLAT: level 1)
+    uvec3 P = f >> 3u; // its level-1 cell
     bool fine = false;
-    uint base0 = 0u, base1 = 0u, base2 = 0u; // the brick and the nodes of levels 1 and 2 the walk is in
-    // (three words, not an array: an array indexed by the level went to local memory, stop 75)
+    uint base0 = 0u; // the brick the walk is in
     uint steps = 0u;
     bool hit = false;
     while (steps < MAX_ITER) {
         steps++;
-        uvec3 Pn;
         if (fine) {
             // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
             uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
             if (((gwords[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            WPREC vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
-            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
+            precise vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
+            precise float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
             f += uvec3(lessThanEqual(tc, vec3(tmin)));
-            Pn = f >> 3u;
+            uvec3 Pn = f >> 3u;
             if (Pn == P) continue; // (a hit past the ray's end is refused below: at most a brick's steps)
             fine = false;
-        } else if (GRID_FLAT) {
-            // P a level-1 cell: its entry from the root down (top - 1 node loads below the root's)
-            uvec3 q = (P >> (3u * (top - 1u))) ^ FLIP_SH(3u * top);
+            if (t >= tl1) break; // out of the cells' box or past the ray's end
+            P = Pn;
+        } else {
+            // P's entry from the root down
+            uvec3 q = (P >> top3) ^ FLIP_SH(3u * top);
             uint w = gwords[groot + (q.z * R + q.y) * R + q.x];
-            uint s3 = 3u * (top - 1u); // the shift from level-1 cells to the level of w
+            uint s3 = top3; // the shift from level-1 cells to the level of w
             if (w < 0x80000000u && top == 3u) {
                 q = ((P >> 3u) ^ FLIP_SH(6u)) & 7u;
                 w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
                 s3 = 3u;
             }
-            if (w < 0x80000000u) {
+            if (w < 0x80000000u && top >= 2u) { // (a root at level 1 holds the bricks)
                 q = (P ^ FLIP_SH(3u)) & 7u;
                 w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
                 s3 = 0u;
@@ -136,100 +134,46 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
             if (w < 0x80000000u) {
                 // the brick: the cell the ray is in
                 uvec3 lo8 = P << 3u;
-                uvec3 c = f0 + uvec3(max(GRID_NOFR ? (vec3(t) - bias) * ad : fma(vec3(t), ad, fr), vec3(0.0)));
+                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));
                 fine = true;
                 base0 = w;
                 f = clamp(c, lo8, lo8 + 7u);
                 continue;
             }
-            // empty at level 1 + s3 / 3: leave its empty cube (within its node below the root), in level-1 cells
+            // empty at level s3 / 3 + 1: leave its empty cube [Pk - dist + 1, Pk + dist) (within its node below
+            // the root), in level-1 cells
             uint dist = w & 0xFFFFu;
             uvec3 Pk = P >> s3;
             uvec3 up = Pk + dist;
-            if (s3 < 3u * (top - 1u)) up = min(up, (Pk | 7u) + 1u);
+            if (s3 < top3) up = min(up, (Pk | 7u) + 1u);
             up <<= s3;
-            WPREC vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);
-            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
+            precise vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);
+            precise float tmin = min(min(tc.x, tc.y), tc.z);
             t = max(t, tmin);
-            Pn = P;
+            uvec3 Pn = P;
             if (dist > 1u || s3 > 0u)
-                Pn = clamp((f0 + uvec3(max(GRID_NOFR ? (vec3(tmin) - bias) * ad : fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u,
-                           P, up - 1u);
+                Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u, P, up - 1u);
             Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
-            if (t >= tl1) break;
+            if (t >= tl1) break; // out of the cells' box or past the ray's end
             P = Pn;
-            if (max(max(P.x, P.y), P.z) >= (R << (3u * (top - 1u)))) break;
-            continue;
-        } else {
-            uvec3 lf = FLIP_SH(SH); // a mirrored axis's index at this level: xor all ones
-            uint w;
-            if (LV == TOPL) {
-                uvec3 q = P ^ lf;
-                w = gwords[groot + (q.z * R + q.y) * R + q.x];
-            } else {
-                uvec3 q = (P ^ lf) & 7u;
-                w = gwords[(LV == 1u ? base1 : base2) + (q.x | (q.y << 3) | (q.z << 6))];
-            }
-            if (w < 0x80000000u) {
-                // occupied: one level down, the cell the ray is in (at level 1: the brick's cell)
-                uvec3 lo8 = P << 3u;
-                uvec3 c = f0 + uvec3(max(GRID_NOFR ? (vec3(t) - bias) * ad : fma(vec3(t), ad, fr), vec3(0.0)));
-                if (LV == 1u) {
-                    fine = true;
-                    base0 = w;
-                    f = clamp(c, lo8, lo8 + 7u);
-                } else {
-                    lv--;
-                    sh -= 3u;
-                    if (LV == 1u) base1 = w;
-                    else base2 = w;
-                    P = clamp(c >> SH, lo8, lo8 + 7u);
-                }
-                continue;
-            }
-            // empty: leave the empty cube [P - dist + 1, P + dist) (within the node below the root)
-            uint dist = w & 0xFFFFu;
-            uvec3 up = P + dist;
-            if (LV < TOPL) up = min(up, (P | 7u) + 1u);
-            WPREC vec3 tc = fma(vec3(ivec3(up << SH) - if0), invd, bias);
-            WPREC float tmin = min(min(tc.x, tc.y), tc.z);
-            t = max(t, tmin);
-            Pn = P;
-            if (dist > 1u)
-                Pn = clamp((f0 + uvec3(max(GRID_NOFR ? (vec3(tmin) - bias) * ad : fma(vec3(tmin), ad, fr), vec3(0.0)))) >> SH,
-                           P, up - 1u);
-            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
         }
-        if (t >= tl1) break; // out of the model's box or past the ray's end
-        // a step out of its node: the cell beside it one level up (and so on)
-        while (!GRID_FLAT && LV < TOPL && (Pn >> 3u) != (P >> 3u)) {
-            P >>= 3u;
-            Pn >>= 3u;
-            lv++;
-            sh += 3u;
-        }
-        P = Pn;
-        if (GRID_FLAT ? max(max(P.x, P.y), P.z) >= (R << (3u * (top - 1u)))
-                      : LV == TOPL && max(max(P.x, P.y), P.z) >= R) break;
+        if (max(max(P.x, P.y), P.z) >= (R << top3)) break; // out of the root
     }
-#undef LV
-#undef SH
-#undef TOPL
     if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
-    if (GRID_PACKFLIP) flip = FLIP_SH(0u);
+    flip = FLIP_SH(0u);
 #undef FLIP_SH
     uvec3 cell = f ^ flip;
     // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
     // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau), as trace_model;
     // elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
-    WPREC vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
+    precise vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
     int axis = 0;
-    WPREC float ta = tent.x;
+    precise float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
-    WPREC float th = te + max(ta, 0.0) / L;
+    precise float th = te + max(ta, 0.0) / L;
     if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;

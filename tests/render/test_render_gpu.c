@@ -1294,6 +1294,47 @@ static void test_stack_levels(void) {
     vx_gpu_destroy(other);
 }
 
+/* The grid walk over models whose roots are at different levels in one kernel (GRID's constant is the greatest
+ * root level; render/grid.h vx__grid_top): a 2^12 model (root level 2: its coarse cells' entries looked up
+ * through a node) beside a small one (root level 1: the root holds the bricks), placed as is, rotated and
+ * mirrored, seen from inside the big cube's cluster and from outside, each walk against the CPU reference. */
+static void test_grid_mixed_roots(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    enum { N = 6000 };
+    static uint32_t xyz[3 * (N + 2)];
+    static uint8_t pal[N + 2];
+    uint32_t seed = 77, n = 0, side = 1u << 12, lo = 1000;
+    /* a cluster of cells 96 wide (sparse bricks, empty level-1 cells and empty level-2 entries between them)
+     * and the two corners that give the model its depth */
+    for (uint32_t i = 0; i < N; i++) {
+        for (int k = 0; k < 3; k++) xyz[3 * n + k] = lo + ts_rng(&seed) % (i % 3 ? 96 : 24) * (i % 3 ? 1 : 4);
+        pal[n++] = (uint8_t)(1 + ts_rng(&seed) % 200);
+    }
+    for (int k = 0; k < 3; k++) xyz[3 * n + k] = 0, xyz[3 * n + 3 + k] = side - 1;
+    pal[n] = pal[n + 1] = 9, n += 2;
+    uint32_t size[3] = {side, side, side};
+    vx_svo_model m[2];
+    memset(m, 0, sizeof m);
+    REQUIRE(ts_model(&m[0], size, xyz, pal, n) == VX_OK);
+    REQUIRE(ts_random_model(&m[1], 20, 14, 9, 40, 78) == VX_OK);
+    CHECK(m[0].depth == 12 && m[1].depth <= 10);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mir[9] = {1, 0, 0, 0, -1, 0, 0, 0, 1};
+    vx_svo_instance in[4] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, lo + 100, lo + 20, lo + 30),
+                             ts_inst(1, rot, lo + 40, lo + 110, lo + 60), ts_inst(1, mir, lo - 30, lo + 50, lo + 10)};
+    vx_svo_scene s;
+    ts_scene(&s, m, 2, in, 4);
+    double c = lo + 48;
+    vx_render_desc views[3] = {cam(lo - 150, lo - 120, lo + 200, c, c, c), cam(c, c + 7, c - 5, lo, lo + 90, lo + 20),
+                               cam(lo + 300, lo + 40, lo - 90, lo + 20, lo + 60, lo + 40)};
+    for (int v = 0; v < 3; v++) {
+        views[v].width = 64, views[v].height = 48;
+        char nm[64];
+        snprintf(nm, sizeof nm, "mixed root levels, view %d", v);
+        check_scene(nm, &s, views[v], 200);
+    }
+    vx_svo_scene_free(&s);
+}
+
 static void test_empty_and_single(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -1626,6 +1667,7 @@ int main(void) {
     /* validation on when the layer is installed */
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &logger}, true, &gpu);
     RUN(test_empty_and_single);
+    RUN(test_grid_mixed_roots);
     RUN(test_axis_rays_on_edges);
     RUN(test_diagonal_edges_corners);
     RUN(test_ray_origins);
