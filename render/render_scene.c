@@ -2254,7 +2254,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * kernel's GRID the grids' greatest root level. The beam pass and the
      * starts below the root serve the octree walk: off with it. */
     vx__buffer* grid_buf = NULL;
-    uint32_t grid = !precise && !rs->alt_spv ? vx__render_scene_grid_spec(rs, f, &grid_buf) : 0;
+    uint32_t grid = !precise ? vx__render_scene_grid_spec(rs, f, &grid_buf) : 0;
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;
     if (rs->inst_count <= 1 && !grid) frame_paths(rs, f, precise, beam, rs->frame.map);
@@ -2286,8 +2286,9 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);
     if (!precise && rs->alt_spv) spv = rs->alt_spv, spv_size = rs->alt_size, key = key * 131 + 0x5EED0000u + rs->alt_tag;
     /* bindings 0-8, 9 the float64 instances, 10 the beam, 11-13 the shadow map, its nodes and instances,
-     * 14 the grids (a kernel of vx__render_scene_trace_kernel declares 0-13) */
-    uint32_t nb = precise ? 10 : rs->alt_spv ? 14 : 15;
+     * 14 the grids (a kernel of vx__render_scene_trace_kernel gets them too: one that does not declare 14 or
+     * GRID, id 13, takes the octree walk as before) */
+    uint32_t nb = precise ? 10 : 15;
     vx_gpu_compute_pipeline_desc pd = {.spirv = spv, .spirv_size = spv_size, .binding_count = nb,
                                        .spec_count = 14, .label = precise ? "trace (float64)" : "trace"};
     pd.bindings[0] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
