@@ -17,7 +17,8 @@ _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, i
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
                    offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, cmodel0) == 2416 &&
                    2 * VX__TILES_X * VX__TILES_X == 2048 && offsetof(vx__gpu_frame, paths) == 2480 &&
-                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && sizeof(vx__gpu_frame) == 2480 + 128 * VX__PATHS,
+                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && offsetof(vx__gpu_frame, grid0) == 10672 &&
+                   offsetof(vx__gpu_frame, grid_box) == 10688 && sizeof(vx__gpu_frame) == 10688 + 32,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -499,6 +500,13 @@ done:
     return r;
 }
 
+/* A grid's header's first three words (grid_walk.glsl: the cells' box it
+ * clips rays to) from the model's cells' box cb (lo xyz, hi xyz exclusive,
+ * each below 2^16: VX_RENDER_GRID_DEPTH). */
+static void grid_header(const uint32_t cb[6], uint32_t w[3]) {
+    w[0] = cb[0] | cb[1] << 16, w[1] = cb[2] | cb[3] << 16, w[2] = cb[4] | cb[5] << 16;
+}
+
 /* The grid walk's grids (render/grid.h; trace.comp's grid_walk.glsl walks
  * them instead of the octrees): one per model of at most
  * VX_RENDER_GRID_DEPTH levels, built from its octree, in model order while
@@ -526,10 +534,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         size_t before = out.n;
         /* the header: the cells' box (grid_walk.glsl clips the ray to it, not to the model's extent: a slab
          * of cells in a large model's cube, ogt_doom's, walked 7x the steps of the prototype that clipped) */
-        const uint32_t* cb = &rs->mcells[6 * i];
         if (!vx__grid_words_grow(&rs->alloc, &out, 4)) continue;
-        out.w[out.n++] = cb[0] | cb[1] << 16, out.w[out.n++] = cb[2] | cb[3] << 16, out.w[out.n++] = cb[4] | cb[5] << 16;
-        out.w[out.n++] = 0;
+        grid_header(&rs->mcells[6 * i], &out.w[out.n]);
+        out.w[out.n + 3] = 0;
+        out.n += 4;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
         uint32_t t;
         if (vx__grid_model(&rs->alloc, m, 0, &out, &t, &e) || (uint64_t)out.n * 4 > budget) {
@@ -2044,13 +2052,21 @@ vx_result vx__render_scene_sun_map_frame(vx_render_scene* rs, const vx__frame* f
 
 /* The single-instance kernels (USE_BVH off: trace.comp's float variant,
  * trace_compact.comp) read the instance's record, and trace.comp its
- * model's, from the frame block rather than the buffers. After
- * fill_gpu_frame. */
+ * model's and its grid's, from the frame block rather than the buffers.
+ * After fill_gpu_frame. */
 static void fill_single_instance(vx_render_scene* rs) {
     if (rs->inst_count != 1) return;
     vx__gpu_frame* gf = rs->frame.map;
     gf->inst0 = *(const vx__gpu_inst*)rs->insts.map;
-    if (gf->inst0.model < rs->model_count) gf->model0 = rs->gm[gf->inst0.model];
+    uint32_t m = gf->inst0.model;
+    if (m < rs->model_count) gf->model0 = rs->gm[m];
+    /* its grid (none since an edit of its model: update_model clears grid_at) */
+    gf->grid0[0] = UINT32_MAX;
+    if (rs->grid_at && m < rs->model_count && rs->grid_at[m] != UINT32_MAX) {
+        gf->grid0[0] = rs->grid_at[m];
+        const uint32_t* cb = &rs->mcells[6 * m]; /* the header's box (grid_header), exact as floats (< 2^16) */
+        for (int k = 0; k < 3; k++) gf->grid_box[k] = (float)cb[k], gf->grid_box[4 + k] = (float)cb[3 + k];
+    }
 }
 
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,

@@ -45,41 +45,43 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // kernels (WALK_PRECISE, cmake/shaders.cmake) must give the same t bits (test_passes), and a compiler may
 // contract the setup's o + d te or length(d) in one and not the other (stop 77: 3 floats of a 5-sample frame
 // apart on the H100). The loop's own arithmetic is explicit fma, min and max: nothing there to contract.
-#ifndef GV
-#define GV 0
-#endif
-#if (GV & 2) != 0
-// GV bit 2: the (mirrored) cell the walk is in at time tq: on each axis the largest n >= f0 whose lower plane the
-// walk crosses at or before tq (fma(n - f0, invd, bias), the fine steps' own plane times), from an estimate
-uvec3 grid_cell_at(float tq, uvec3 f0, vec3 invd, vec3 bias) {
-    vec3 e = max((vec3(tq) - bias) / invd, vec3(0.0));
-    ivec3 n = ivec3(e);
-    precise vec3 ta = fma(vec3(n + 1), invd, bias);
-    n += ivec3(lessThanEqual(ta, vec3(tq)));
-    precise vec3 tb = fma(vec3(n), invd, bias);
-    n -= ivec3(greaterThan(tb, vec3(tq)));
-    return f0 + uvec3(n);
-}
-#endif
-
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
     // the header (render_scene.c prepare_grids): the cells' box, which the ray is clipped to (tighter than
     // Model.box, the model's extent: a slab of cells in a large cube is walked only where it lies)
-    uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
+    // (trace.comp with one instance: from the frame block as floats, TRACE_GRID_UBO: a ray then makes no load
+    // before its walk's first and no conversion of the box)
+    vec3 blo, bhi;
+#ifdef TRACE_GRID_UBO
+    if (!USE_BVH) {
+        blo = F.gbox_lo.xyz;
+        bhi = F.gbox_hi.xyz;
+    } else
+#endif
+    {
+        uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
+        blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
+    }
     groot += 4u;
-    vec3 blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
-    precise vec2 tb = box_t(o, safe_inv(d), blo, bhi);
+    precise vec3 sinv = safe_inv(d);
+    precise vec2 tb = box_t(o, sinv, blo, bhi);
     precise float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
     precise vec3 oa = o + d * te;
     precise float L = length(d);
+#ifdef GW_FASTDIV
+    precise float rL = 1.0 / L;
+    precise vec3 dl = d * rL;
+    precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
+    precise vec3 invd = min(abs(sinv) * L, vec3(exp2(23.0)));
+#else
     precise vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
     // axis keeps its sign, so -0 walks as negative, as safe_inv makes it
     precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
     precise vec3 invd = 1.0 / ad;
+#endif
     precise float tl1 = (tx - te) * L; // the ray's end in the walk's units
     uint depth = max(m.depth, 3u);
     uint top = GRID_TOP == 1u ? 1u : grid_top(depth);
@@ -104,7 +106,6 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
 #define FLIP_SH(s) \
     mix(uvec3(0u), uvec3(((R << (3u * top)) - 1u) >> (s)), notEqual(uvec3(negm) & uvec3(1u, 2u, 4u), uvec3(0u)))
 
-#if GV == 0
     precise float t = 0.0;
     // The coarse walk is on level-1 cells (bricks) whatever the root's level: at each coarse step the cell's
     // entry is looked up from the root down (top - 1 node loads below the root's, the upper ones cached), and
@@ -177,130 +178,6 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
         }
         if (max(max(P.x, P.y), P.z) >= (R << top3)) break; // out of the root
     }
-#else
-    // bench variants (GV bits, stop 78): 1 no P (the level-1 cell is f >> 3), 2 cells from the plane times (no ad,
-    // fr), 4 one loop tail, 8 the root's entry cached (roots at level 2), 16 the loop not precise, 32 the mirrored
-    // axes read from bflip (no negm)
-#if (GV & 16) != 0
-#define LPREC
-#else
-#define LPREC precise
-#endif
-    LPREC float t = 0.0;
-    uint top3 = 3u * (top - 1u);
-#if (GV & 32) != 0
-#undef FLIP_SH
-#define FLIP_SH(s) \
-    mix(uvec3(0u), uvec3(((R << (3u * top)) - 1u) >> (s)), notEqual(uvec3(bflip) & uvec3(1u, 8u, 64u), uvec3(0u)))
-#endif
-    uvec3 f = f0;
-#if (GV & 1) == 0
-    uvec3 P = f >> 3u;
-#endif
-    bool fine = false;
-    uint base0 = 0u;
-    uint steps = 0u;
-    bool hit = false;
-#if (GV & 8) != 0
-    uint ckey = 0xFFFFFFFFu, cw = 0u;
-#endif
-    while (steps < MAX_ITER) {
-        steps++;
-        uvec3 Pn;
-        if (fine) {
-            uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
-            if (((gwords[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            LPREC vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
-            LPREC float tmin = min(min(tc.x, tc.y), tc.z);
-            t = max(t, tmin);
-#if (GV & 1) != 0
-            uvec3 st = uvec3(lessThanEqual(tc, vec3(tmin)));
-            f += st;
-            if ((st & uvec3(equal(f & 7u, uvec3(0u)))) == uvec3(0u)) continue;
-            fine = false;
-#else
-            f += uvec3(lessThanEqual(tc, vec3(tmin)));
-            Pn = f >> 3u;
-            if (Pn == P) continue;
-            fine = false;
-#if (GV & 4) == 0
-            if (t >= tl1) break;
-            P = Pn;
-#endif
-#endif
-        } else {
-#if (GV & 1) != 0
-            uvec3 P = f >> 3u;
-#endif
-            uvec3 q = (P >> top3) ^ FLIP_SH(3u * top);
-            uint w;
-            uint s3 = top3;
-#if (GV & 8) != 0
-            if (top >= 2u) {
-                uint key = q.x | (q.y << 10) | (q.z << 20);
-                if (key != ckey) { ckey = key; cw = gwords[groot + (q.z * R + q.y) * R + q.x]; }
-                w = cw;
-            } else
-#endif
-            w = gwords[groot + (q.z * R + q.y) * R + q.x];
-            if (w < 0x80000000u && top == 3u) {
-                q = ((P >> 3u) ^ FLIP_SH(6u)) & 7u;
-                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
-                s3 = 3u;
-            }
-            if (w < 0x80000000u && top >= 2u) {
-                q = (P ^ FLIP_SH(3u)) & 7u;
-                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
-                s3 = 0u;
-            }
-            if (w < 0x80000000u) {
-                uvec3 lo8 = P << 3u;
-#if (GV & 2) != 0
-                uvec3 c = grid_cell_at(t, f0, invd, bias);
-#else
-                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));
-#endif
-                fine = true;
-                base0 = w;
-                f = clamp(c, lo8, lo8 + 7u);
-                continue;
-            }
-            uint dist = w & 0xFFFFu;
-            uvec3 Pk = P >> s3;
-            uvec3 up = Pk + dist;
-            if (s3 < top3) up = min(up, (Pk | 7u) + 1u);
-            up <<= s3;
-            LPREC vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);
-            LPREC float tmin = min(min(tc.x, tc.y), tc.z);
-            t = max(t, tmin);
-            Pn = P;
-#if (GV & 2) != 0
-            if (dist > 1u || s3 > 0u) Pn = clamp(grid_cell_at(tmin, f0, invd, bias) >> 3u, P, up - 1u);
-#else
-            if (dist > 1u || s3 > 0u)
-                Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u, P, up - 1u);
-#endif
-            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
-#if (GV & 1) != 0
-            f = Pn << 3u;
-#elif (GV & 4) == 0
-            if (t >= tl1) break;
-            P = Pn;
-#endif
-        }
-#if (GV & 1) != 0
-        if (t >= tl1) break;
-        if (max(max(f.x, f.y), f.z) >= N) break;
-#else
-#if (GV & 4) != 0
-        if (t >= tl1) break;
-        P = Pn;
-#endif
-        if (max(max(P.x, P.y), P.z) >= (R << top3)) break;
-#endif
-    }
-#undef LPREC
-#endif
     if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
     flip = FLIP_SH(0u);
@@ -315,7 +192,11 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
+#ifdef GW_FASTDIV
+    precise float th = te + max(ta, 0.0) * rL;
+#else
     precise float th = te + max(ta, 0.0) / L;
+#endif
     if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;

@@ -48,6 +48,7 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #define TRACE_PATH
 // models with a grid (render/grid.h) walk it: grid_walk.glsl, constant 13 GRID, binding 14
 #define TRACE_GRID
+#define TRACE_GRID_UBO
 #endif
 #include "trace_common.glsl"
 

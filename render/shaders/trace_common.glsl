@@ -154,6 +154,13 @@ layout(std140, binding = 0) uniform Frame {
     // (trace_model), per screen tile the index of one (tiles, 0xFFFF none)
     layout(offset = 2480) PathRec paths[PATHS]; // after trace_compact.comp's cmodel0 (vx__gpu_frame)
 #endif
+#ifdef TRACE_GRID_UBO
+    // trace.comp, one instance: its model's grid (grid_walk.glsl): grid0.x its word address (NO_HIT: none), its
+    // cells' box (the grid's header) as floats, so that a ray loads neither (vx__gpu_frame.grid0, grid_box)
+    layout(offset = 10672) uvec4 grid0;
+    vec4 gbox_lo;
+    vec4 gbox_hi;
+#endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
 layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
@@ -1291,7 +1298,11 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 #else
     float lod_b = F.uy.w, lod_a = F.misc.x;
 #ifdef GRID_WALK
+#ifdef TRACE_GRID_UBO
+    uint groot = GRID != 0u && !LOD ? (USE_BVH ? gwords[I.model] : F.grid0.x) : NO_HIT;
+#else
     uint groot = GRID != 0u && !LOD ? gwords[I.model] : NO_HIT;
+#endif
     if (GRID_ALL || groot != NO_HIT ? trace_model_grid(I.model, groot, om, om_lo, dm, t0, h.t, any_hit, h)
                         : trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
 #else
