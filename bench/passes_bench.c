@@ -4,8 +4,11 @@
  * mode) on the same rays. Needs only libvulkan and libc.
  *
  *   passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]
- *                [--gbuffer] [--check DIR] SCENE[@CAMERA;...] ...
+ *                [--gbuffer] [--octree] [--check DIR] SCENE[@CAMERA;...] ...
  *
+ * --octree: every model on its octree walk (the grids, render/grid.h, which
+ * the kernels that trace walk by default on GPUs, set aside): the grid walk's
+ * gain in the passes is this process's times over a default one's.
  * --warmup S: before each row's frames, its frame back to back for S seconds
  * (default 0: only the 3 warm-up frames), so that every row runs at the
  * GPU's working clock (a process's first rows ran 3-5x slower on the H200).
@@ -147,7 +150,7 @@ int main(int argc, char** argv) {
     int runs = 15;
     uint32_t W = 1920, H = 1080;
     int first = 1;
-    bool quick = false, gbuffer = false;
+    bool quick = false, gbuffer = false, octree = false;
     double warmup = 0;
     const char* check_dir = NULL;
     vx_render_scene_desc sd = {.layout = VX_RENDER_LAYOUT_PLAIN};
@@ -160,6 +163,7 @@ int main(int argc, char** argv) {
         }
         if (!strcmp(argv[first], "--quick")) quick = true;
         else if (!strcmp(argv[first], "--gbuffer")) gbuffer = true;
+        else if (!strcmp(argv[first], "--octree")) octree = true;
         else if (!strcmp(argv[first], "--check") && first + 1 < argc) check_dir = argv[++first];
         else if (!strcmp(argv[first], "--warmup") && first + 1 < argc) {
             char* end;
@@ -172,13 +176,13 @@ int main(int argc, char** argv) {
             if (sscanf(argv[++first], "%ux%u", &W, &H) != 2) return 2;
         } else {
             fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs N] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]\n"
-                            "                    [--gbuffer] [--check DIR] SCENE[@CAMERA;...]...\n");
+                            "                    [--gbuffer] [--octree] [--check DIR] SCENE[@CAMERA;...]...\n");
             return 2;
         }
     }
     if (runs < 1 || runs > 1000 || first >= argc) {
         fprintf(stderr, "usage: passes_bench [--device N|NAME] [--runs 1..1000] [--size WxH] [--layout plain|compact] [--quick] [--warmup S]\n"
-                        "                    [--gbuffer] [--check DIR] SCENE[@CAMERA;...]...\n");
+                        "                    [--gbuffer] [--octree] [--check DIR] SCENE[@CAMERA;...]...\n");
         return 2;
     }
     vx_error err = {0};
@@ -187,8 +191,8 @@ int main(int argc, char** argv) {
         fprintf(stderr, "passes_bench: %s\n", err.msg);
         return 1;
     }
-    printf("# passes_bench on %s, %ux%u, median of %d frames after 3 warm-up frames\n", vx_gpu_device_name(gpu), W, H,
-           runs);
+    printf("# passes_bench on %s, %ux%u, median of %d frames after 3 warm-up frames%s\n", vx_gpu_device_name(gpu), W, H,
+           runs, octree ? ", every model on its octree walk (--octree)" : "");
     double* t = calloc((size_t)runs, sizeof *t);
     double* tp = calloc((size_t)runs * (VX_PASS_KIND_COUNT + 1), sizeof *tp);
     int status = 0;
@@ -220,6 +224,12 @@ int main(int argc, char** argv) {
             status = 1;
             continue;
         }
+        if (octree) vx__render_scene_grid(rs, 0);
+        vx_render_layout_info li;
+        vx_render_scene_layout(rs, &li);
+        if (!octree && li.grid_models)
+            printf("# %s: grids of %u of %u models, %.2f MiB (the kernels that trace walk them)\n", path, li.grid_models,
+                   s.model_count, li.grid_bytes / 1048576.0);
         double lo[3], hi[3];
         vx_svo_scene_world_bounds(&s, lo, hi);
         for (int view = 0; view < (ncams ? ncams : 2); view++) {

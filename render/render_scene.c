@@ -526,7 +526,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
     memset(out.w, 0xFF, (size_t)s->model_count * 4);
     out.n = s->model_count;
-    uint32_t made = 0, top = 0, cells = 0;
+    uint32_t made = 0, top = 0, low = UINT32_MAX, cells = 0;
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         cells += m->root != VX_SVO_ROOT_EMPTY;
@@ -547,6 +547,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         out.w[i] = (uint32_t)before;
         made++;
         if (t > top) top = t;
+        if (t < low) low = t;
     }
     vx_result r = VX_OK;
     if (made && !(rs->grid_at = vx_alloc(&rs->alloc, (size_t)s->model_count * 4)))
@@ -556,7 +557,9 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         r = vx__buffer_upload(rs->gpu, &rs->grid, out.w, (VkDeviceSize)out.n * 4, err);
     if (!r && made) {
         memcpy(rs->grid_at, out.w, (size_t)s->model_count * 4);
-        rs->grid_top = top | (made == cells ? 4u : 0u); /* grid_walk.glsl's GRID: GRID_ALL where every model has one */
+        /* grid_walk.glsl's GRID: GRID_ALL where every model has one, GRID_EXACT where every root is at level
+         * top >= 2 (at 1 the level is a constant already) */
+        rs->grid_top = top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u);
         rs->layout.grid_bytes = (uint64_t)out.n * 4;
         rs->layout.grid_models = made;
         rs->layout.grid_seconds = vx_time_now() - t0;
@@ -1673,7 +1676,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
         if (gr) return gr;
         rs->grid_at[mi] = UINT32_MAX;
-        rs->grid_top &= 3u; /* not every model has a grid now: the octree walk is compiled in */
+        rs->grid_top &= 3u; /* not every model has a grid now: the octree walk is compiled in (and the root
+                             * level taken from each model's depth: its bits 2-3 off) */
     }
     /* the shadow map's node list is the models' as made: an edited scene has
      * no map (listing the nodes again would cost a stroke tens of ms on a

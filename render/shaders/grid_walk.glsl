@@ -12,10 +12,12 @@
 // GRID: 0 no model has a grid (the walk is compiled out); else bits 0-1 k >= 1: the grids' roots are at
 // level at most k (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the
 // lookups below the root fold away and the loop is the two-level walk; bit 2 (GRID_ALL): every model that
-// holds a cell has a grid, so the octree walk is compiled out
+// holds a cell has a grid, so the octree walk is compiled out; bit 3 (GRID_EXACT): every grid's root is at
+// level k (k >= 2), a constant too (terrain4096's root at level 2: its lookups and shifts fixed)
 layout(constant_id = 13) const uint GRID = 0u;
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
+const bool GRID_EXACT = (GRID & 8u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
 // (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root. Binding 14 in
 // trace.comp; the pass kernels, whose 14 is taken, name theirs (GRID_BINDING, render/pipeline.c)
@@ -64,27 +66,19 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
         blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
     }
     groot += 4u;
-    precise vec3 sinv = safe_inv(d);
-    precise vec2 tb = box_t(o, sinv, blo, bhi);
+    precise vec2 tb = box_t(o, safe_inv(d), blo, bhi);
     precise float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
     precise vec3 oa = o + d * te;
     precise float L = length(d);
-#ifdef GW_FASTDIV
-    precise float rL = 1.0 / L;
-    precise vec3 dl = d * rL;
-    precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
-    precise vec3 invd = min(abs(sinv) * L, vec3(exp2(23.0)));
-#else
     precise vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
     // axis keeps its sign, so -0 walks as negative, as safe_inv makes it
     precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
     precise vec3 invd = 1.0 / ad;
-#endif
     precise float tl1 = (tx - te) * L; // the ray's end in the walk's units
     uint depth = max(m.depth, 3u);
-    uint top = GRID_TOP == 1u ? 1u : grid_top(depth);
+    uint top = GRID_TOP == 1u || GRID_EXACT ? GRID_TOP : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
     // The walk's coordinates start at the start cell's (mirrored) lower corner, not at the cube's: mirrored
     // about the cube's far side (2^depth - x), a start near the near side kept 2^(depth - 24) of a cell and
@@ -192,11 +186,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
-#ifdef GW_FASTDIV
-    precise float th = te + max(ta, 0.0) * rL;
-#else
     precise float th = te + max(ta, 0.0) / L;
-#endif
     if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;
