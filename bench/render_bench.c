@@ -55,7 +55,9 @@
  * which need world cells = grid cells, apply). --kernels FILE.spv,...: voxkit's
  * rows again for each of up to 8 variants of the float trace kernel (SPIR-V
  * of a shaders/trace.comp variant with the same bindings, e.g. from
- * glslangValidator -V; rows end "[kernel FILE]"), in the same process and
+ * glslangValidator -V; the grids at binding 14 and GRID, id 13, as the
+ * built-in kernel gets them: a variant that declares neither walks the
+ * octrees; rows end "[kernel FILE]"), in the same process and
  * view, the baselines timed once: per-step experiments measured side by side;
  * an entry T.spv:B.spv also replaces the beam pass (shaders/beam.comp) by B,
  * :B.spv the beam pass only.
