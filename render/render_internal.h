@@ -105,10 +105,13 @@ typedef struct vx__gpu_frame {
      * frame_paths) */
     vx__gpu_path paths[VX__PATHS];
     /* trace.comp with one instance: its model's grid (grid_walk.glsl), so that a ray loads neither the grid
-     * table's word nor the grid's header: grid0[0] the grid's word address (UINT32_MAX: none, the octree walk),
-     * grid_box its cells' box (the header's, render_scene.c grid_header: lo xyz, 0, hi xyz, 0) as floats */
-    uint32_t grid0[4];
-    float grid_box[8];
+     * table's word nor the grid's header: gbox_lo, gbox_hi its cells' box (the header's, render_scene.c
+     * grid_header) as floats, grid0 the grid's word address (UINT32_MAX: none, the octree walk); std140 packs
+     * each vec3 with the word after it (trace_common.glsl's Frame block) */
+    float gbox_lo[3];
+    uint32_t grid0;
+    float gbox_hi[3];
+    uint32_t grid_pad;
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

@@ -17,8 +17,9 @@ _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, i
                    offsetof(vx__gpu_frame, model0) == 304 && offsetof(vx__gpu_frame, rect) == 336 &&
                    offsetof(vx__gpu_frame, tiles) == 368 && offsetof(vx__gpu_frame, cmodel0) == 2416 &&
                    2 * VX__TILES_X * VX__TILES_X == 2048 && offsetof(vx__gpu_frame, paths) == 2480 &&
-                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && offsetof(vx__gpu_frame, grid0) == 10672 &&
-                   offsetof(vx__gpu_frame, grid_box) == 10688 && sizeof(vx__gpu_frame) == 10688 + 32,
+                   sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && offsetof(vx__gpu_frame, gbox_lo) == 10672 &&
+                   offsetof(vx__gpu_frame, grid0) == 10684 && offsetof(vx__gpu_frame, gbox_hi) == 10688 &&
+                   sizeof(vx__gpu_frame) == 10688 + 16,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
 
@@ -2065,11 +2066,11 @@ static void fill_single_instance(vx_render_scene* rs) {
     uint32_t m = gf->inst0.model;
     if (m < rs->model_count) gf->model0 = rs->gm[m];
     /* its grid (none since an edit of its model: update_model clears grid_at) */
-    gf->grid0[0] = UINT32_MAX;
+    gf->grid0 = UINT32_MAX;
     if (rs->grid_at && m < rs->model_count && rs->grid_at[m] != UINT32_MAX) {
-        gf->grid0[0] = rs->grid_at[m];
+        gf->grid0 = rs->grid_at[m];
         const uint32_t* cb = &rs->mcells[6 * m]; /* the header's box (grid_header), exact as floats (< 2^16) */
-        for (int k = 0; k < 3; k++) gf->grid_box[k] = (float)cb[k], gf->grid_box[4 + k] = (float)cb[3 + k];
+        for (int k = 0; k < 3; k++) gf->gbox_lo[k] = (float)cb[k], gf->gbox_hi[k] = (float)cb[3 + k];
     }
 }
 

@@ -35,6 +35,24 @@ const bool GRID_RECORD = MODE == MODE_COLOR || MODE == MODE_ALBEDO;
 
 #include "model_cell_leaf.glsl"
 
+// Where a model's grid address and its cells' box come from, decided once: trace.comp with one instance
+// (TRACE_GRID_UBO, !USE_BVH) has them in its frame block (render_scene.c fill_single_instance: as floats, so that
+// a ray loads neither the table's word nor the header before its walk's first); every other kernel and scene
+// reads the grid table's word and the grid's 4-word header (render_scene.c prepare_grids).
+#ifdef TRACE_GRID_UBO
+const bool GRID_FRAME = !USE_BVH;
+uint grid_frame_root() { return F.grid0; }
+vec3 grid_frame_lo() { return F.gbox_lo; }
+vec3 grid_frame_hi() { return F.gbox_hi; }
+#else
+const bool GRID_FRAME = false;
+uint grid_frame_root() { return NO_HIT; }
+vec3 grid_frame_lo() { return vec3(0.0); }
+vec3 grid_frame_hi() { return vec3(0.0); }
+#endif
+// model mi's grid: its root's word address in gwords (NO_HIT: none, the octree walk)
+uint grid_address(uint mi) { return GRID_FRAME ? grid_frame_root() : gwords[mi]; }
+
 // render/grid.c vx__grid_top(depth, 0) for the depths that have grids
 uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u); }
 
@@ -47,21 +65,27 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // kernels (WALK_PRECISE, cmake/shaders.cmake) must give the same t bits (test_passes), and a compiler may
 // contract the setup's o + d te or length(d) in one and not the other (stop 77: 3 floats of a 5-sample frame
 // apart on the H100). The loop's own arithmetic is explicit fma, min and max: nothing there to contract.
+// entry_tau (entry_tau.glsl) for the hit cell of an exact model from the start cell: its entry planes less the
+// hi/lo origin as (pl - c0) + q, pl - c0 the exact integer offset of the plane from the start cell's corner c0
+// (rel: the cell's), q = (c0 - o) - o_lo from the walk's setup; the largest crossing, at least 0.
+float grid_entry_tau(vec3 q, vec3 d, vec3 rel) {
+    precise vec3 pl = vec3(d.x < 0.0 ? rel.x + 1.0 : rel.x, d.y < 0.0 ? rel.y + 1.0 : rel.y, d.z < 0.0 ? rel.z + 1.0 : rel.z);
+    precise vec3 tau = (pl + q) / d;
+    float r = 0.0;
+    if (d.x != 0.0) r = max(r, tau.x);
+    if (d.y != 0.0) r = max(r, tau.y);
+    if (d.z != 0.0) r = max(r, tau.z);
+    return r;
+}
+
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
     // the header (render_scene.c prepare_grids): the cells' box, which the ray is clipped to (tighter than
-    // Model.box, the model's extent: a slab of cells in a large cube is walked only where it lies)
-    // (trace.comp with one instance: from the frame block as floats, TRACE_GRID_UBO: a ray then makes no load
-    // before its walk's first and no conversion of the box)
-    vec3 blo, bhi;
-#ifdef TRACE_GRID_UBO
-    if (!USE_BVH) {
-        blo = F.gbox_lo.xyz;
-        bhi = F.gbox_hi.xyz;
-    } else
-#endif
-    {
+    // Model.box, the model's extent: a slab of cells in a large cube is walked only where it lies); GRID_FRAME:
+    // the frame block's copy as floats
+    vec3 blo = grid_frame_lo(), bhi = grid_frame_hi();
+    if (!GRID_FRAME) {
         uvec3 hw = uvec3(gwords[groot], gwords[groot + 1u], gwords[groot + 2u]);
         blo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), bhi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
     }
@@ -90,6 +114,10 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
     uvec3 flip = mix(uvec3(0u), uvec3(N - 1u), neg);
     uvec3 f0 = uvec3(c0) ^ flip; // the start cell, mirrored
+    // Exact models (DEEP kernels): the start cell's corner less the hi/lo origin, q = (c0 - o) - o_lo, made here
+    // so that the hit's exact t after the loop needs q and d only, not o and o_lo (grid_entry_tau)
+    precise vec3 q = vec3(0.0);
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) q = (c0 - o) - o_lo;
     ivec3 if0 = ivec3(f0);
     precise vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
@@ -187,7 +215,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
     precise float th = te + max(ta, 0.0) / L;
-    if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(entry_tau(o, o_lo, d, vec3(cell), 1.0), te);
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(grid_entry_tau(q, d, vec3(ivec3(cell) - ivec3(f0 ^ flip))), te);
     if (!(th <= h.t)) return false;
     h.t = th;
     if (any_hit) return true;

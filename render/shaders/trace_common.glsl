@@ -155,11 +155,12 @@ layout(std140, binding = 0) uniform Frame {
     layout(offset = 2480) PathRec paths[PATHS]; // after trace_compact.comp's cmodel0 (vx__gpu_frame)
 #endif
 #ifdef TRACE_GRID_UBO
-    // trace.comp, one instance: its model's grid (grid_walk.glsl): grid0.x its word address (NO_HIT: none), its
-    // cells' box (the grid's header) as floats, so that a ray loads neither (vx__gpu_frame.grid0, grid_box)
-    layout(offset = 10672) uvec4 grid0;
-    vec4 gbox_lo;
-    vec4 gbox_hi;
+    // trace.comp, one instance: its model's grid (grid_walk.glsl): grid0 its word address (NO_HIT: none), its
+    // cells' box (the grid's header) as floats, so that a ray loads neither (vx__gpu_frame.gbox_lo, grid0,
+    // gbox_hi; std140 packs a vec3 and the word after it in one 16 bytes)
+    layout(offset = 10672) vec3 gbox_lo;
+    uint grid0;
+    vec3 gbox_hi;
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
@@ -1298,11 +1299,7 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
 #else
     float lod_b = F.uy.w, lod_a = F.misc.x;
 #ifdef GRID_WALK
-#ifdef TRACE_GRID_UBO
-    uint groot = GRID != 0u && !LOD ? (USE_BVH ? gwords[I.model] : F.grid0.x) : NO_HIT;
-#else
-    uint groot = GRID != 0u && !LOD ? gwords[I.model] : NO_HIT;
-#endif
+    uint groot = GRID != 0u && !LOD ? grid_address(I.model) : NO_HIT;
     if (GRID_ALL || groot != NO_HIT ? trace_model_grid(I.model, groot, om, om_lo, dm, t0, h.t, any_hit, h)
                         : trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
 #else
