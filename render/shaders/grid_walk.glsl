@@ -147,11 +147,27 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
         if (fine) {
             // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
             uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
-            if (((gwords[base0 + (i >> 5)] >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            precise vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);
-            precise float tmin = min(min(tc.x, tc.y), tc.z);
+            uint wd = gwords[base0 + (i >> 5)];
+            if (((wd >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
+            precise vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias); // the cell's far planes
+            precise float tmin;
+            // The cell's 2^3 block (aligned; mirrored axes keep the pairs): its 8 bits are rows y & 2 and +1,
+            // columns x & 6 and +1 of this word and of the word of the other z of its pair (a word index's bit 1
+            // is z's bit 0). An empty block is left in one step, where the cell by cell walk would leave it: the
+            // planes crossed by the block's exit time tmin (tf its far planes; a lower cell's far plane tc is the
+            // block's middle one), the same cells and t as that walk's steps, 0 pixels apart (stop 79, H100:
+            // 25-30% fewer steps on the .vox scenes' close-ups, 1.02-1.10x their rays/s, the helmet 1.08-1.15x;
+            // a 4^3 block instead or after it, an extra load of 4 words: slower, bench/results/p79c_h100.txt)
+            if (((wd | gwords[base0 + ((i >> 5) ^ 2u)]) & (0x303u << (i & 0x16u))) == 0u) {
+                uvec3 fb = f | 1u;
+                precise vec3 tf = fma(vec3(ivec3(fb) - if0 + 1), invd, bias);
+                tmin = min(min(tf.x, tf.y), tf.z);
+                f = mix(mix(f, fb, lessThanEqual(tc, vec3(tmin))), fb + 1u, lessThanEqual(tf, vec3(tmin)));
+            } else {
+                tmin = min(min(tc.x, tc.y), tc.z);
+                f += uvec3(lessThanEqual(tc, vec3(tmin)));
+            }
             t = max(t, tmin);
-            f += uvec3(lessThanEqual(tc, vec3(tmin)));
             uvec3 Pn = f >> 3u;
             if (Pn == P) continue; // (a hit past the ray's end is refused below: at most a brick's steps)
             fine = false;
