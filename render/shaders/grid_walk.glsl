@@ -142,80 +142,119 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uint base0 = 0u; // the brick the walk is in
     uint steps = 0u;
     bool hit = false;
-    while (steps < MAX_ITER) {
-        steps++;
-        if (fine) {
-            // a brick's cells by the plain DDA; leaving it, the level-1 cell beside it
-            uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;
-            uint wd = gwords[base0 + (i >> 5)];
-            if (((wd >> (i & 31u)) & 1u) != 0u) { hit = true; break; }
-            precise vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias); // the cell's far planes
-            precise float tmin;
-            // The cell's 2^3 block (aligned; mirrored axes keep the pairs): its 8 bits are rows y & 2 and +1,
-            // columns x & 6 and +1 of this word and of the word of the other z of its pair (a word index's bit 1
-            // is z's bit 0). An empty block is left in one step, where the cell by cell walk would leave it: the
-            // planes crossed by the block's exit time tmin (tf its far planes; a lower cell's far plane tc is the
-            // block's middle one), the same cells and t as that walk's steps, 0 pixels apart (stop 79, H100:
-            // 25-30% fewer steps on the .vox scenes' close-ups, 1.02-1.10x their rays/s, the helmet 1.08-1.15x;
-            // a 4^3 block instead or after it, an extra load of 4 words: slower, bench/results/p79c_h100.txt)
-            if (((wd | gwords[base0 + ((i >> 5) ^ 2u)]) & (0x303u << (i & 0x16u))) == 0u) {
-                uvec3 fb = f | 1u;
-                precise vec3 tf = fma(vec3(ivec3(fb) - if0 + 1), invd, bias);
-                tmin = min(min(tf.x, tf.y), tf.z);
-                f = mix(mix(f, fb, lessThanEqual(tc, vec3(tmin))), fb + 1u, lessThanEqual(tf, vec3(tmin)));
-            } else {
-                tmin = min(min(tc.x, tc.y), tc.z);
-                f += uvec3(lessThanEqual(tc, vec3(tmin)));
-            }
-            t = max(t, tmin);
-            uvec3 Pn = f >> 3u;
-            if (Pn == P) continue; // (a hit past the ray's end is refused below: at most a brick's steps)
-            fine = false;
-            if (t >= tl1) break; // out of the cells' box or past the ray's end
+    // The loop's four parts (macros, so that each loop below is one text with them; comments here, as a
+    // macro cannot hold them):
+    // GRID_FINE: a brick's cells by the plain DDA; leaving it, the level-1 cell beside it (a hit past the ray's
+    // end is refused after the loop: at most a brick's steps). The cell's 2^3 block (aligned; mirrored axes keep
+    // the pairs): its 8 bits are rows y & 2 and +1, columns x & 6 and +1 of this word and of the word of the other
+    // z of its pair (a word index's bit 1 is z's bit 0). An empty block is left in one step, where the cell by
+    // cell walk would leave it: the planes crossed by the block's exit time tmin (tf its far planes; a lower
+    // cell's far plane tc, the cell's own, is the block's middle one), the same cells and t as that walk's steps,
+    // 0 pixels apart (stop 79, H100: 25-30% fewer steps on the .vox scenes' close-ups, 1.02-1.10x their rays/s,
+    // the helmet 1.08-1.15x; a 4^3 block instead or after it, an extra load of 4 words: slower,
+    // bench/results/p79c_h100.txt).
+    // GRID_LOOKUP: P's entry w from the root down, s3 the shift from level-1 cells to w's level (a root at level
+    // 1 holds the bricks).
+    // GRID_ENTER: w is a brick: the cell the ray is in.
+    // GRID_SKIP: w is empty at level s3 / 3 + 1: leave its empty cube [Pk - dist + 1, Pk + dist) (within its
+    // node below the root), in level-1 cells; out of the cells' box or past the ray's end, the walk ends.
+#define GRID_FINE \
+            uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;                                  \
+            uint wd = gwords[base0 + (i >> 5)];                                                                     \
+            if (((wd >> (i & 31u)) & 1u) != 0u) { hit = true; break; }                                              \
+            precise vec3 tc = fma(vec3(ivec3(f) - if0 + 1), invd, bias);                                            \
+            precise float tmin;                                                                                     \
+            if (((wd | gwords[base0 + ((i >> 5) ^ 2u)]) & (0x303u << (i & 0x16u))) == 0u) {                         \
+                uvec3 fb = f | 1u;                                                                                  \
+                precise vec3 tf = fma(vec3(ivec3(fb) - if0 + 1), invd, bias);                                       \
+                tmin = min(min(tf.x, tf.y), tf.z);                                                                  \
+                f = mix(mix(f, fb, lessThanEqual(tc, vec3(tmin))), fb + 1u, lessThanEqual(tf, vec3(tmin)));         \
+            } else {                                                                                                \
+                tmin = min(min(tc.x, tc.y), tc.z);                                                                  \
+                f += uvec3(lessThanEqual(tc, vec3(tmin)));                                                          \
+            }                                                                                                       \
+            t = max(t, tmin);                                                                                       \
+            uvec3 Pn = f >> 3u;                                                                                     \
+            if (Pn == P) continue;                                                                                  \
+            fine = false;                                                                                           \
+            if (t >= tl1) break;                                                                                    \
             P = Pn;
-        } else {
-            // P's entry from the root down
-            uvec3 q = (P >> top3) ^ FLIP_SH(3u * top);
-            uint w = gwords[groot + (q.z * R + q.y) * R + q.x];
-            uint s3 = top3; // the shift from level-1 cells to the level of w
-            if (w < 0x80000000u && top == 3u) {
-                q = ((P >> 3u) ^ FLIP_SH(6u)) & 7u;
-                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
-                s3 = 3u;
+#define GRID_LOOKUP \
+            uvec3 q = (P >> top3) ^ FLIP_SH(3u * top);                                                              \
+            uint w = gwords[groot + (q.z * R + q.y) * R + q.x];                                                     \
+            uint s3 = top3;                                                                                         \
+            if (w < 0x80000000u && top == 3u) {                                                                     \
+                q = ((P >> 3u) ^ FLIP_SH(6u)) & 7u;                                                                 \
+                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];                                                    \
+                s3 = 3u;                                                                                            \
+            }                                                                                                       \
+            if (w < 0x80000000u && top >= 2u) {                                                                     \
+                q = (P ^ FLIP_SH(3u)) & 7u;                                                                         \
+                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];                                                    \
+                s3 = 0u;                                                                                            \
             }
-            if (w < 0x80000000u && top >= 2u) { // (a root at level 1 holds the bricks)
-                q = (P ^ FLIP_SH(3u)) & 7u;
-                w = gwords[w + (q.x | (q.y << 3) | (q.z << 6))];
-                s3 = 0u;
-            }
-            if (w < 0x80000000u) {
-                // the brick: the cell the ray is in
-                uvec3 lo8 = P << 3u;
-                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));
-                fine = true;
-                base0 = w;
+#define GRID_ENTER \
+                uvec3 lo8 = P << 3u;                                                                                \
+                uvec3 c = f0 + uvec3(max(fma(vec3(t), ad, fr), vec3(0.0)));                                         \
+                fine = true;                                                                                        \
+                base0 = w;                                                                                          \
                 f = clamp(c, lo8, lo8 + 7u);
-                continue;
-            }
-            // empty at level s3 / 3 + 1: leave its empty cube [Pk - dist + 1, Pk + dist) (within its node below
-            // the root), in level-1 cells
-            uint dist = w & 0xFFFFu;
-            uvec3 Pk = P >> s3;
-            uvec3 up = Pk + dist;
-            if (s3 < top3) up = min(up, (Pk | 7u) + 1u);
-            up <<= s3;
-            precise vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);
-            precise float tmin = min(min(tc.x, tc.y), tc.z);
-            t = max(t, tmin);
-            uvec3 Pn = P;
-            if (dist > 1u || s3 > 0u)
-                Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u, P, up - 1u);
-            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));
-            if (t >= tl1) break; // out of the cells' box or past the ray's end
+#define GRID_SKIP \
+            uint dist = w & 0xFFFFu;                                                                                \
+            uvec3 Pk = P >> s3;                                                                                     \
+            uvec3 up = Pk + dist;                                                                                   \
+            if (s3 < top3) up = min(up, (Pk | 7u) + 1u);                                                            \
+            up <<= s3;                                                                                              \
+            precise vec3 tc = fma(vec3(ivec3(up << 3u) - if0), invd, bias);                                         \
+            precise float tmin = min(min(tc.x, tc.y), tc.z);                                                        \
+            t = max(t, tmin);                                                                                       \
+            uvec3 Pn = P;                                                                                           \
+            if (dist > 1u || s3 > 0u)                                                                               \
+                Pn = clamp((f0 + uvec3(max(fma(vec3(tmin), ad, fr), vec3(0.0)))) >> 3u, P, up - 1u);                \
+            Pn = mix(Pn, up, lessThanEqual(tc, vec3(tmin)));                                                        \
+            if (t >= tl1) break;                                                                                    \
             P = Pn;
+    // Where a root may lie above level 1 (GRID_TOP >= 2: the lookup makes 2 or 3 dependent loads), a ray that
+    // enters a brick takes its first cell step in the same iteration (lanes entering bricks join those in
+    // bricks): terrain4096 (root level 2) 1.07-1.15x its rays/s on the H100, 0 pixels apart; on the scenes whose
+    // roots are at level 1 the same loop was 1-11% slower, so they keep the if-else loop (stop 79,
+    // bench/results/p79d_h100.txt and p79e_h100.txt).
+    if (GRID_TOP >= 2u) {
+        while (steps < MAX_ITER) {
+            steps++;
+            if (!fine) {
+                GRID_LOOKUP
+                if (w < 0x80000000u) {
+                    GRID_ENTER
+                } else {
+                    GRID_SKIP
+                    if (max(max(P.x, P.y), P.z) >= (R << top3)) break; // out of the root
+                    continue;
+                }
+            }
+            GRID_FINE
+            if (max(max(P.x, P.y), P.z) >= (R << top3)) break;
         }
-        if (max(max(P.x, P.y), P.z) >= (R << top3)) break; // out of the root
+    } else {
+        while (steps < MAX_ITER) {
+            steps++;
+            if (fine) {
+                GRID_FINE
+            } else {
+                GRID_LOOKUP
+                if (w < 0x80000000u) {
+                    GRID_ENTER
+                    continue;
+                }
+                GRID_SKIP
+            }
+            if (max(max(P.x, P.y), P.z) >= (R << top3)) break; // out of the root
+        }
     }
+#undef GRID_FINE
+#undef GRID_LOOKUP
+#undef GRID_ENTER
+#undef GRID_SKIP
     if (MODE == MODE_ITER || WRITE_HITS) g_iter += steps; // (the iteration image, the hits' step counts)
     if (!hit) return false;
     flip = FLIP_SH(0u);
