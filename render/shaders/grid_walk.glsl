@@ -150,7 +150,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // z of its pair (a word index's bit 1 is z's bit 0). An empty block is left in one step, where the cell by
     // cell walk would leave it: the planes crossed by the block's exit time tmin (tf its far planes; a lower
     // cell's far plane tc, the cell's own, is the block's middle one), the same cells and t as that walk's steps,
-    // 0 pixels apart (stop 79, H100: 25-30% fewer steps on the .vox scenes' close-ups, 1.02-1.10x their rays/s,
+    // 0 pixels apart (stop 79, H100: 25-30% fewer steps on the .vox scenes' close-ups, 0.99-1.09x their rays/s,
     // the helmet 1.08-1.15x; a 4^3 block instead or after it, an extra load of 4 words: slower,
     // bench/results/p79c_h100.txt).
     // GRID_LOOKUP: P's entry w from the root down, s3 the shift from level-1 cells to w's level (a root at level
@@ -217,7 +217,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // Where a root may lie above level 1 (GRID_TOP >= 2: the lookup makes 2 or 3 dependent loads), a ray that
     // enters a brick takes its first cell step in the same iteration (lanes entering bricks join those in
     // bricks): terrain4096 (root level 2) 1.07-1.15x its rays/s on the H100, 0 pixels apart; on the scenes whose
-    // roots are at level 1 the same loop was 1-11% slower, so they keep the if-else loop (stop 79,
+    // roots are at level 1 the same loop was up to 14% slower, so they keep the if-else loop (stop 79,
     // bench/results/p79d_h100.txt and p79e_h100.txt).
     if (GRID_TOP >= 2u) {
         while (steps < MAX_ITER) {
