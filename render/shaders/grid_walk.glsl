@@ -69,7 +69,8 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // hi/lo origin as (pl - c0) + q, pl - c0 the exact integer offset of the plane from the start cell's corner c0
 // (rel: the cell's), q = (c0 - o) - o_lo from the walk's setup; the largest crossing, at least 0.
 float grid_entry_tau(vec3 q, vec3 d, vec3 rel) {
-    precise vec3 pl = vec3(d.x < 0.0 ? rel.x + 1.0 : rel.x, d.y < 0.0 ? rel.y + 1.0 : rel.y, d.z < 0.0 ? rel.z + 1.0 : rel.z);
+    precise vec3 pl = vec3(d.x < 0.0 ? rel.x + 1.0 : rel.x, d.y < 0.0 ? rel.y + 1.0 : rel.y,
+                           d.z < 0.0 ? rel.z + 1.0 : rel.z);
     precise vec3 tau = (pl + q) / d;
     float r = 0.0;
     if (d.x != 0.0) r = max(r, tau.x);
