@@ -263,8 +263,8 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uvec3 cell = f ^ flip;
     // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
-    // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau), as trace_model;
-    // elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
+    // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (grid_entry_tau, from q made at
+    // the setup), as trace_model; elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
     precise vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
     int axis = 0;
     precise float ta = tent.x;
