@@ -72,7 +72,7 @@ typedef struct cell_ctx {
     bench_esvo* e;
     const vx_svo_scene* s;
     const vx_svo_model* m;
-    double w[12];
+    double w[12]; /* the instance's grid_from_model (not world: the octree's cells are grid cells) */
 } cell_ctx;
 
 static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
@@ -87,6 +87,37 @@ static bool cell_cb(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t att
     uint32_t rgb = c->m->attrs ? vx_svo_attr_rgba(c->s, c->m, attr) : 0xFFFFFFu;
     insert(c->e, g[0], g[1], g[2], rgb);
     return !c->e->too_big;
+}
+
+/* world_from_grid as a uniform scale k > 0 and a translation t (identity,
+ * or a converted mesh's 2^-n and offset); false for any other map. */
+static bool grid_scale(const vx_svo_scene* s, double* k, double t[3]) {
+    const double* a = s->world_from_grid;
+    if (!(a[0] > 0) || a[5] != a[0] || a[10] != a[0] || a[1] != 0 || a[2] != 0 || a[4] != 0 || a[6] != 0 ||
+        a[8] != 0 || a[9] != 0)
+        return false;
+    *k = a[0], t[0] = a[3], t[1] = a[7], t[2] = a[11];
+    return true;
+}
+
+/* bench_cube in grid cells: the scene's world bounds mapped back through
+ * world_from_grid = k x + t (values within 1e-6 of a whole cell snapped to
+ * it, so that the round trip does not move the cube by one). */
+static void grid_cube(const vx_svo_scene* s, double k, const double t[3], uint32_t min_depth, int64_t lo[3],
+                      uint32_t* depth) {
+    double wlo[3], whi[3];
+    vx_svo_scene_world_bounds(s, wlo, whi);
+    int64_t ext = 1;
+    for (int c = 0; c < 3; c++) {
+        double g0 = (wlo[c] - t[c]) / k, g1 = (whi[c] - t[c]) / k;
+        if (fabs(g0 - nearbyint(g0)) < 1e-6) g0 = nearbyint(g0);
+        if (fabs(g1 - nearbyint(g1)) < 1e-6) g1 = nearbyint(g1);
+        lo[c] = (int64_t)floor(g0);
+        int64_t n = (int64_t)ceil(g1) - lo[c];
+        if (n > ext) ext = n;
+    }
+    *depth = min_depth;
+    while (((int64_t)1 << *depth) < ext) (*depth)++;
 }
 
 void bench_cube(const vx_svo_scene* s, uint32_t min_depth, int64_t lo[3], uint32_t* depth) {
@@ -106,7 +137,14 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
     memset(e, 0, sizeof *e);
     e->gpu = gpu;
     double t0 = vx_time_now();
-    bench_cube(s, 1, e->lo, &e->depth);
+    /* the octree holds the scene's grid cells (a converted mesh's world_from_grid
+     * scales them by 2^-n: the world's unit cells would be 2^n grid cells each);
+     * its cube goes to the kernel in world units (bench_esvo_frame) */
+    double k, t[3];
+    if (!grid_scale(s, &k, t))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "ESVO baseline: world_from_grid is not a uniform scale and translation (--grid-world)");
+    grid_cube(s, k, t, 1, e->lo, &e->depth);
     if (e->depth > 22)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "ESVO baseline: %u levels exceed the float traversal's 22",
                        e->depth);
@@ -115,7 +153,7 @@ vx_result bench_esvo_create(vx_gpu* gpu, const vx_svo_scene* s, bench_esvo* e, v
     for (uint32_t i = 0; i < s->instance_count && !r && !e->too_big; i++) {
         if (!vx_svo_instance_drawn(s, i)) continue;
         cell_ctx c = {.e = e, .s = s, .m = &s->models[s->instances[i].model]};
-        vx_svo_instance_world(s, &s->instances[i], c.w);
+        memcpy(c.w, s->instances[i].xform, sizeof c.w);
         e->have_last = false;
         r = vx_svo_decode_model(c.m, cell_cb, &c, err);
     }
@@ -149,10 +187,12 @@ void bench_kernel_destroy(vx_gpu* g, bench_kernel* k) {
     vx__buffer_destroy(g, &k->frame);
 }
 
-vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pipeline_desc* pd, uint64_t key,
-                             vx__buffer* data, const vx_svo_scene* s, const vx_render_desc* desc,
-                             const int64_t lo[3], double side, uint32_t p0, uint32_t p1, uint32_t repeat,
-                             double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+/* bench_kernel_frame with the cube [lo, lo + side) in world units */
+static vx_result kernel_frame_world(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pipeline_desc* pd,
+                                    uint64_t key, vx__buffer* data, const vx_svo_scene* s,
+                                    const vx_render_desc* desc, const double lo[3], double side, uint32_t p0,
+                                    uint32_t p1, uint32_t repeat, double* seconds, float* depth, uint32_t* steps,
+                                    vx_error* err) {
     double blo[3], bhi[3];
     vx_svo_scene_world_bounds(s, blo, bhi);
     vx__frame f;
@@ -176,7 +216,7 @@ vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pi
         ef->fwd[c] = (float)f.fwd[c];
         ef->rx[c] = (float)f.rx[c];
         ef->uy[c] = (float)f.uy[c];
-        ef->box[c] = (float)((double)lo[c] - f.ref[c]);
+        ef->box[c] = (float)(lo[c] - f.ref[c]);
     }
     ef->fwd[3] = (float)f.t_start;
     ef->rx[3] = f.ortho ? 1.0f : 0.0f;
@@ -205,6 +245,14 @@ vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pi
     return r;
 }
 
+vx_result bench_kernel_frame(vx_gpu* g, bench_kernel* k, const vx_gpu_compute_pipeline_desc* pd, uint64_t key,
+                             vx__buffer* data, const vx_svo_scene* s, const vx_render_desc* desc,
+                             const int64_t lo[3], double side, uint32_t p0, uint32_t p1, uint32_t repeat,
+                             double* seconds, float* depth, uint32_t* steps, vx_error* err) {
+    double wlo[3] = {(double)lo[0], (double)lo[1], (double)lo[2]};
+    return kernel_frame_world(g, k, pd, key, data, s, desc, wlo, side, p0, p1, repeat, seconds, depth, steps, err);
+}
+
 vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render_desc* desc, uint32_t repeat,
                            double* seconds, float* depth, uint32_t* steps, vx_error* err) {
     vx_gpu_compute_pipeline_desc pd = {.spirv = e->spv ? e->spv : vx__esvo_spv_arr,
@@ -220,6 +268,12 @@ vx_result bench_esvo_frame(bench_esvo* e, const vx_svo_scene* s, const vx_render
         for (size_t i = 0; i < e->spv_bytes / 4; i++) key = (key ^ e->spv[i]) * UINT64_C(1099511628211);
         key |= UINT64_C(1) << 63;
     }
-    return bench_kernel_frame(e->gpu, &e->k, &pd, key, &e->buf, s, desc, e->lo,
-                              (double)((int64_t)1 << e->depth), 0, 0, repeat, seconds, depth, steps, err);
+    /* the cube from grid cells to world units (identity: lo and 2^depth as they are) */
+    double k, t[3], wlo[3];
+    if (!grid_scale(s, &k, t))
+        return vx_fail(err, VX_ERR_UNSUPPORTED, VX_NO_OFFSET,
+                       "ESVO baseline: world_from_grid is not a uniform scale and translation (--grid-world)");
+    for (int c = 0; c < 3; c++) wlo[c] = k * (double)e->lo[c] + t[c];
+    return kernel_frame_world(e->gpu, &e->k, &pd, key, &e->buf, s, desc, wlo, k * (double)((int64_t)1 << e->depth),
+                              0, 0, repeat, seconds, depth, steps, err);
 }

@@ -2,8 +2,12 @@
  * in a plain full-depth octree (groups of eight 32-bit child slots: bit 31
  * valid, bit 30 leaf, bits 0-29 the children's group or the leaf's RGB),
  * traced by the loop of Laine and Karras 2010 in bench/shaders/esvo.comp on
- * the same primary rays as voxkit's tracer. Needs an identity
- * world_from_grid (world cells are grid cells), like the dense baseline. */
+ * the same primary rays as voxkit's tracer. The octree holds grid cells
+ * (the instances' grid_from_model) and its cube is mapped to world units
+ * through world_from_grid, which must be a uniform scale and a translation
+ * (identity, or a converted mesh's 2^-n; else bench_esvo_create fails).
+ * bench_cube and bench_kernel_frame, shared with the prototypes, still take
+ * world cells = grid cells. */
 #ifndef VX_BENCH_ESVO_H
 #define VX_BENCH_ESVO_H
 #include "render/gpu.h" /* vx__buffer, vx__pipeline_get, vx__dispatch */
