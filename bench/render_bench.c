@@ -31,7 +31,10 @@
  * --octree: voxkit's rows again with every model on its octree walk (the
  * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
  * then counts the pixels whose hits differ from the grid walk's). --grid: the
- * grids built on a CPU device too (none there by default).
+ * grids built on a CPU device too (none there by default). --regions:
+ * voxkit's rows again with a converter's regions each walked under the BVH
+ * (the union grid off, render_scene.c grid_union; rows end "[kernel regions
+ * apart]").
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
@@ -157,7 +160,7 @@ static void usage(FILE* out, const char* prog) {
     fprintf(out,
             "usage: %s [--device N|NAME] [--sizes WxH,...] [--runs N] [--views overview,oblique,closeup,sky]\n"
             "          [--warmup SECONDS] [--generate] [--deep] [--variant auto|float|precise] [--no-esvo]\n"
-            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--grid] [--mrays] [--cpu-time]\n"
+            "          [--tree64] [--mip] [--brick] [--brick-root L] [--grid-world] [--shader-stats] [--beam N,...] [--kernels F.spv,...] [--octree] [--regions] [--grid] [--mrays] [--cpu-time]\n"
             "          [--shadow-map off|0|N,...] [--esvo-kernel F.spv] [--esvo-kernels F.spv,...] FILE...\n"
             "defaults: --sizes 1920x1080 --runs 15 --views overview,oblique,closeup --warmup 0.5 --beam %u\n"
             "(--beam 0 or 1: no beam pass; up to 8 sizes)\n",
@@ -538,6 +541,7 @@ int main(int argc, char** argv) {
     int kcull[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     int kpath[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
     int kgrid[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1}; /* the grid walk (-1: the library's) */
+    int kunion[9] = {-1, -1, -1, -1, -1, -1, -1, -1, -1}; /* the union grid of regions (-1: the library's) */
     char klabel[9][96];
     uint32_t runs = 15;
     uint32_t brick_root = 0; /* --brick-root: bench_brick_create's root_log */
@@ -599,6 +603,13 @@ int main(int argc, char** argv) {
             if (nkern < 9) {
                 snprintf(klabel[nkern], sizeof klabel[nkern], "octree walk");
                 kgrid[nkern] = 0, kname[nkern] = klabel[nkern], nkern++;
+            }
+        }
+        else if (!strcmp(argv[i], "--regions")) {
+            /* the built-in kernel again with a converter's regions each walked under the BVH (no union grid) */
+            if (nkern < 9) {
+                snprintf(klabel[nkern], sizeof klabel[nkern], "regions apart");
+                kunion[nkern] = 0, kname[nkern] = klabel[nkern], nkern++;
             }
         }
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
@@ -785,8 +796,10 @@ int main(int argc, char** argv) {
         vx_render_layout_info rli;
         vx_render_scene_layout(rs, &rli);
         vx_bytes += rli.grid_bytes; /* the grid walk's grids (render/grid.h) */
+        uint32_t uni = vx__render_scene_grid_union(rs, -1); /* (the library's default) */
         if (rli.grid_models)
-            printf("grid: %s: %u of %u models, %.2f MiB, built in %.3f s\n", name, rli.grid_models, s.model_count,
+            printf("grid: %s: %u of %u models%s%.0u%s, %.2f MiB, built in %.3f s\n", name, rli.grid_models,
+                   s.model_count, uni ? " and the union of " : "", uni, uni ? " regions" : "",
                    rli.grid_bytes / 1048576.0, rli.grid_seconds);
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
@@ -860,6 +873,7 @@ int main(int argc, char** argv) {
                     vx__render_scene_trace_variant(rs, kcull[ki]);
                     vx__render_scene_trace_path(rs, kpath[ki]);
                     vx__render_scene_grid(rs, kgrid[ki]);
+                    vx__render_scene_grid_union(rs, kunion[ki]);
                     /* the scene's first view warms for at least 1 s: after a long host-side
                      * build (ESVO of terrain4096, 12 s) its first timing measured 0.1-0.4 of
                      * the rest with 0.2-0.3 s (clocks down) */

@@ -166,11 +166,12 @@ done:
 typedef struct model_ctx {
     vx__grid_bricks* b;
     bool nomem;
+    uint32_t off[3]; /* in bricks */
 } model_ctx;
 
 static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]) {
     model_ctx* c = user;
-    uint32_t* w = vx__grid_brick_at(c->b, bx, by, bz);
+    uint32_t* w = vx__grid_brick_at(c->b, bx + c->off[0], by + c->off[1], bz + c->off[2]);
     if (!w) return c->nomem = true, false;
     for (int j = 0; j < 16; j++) w[j] |= bits[j];
     return true;
@@ -181,11 +182,18 @@ vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t 
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
     *top = vx__grid_top(depth, 0);
     vx__grid_bricks b = {.alloc = a};
-    model_ctx c = {&b, false};
+    model_ctx c = {&b, false, {0, 0, 0}};
     vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
     if (!r && c.nomem)
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
     if (!r) r = vx__grid_layout(&b, depth, *top, base, out, err);
     vx__grid_bricks_free(&b);
+    return r;
+}
+
+vx_result vx__grid_bricks_add(vx__grid_bricks* b, const vx_svo_model* m, const uint32_t off[3], vx_error* err) {
+    model_ctx c = {b, false, {off[0], off[1], off[2]}};
+    vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
+    if (!r && c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
     return r;
 }

@@ -69,4 +69,9 @@ vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint
  * valid. */
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
                          uint32_t* top, vx_error* err);
+
+/* Adds model m's cells to b, each at its cell plus 8 off (off in bricks,
+ * each sum below 2^20): the bricks of several models placed in one grid
+ * (render_scene.c's union of a converter's regions). m must be valid. */
+vx_result vx__grid_bricks_add(vx__grid_bricks* b, const vx_svo_model* m, const uint32_t off[3], vx_error* err);
 #endif

@@ -107,11 +107,12 @@ typedef struct vx__gpu_frame {
     /* trace.comp with one instance: its model's grid (grid_walk.glsl), so that a ray loads neither the grid
      * table's word nor the grid's header: gbox_lo, gbox_hi its cells' box (the header's, render_scene.c
      * grid_header) as floats, grid0 the grid's word address (UINT32_MAX: none, the octree walk); std140 packs
-     * each vec3 with the word after it (trace_common.glsl's Frame block) */
+     * each vec3 with the word after it (trace_common.glsl's Frame block); gunion: where grid0 is the union
+     * of a converter's regions (render_scene.c grid_union), its cube table's word address */
     float gbox_lo[3];
     uint32_t grid0;
     float gbox_hi[3];
-    uint32_t grid_pad;
+    uint32_t gunion;
 } vx__gpu_frame;
 
 /* Precise variant only (binding 9): the instances' model-from-world rows in

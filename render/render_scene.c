@@ -19,6 +19,7 @@ _Static_assert(offsetof(vx__gpu_frame, pfwd) == 128 && offsetof(vx__gpu_frame, i
                    2 * VX__TILES_X * VX__TILES_X == 2048 && offsetof(vx__gpu_frame, paths) == 2480 &&
                    sizeof(vx__gpu_path) == 128 && VX__PATHS == 64 && offsetof(vx__gpu_frame, gbox_lo) == 10672 &&
                    offsetof(vx__gpu_frame, grid0) == 10684 && offsetof(vx__gpu_frame, gbox_hi) == 10688 &&
+                   offsetof(vx__gpu_frame, gunion) == 10700 &&
                    sizeof(vx__gpu_frame) == 10688 + 16,
                "vx__gpu_frame vs trace.comp");
 _Static_assert(sizeof(vx__gpu_inst_precise) == 96, "vx__gpu_inst_precise vs trace.comp");
@@ -46,6 +47,27 @@ typedef struct inst_host {
     uint32_t id;
     float cell;
 } inst_host;
+
+/* One grid over the cells of several instances (grid_walk.glsl's GRID_UNION): where every drawn instance's
+ * model-from-world map has the same linear part and translations that differ by whole bricks (8 cells),
+ * and each instance's cells lie in an aligned cube of 2^shift cells of their own (a converter's regions:
+ * vox2svo's mesh regions, each a model at a whole region's offset), trace.comp's kernel of one instance
+ * walks that grid without the BVH and maps a hit's cell to its cube's instance and model cell
+ * (prepare_union). The instances it was built for are kept: it is used while they hold (a move or an
+ * animation's frame that changes them walks the BVH again); an edit of a model drops it. */
+typedef struct grid_union {
+    uint32_t insts;      /* instances it holds (0: none built or dropped) */
+    uint32_t addr;       /* its header's word in rs->grid (grid_walk.glsl's groot: the header, then the grid) */
+    uint32_t table;      /* its cube table's word: shift, nx, ny, nz, then per cube instance, cell offset xyz */
+    uint32_t depth, top; /* its cube of 2^depth cells and root level */
+    uint32_t box[6];     /* its cells' box, hi exclusive */
+    uint32_t flags;      /* its model record's (VX__MODEL_HAS_COLOR, VX__MODEL_EXACT) */
+    uint32_t deep;       /* the DEEP constant its walk needs (deep_level's rule for its depth) */
+    double inv[12];      /* its cells from world */
+    uint32_t n;          /* rs->inst_count when built */
+    double* held;        /* each instance's inv (12 doubles) and model (a 13th, as a double) when built */
+    int on;              /* vx__render_scene_grid_union: -1 the default (on where it holds), 0 off, 1 on */
+} grid_union;
 
 /* An instance's rows relative to the world, as shaders/inst_rows.comp reads
  * them (the GPU computes the rows relative to the frame's reference point) */
@@ -113,6 +135,7 @@ struct vx_render_scene {
     uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
     uint32_t grid_top;
     int grid_on;
+    grid_union uni; /* one grid over a converter's regions (prepare_union), in rs->grid after the models' */
     /* the models' regions and table (vx_render_scene_update_model) */
     region* wreg; /* node words, per model */
     region* creg; /* colour records, per model */
@@ -508,6 +531,152 @@ static void grid_header(const uint32_t cb[6], uint32_t w[3]) {
     w[0] = cb[0] | cb[1] << 16, w[1] = cb[2] | cb[3] << 16, w[2] = cb[4] | cb[5] << 16;
 }
 
+/* The smallest aligned power-of-two cube (at least a brick) that holds cells [lo, hi) of each axis, as a
+ * shift. */
+static uint32_t cube_shift(const uint64_t lo[3], const uint64_t hi[3]) {
+    uint32_t sh = 3;
+    for (int k = 0; k < 3; k++)
+        while (sh < 40 && (lo[k] >> sh) != ((hi[k] - 1) >> sh)) sh++;
+    return sh;
+}
+
+/* The union grid (grid_union) of the drawn instances, appended to out (the grid buffer's words) where the
+ * scene is one: every drawn instance whose model holds a cell has a model-from-world map with the first's
+ * linear part and a translation that differs from the first's by whole bricks, its cells in an aligned cube
+ * of its own; the union at most VX_RENDER_GRID_DEPTH levels. Its walk is exact as a model of its depth is
+ * (deep_level's rule: past VX_RENDER_EXACT_DEPTH the exact t, past VX_RENDER_REBASE_DEPTH the hi/lo origin:
+ * its kernel's DEEP at least uni.deep). Anything else leaves rs->uni empty (the BVH); so does a layout that
+ * fails (memory, the budget). */
+static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t budget, vx__grid_words* out) {
+    uint32_t n = rs->inst_count, first = UINT32_MAX;
+    if (n < 2) return;
+    const inst_host* in = rs->inst;
+    /* the instances' offsets from the first one's cells (whole bricks), as signed integers */
+    int64_t* e = vx_calloc(&rs->alloc, 3 * (size_t)n, sizeof(int64_t));
+    if (!e) return;
+    bool ok = true, color = false;
+    int64_t emin[3] = {0, 0, 0};
+    for (uint32_t i = 0; ok && i < n; i++) {
+        const vx_svo_model* m = &s->models[in[i].model];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        if (m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes)) ok = false;
+        color |= (rs->gm[in[i].model].flags & VX__MODEL_HAS_COLOR) != 0;
+        if (first == UINT32_MAX) first = i;
+        const double* a = in[first].inv;
+        for (int r = 0; ok && r < 3; r++) {
+            for (int c = 0; c < 3; c++) ok &= in[i].inv[4 * r + c] == a[4 * r + c];
+            /* a cell x of model i lies at x + (t_first - t_i) in the first's cells: whole bricks, to the
+             * rounding of the maps' products (a converter's region origins in a scaled world: about 1e-14
+             * cells apart from whole numbers; far below the float walk's 2^-24 of the union's cube) */
+            double d = a[4 * r + 3] - in[i].inv[4 * r + 3], dr = rint(d);
+            ok &= fabs(d) < 0x1p20 && fabs(d - dr) <= 1e-9 && fmod(dr, 8.0) == 0.0;
+            if (ok) e[3 * i + r] = (int64_t)dr;
+        }
+        for (int k = 0; ok && k < 3; k++)
+            if (first == i || e[3 * i + k] < emin[k]) emin[k] = e[3 * i + k];
+    }
+    if (!ok || first == UINT32_MAX) {
+        vx_free(&rs->alloc, e);
+        return;
+    }
+    /* the union's cells: the first's less emin, so that every model's cube starts at 0 or above */
+    uint64_t ext[3] = {8, 8, 8}, blo[3] = {UINT64_MAX, UINT64_MAX, UINT64_MAX}, bhi[3] = {0, 0, 0};
+    uint32_t shift = 3, held = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const vx_svo_model* m = &s->models[in[i].model];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        const uint32_t* mc = &rs->mcells[6 * in[i].model];
+        uint64_t lo[3], hi[3];
+        for (int k = 0; k < 3; k++) {
+            uint64_t off = (uint64_t)(e[3 * i + k] - emin[k]);
+            lo[k] = off + mc[k], hi[k] = off + mc[3 + k];
+            if (lo[k] < blo[k]) blo[k] = lo[k];
+            if (hi[k] > bhi[k]) bhi[k] = hi[k];
+            if (hi[k] > ext[k]) ext[k] = hi[k];
+        }
+        uint32_t sh = cube_shift(lo, hi);
+        if (sh > shift) shift = sh;
+        held++;
+    }
+    uint32_t depth = 3;
+    while (depth < 40 && ((ext[0] - 1) >> depth || (ext[1] - 1) >> depth || (ext[2] - 1) >> depth)) depth++;
+    uint32_t need = depth > VX_RENDER_REBASE_DEPTH ? 2 : depth > VX_RENDER_EXACT_DEPTH ? 1 : 0;
+    uint64_t nc[3], cubes = 1;
+    for (int k = 0; k < 3; k++) nc[k] = ((ext[k] - 1) >> shift) + 1, cubes *= nc[k];
+    uint32_t* table = NULL;
+    if (held < 2 || depth > VX_RENDER_GRID_DEPTH || cubes > (1u << 16) ||
+        !(table = vx_alloc(&rs->alloc, (size_t)(4 + 4 * cubes) * 4))) {
+        vx_free(&rs->alloc, e);
+        return;
+    }
+    table[0] = shift, table[1] = (uint32_t)nc[0], table[2] = (uint32_t)nc[1], table[3] = (uint32_t)nc[2];
+    memset(table + 4, 0xFF, (size_t)cubes * 16);
+    /* each instance's cube (its cells in one: cube_shift <= shift), one instance a cube */
+    for (uint32_t i = 0; ok && i < n; i++) {
+        if (s->models[in[i].model].root == VX_SVO_ROOT_EMPTY) continue;
+        const uint32_t* mc = &rs->mcells[6 * in[i].model];
+        uint64_t c[3], off[3];
+        for (int k = 0; k < 3; k++) off[k] = (uint64_t)(e[3 * i + k] - emin[k]), c[k] = (off[k] + mc[k]) >> shift;
+        uint32_t* t = &table[4 + 4 * ((c[2] * nc[1] + c[1]) * nc[0] + c[0])];
+        ok = t[0] == UINT32_MAX;
+        t[0] = i, t[1] = (uint32_t)off[0], t[2] = (uint32_t)off[1], t[3] = (uint32_t)off[2];
+    }
+    /* the bricks of every model at its offset, laid out as one model's grid after its header */
+    size_t before = out->n;
+    vx__grid_bricks b = {.alloc = &rs->alloc};
+    for (uint32_t i = 0; ok && i < n; i++) {
+        const vx_svo_model* m = &s->models[in[i].model];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        uint32_t off[3];
+        for (int k = 0; k < 3; k++) off[k] = (uint32_t)((e[3 * i + k] - emin[k]) >> 3);
+        vx_error ge = {0};
+        ok = vx__grid_bricks_add(&b, m, off, &ge) == VX_OK;
+    }
+    uint32_t top = vx__grid_top(depth, 0), addr = (uint32_t)out->n;
+    vx_error ge = {0};
+    ok = ok && vx__grid_words_grow(&rs->alloc, out, 4);
+    if (ok) {
+        uint32_t cb[6] = {(uint32_t)blo[0], (uint32_t)blo[1], (uint32_t)blo[2],
+                          (uint32_t)bhi[0], (uint32_t)bhi[1], (uint32_t)bhi[2]};
+        grid_header(cb, &out->w[out->n]);
+        out->w[out->n + 3] = 0;
+        out->n += 4;
+        memcpy(rs->uni.box, cb, sizeof cb);
+    }
+    ok = ok && vx__grid_layout(&b, depth, top, 0, out, &ge) == VX_OK;
+    vx__grid_bricks_free(&b);
+    uint32_t taddr = (uint32_t)out->n;
+    ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
+         (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * 13 * sizeof(double)));
+    if (ok) {
+        memcpy(out->w + out->n, table, (size_t)(4 + 4 * cubes) * 4);
+        out->n += 4 + 4 * cubes;
+        for (uint32_t i = 0; i < n; i++) {
+            memcpy(&rs->uni.held[13 * i], in[i].inv, 12 * sizeof(double));
+            rs->uni.held[13 * i + 12] = in[i].model;
+        }
+        memcpy(rs->uni.inv, in[first].inv, sizeof rs->uni.inv);
+        for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
+        rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
+        rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
+        rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (depth > VX_RENDER_EXACT_DEPTH ? VX__MODEL_EXACT : 0u);
+    } else {
+        out->n = before;
+    }
+    vx_free(&rs->alloc, table);
+    vx_free(&rs->alloc, e);
+}
+
+/* Whether the union grid holds for the instances as they are now (those it was built for). */
+static bool union_holds(const vx_render_scene* rs) {
+    const grid_union* u = &rs->uni;
+    if (!u->insts || u->on == 0 || u->n != rs->inst_count) return false;
+    for (uint32_t i = 0; i < u->n; i++)
+        if (memcmp(rs->inst[i].inv, &u->held[13 * i], 12 * sizeof(double)) || rs->inst[i].model != u->held[13 * i + 12])
+            return false;
+    return true;
+}
+
 /* The grid walk's grids (render/grid.h; trace.comp's grid_walk.glsl walks
  * them instead of the octrees): one per model of at most
  * VX_RENDER_GRID_DEPTH levels, built from its octree, in model order while
@@ -550,6 +719,8 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         if (t > top) top = t;
         if (t < low) low = t;
     }
+    /* the converter's regions as one grid too (trace.comp's kernel of one instance walks it) */
+    if (made) prepare_union(rs, s, budget, &out);
     vx_result r = VX_OK;
     if (made && !(rs->grid_at = vx_alloc(&rs->alloc, (size_t)s->model_count * 4)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
@@ -1019,6 +1190,7 @@ static vx_render_scene* new_scene(vx_gpu* gpu, const vx_svo_scene* s, const vx_r
     rs->cull = -1;
     rs->path = -1;
     rs->grid_on = -1;
+    rs->uni.on = -1;
     rs->rows_gpu = -1;
     rs->model_count = s->model_count;
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi); /* every frame of an animation */
@@ -1461,6 +1633,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     for (uint32_t i = 0; rs->top && i < rs->model_count; i++) vx_free(&a, rs->top[i]);
     vx_free(&a, rs->top);
     vx_free(&a, rs->grid_at);
+    vx_free(&a, rs->uni.held);
     vx_free(&a, rs->top_count);
     for (uint32_t i = 0; rs->df && i < rs->model_count; i++) vx_free(&a, rs->df[i].bits);
     vx_free(&a, rs->df);
@@ -1670,6 +1843,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     if (m->node_count && !m->nodes)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: %u node words and no array", mi, m->node_count);
     settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
+    rs->uni.insts = 0; /* the union grid's bricks are the models' as made: the BVH from now on */
     if (rs->grid_at && rs->grid_at[mi] != UINT32_MAX) {
         /* the edited model walks its octree from now on (its grid is not made again); models without one
          * (most strokes after the first) need no upload */
@@ -1868,6 +2042,12 @@ uint32_t vx__render_scene_grid_spec(vx_render_scene* rs, const vx__frame* f, vx_
 
 void vx__render_scene_grid(vx_render_scene* rs, int on) {
     if (rs) rs->grid_on = on < 0 ? -1 : on > 0;
+}
+
+uint32_t vx__render_scene_grid_union(vx_render_scene* rs, int on) {
+    if (!rs) return 0;
+    rs->uni.on = on < 0 ? -1 : on > 0;
+    return rs->uni.insts;
 }
 
 /* Whether the trace kernel starts primary rays below the root (its
@@ -2074,6 +2254,33 @@ static void fill_single_instance(vx_render_scene* rs) {
     }
 }
 
+/* trace.comp's kernel of one instance over the union grid (grid_union): its instance and model records in
+ * the frame block (the instance's rows relative to the frame's reference, as frame_tables makes them; model
+ * UINT32_MAX, which inst_at and model_at read from the frame block, a hit's instance from insts), its grid
+ * and cube table. After fill_gpu_frame. */
+static void fill_union(vx_render_scene* rs, const vx__frame* f) {
+    vx__gpu_frame* gf = rs->frame.map;
+    const grid_union* u = &rs->uni;
+    for (int r = 0; r < 3; r++) {
+        const double* row = &u->inv[4 * r];
+        double w = row[0] * f->ref[0] + row[1] * f->ref[1] + row[2] * f->ref[2] + row[3];
+        for (int c = 0; c < 3; c++) gf->inst0.r[r][c] = (float)row[c];
+        gf->inst0.r[r][3] = (float)w;
+        gf->inst0.lo[r] = (float)(w - (double)(float)w);
+    }
+    gf->inst0.lo[3] = 0;
+    gf->inst0.model = UINT32_MAX;
+    gf->inst0.cell = rs->inst[0].cell;
+    gf->inst0.id = UINT32_MAX;
+    gf->inst0.pad = 0;
+    memset(&gf->model0, 0, sizeof gf->model0);
+    gf->model0.depth = u->depth;
+    gf->model0.flags = u->flags;
+    gf->grid0 = u->addr;
+    for (int k = 0; k < 3; k++) gf->gbox_lo[k] = (float)u->box[k], gf->gbox_hi[k] = (float)u->box[3 + k];
+    gf->gunion = u->table;
+}
+
 vx_result vx__render_scene_sun_map(vx_render_scene* rs, const float light[3], const double ref[3], uint32_t max_side,
                                    vx__sun_map* out, vx_error* err) {
     if (!rs || !light || !ref || !out) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -2276,6 +2483,13 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
      * starts below the root serve the octree walk: off with it. */
     vx__buffer* grid_buf = NULL;
     uint32_t grid = !precise ? vx__render_scene_grid_spec(rs, f, &grid_buf) : 0;
+    /* a converter's regions as one grid (grid_union): the kernel of one instance (USE_BVH off) walks it,
+     * GRID's bit 4; every model's hit through it (bit 2), its root's level exact (bit 3) */
+    bool uni = grid && union_holds(rs);
+    if (uni) {
+        fill_union(rs, f);
+        grid = rs->uni.top | 4u | 16u | (rs->uni.top >= 2 ? 8u : 0u);
+    }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;
     if (rs->inst_count <= 1 && !grid) frame_paths(rs, f, precise, beam, rs->frame.map);
@@ -2299,9 +2513,10 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 the starts below the root
      * (PATH_START; other kernels' 7 is theirs); 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
-    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1, f->lod, want_hits, beam, f->spp <= 1,
+    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1 && !uni, f->lod, want_hits, beam, f->spp <= 1,
                          rs->inst_count <= 1 && path_on(rs) && !grid,
-                         vx__render_scene_deep(rs), rs->far, 0, smap, 0, grid};
+                         uni && rs->uni.deep > vx__render_scene_deep(rs) ? rs->uni.deep : vx__render_scene_deep(rs),
+                         rs->far, 0, smap, 0, grid};
     uint64_t key = vx__spec_key(1 + precise, spec, 14);
     size_t spv_size;
     const uint32_t* spv = precise ? vx__spirv_trace_precise(&spv_size) : vx__spirv_trace(&spv_size);

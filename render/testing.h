@@ -50,6 +50,11 @@ void vx__render_scene_trace_path(vx_render_scene* rs, int path);
  * for the models that have a grid (-1 the default, on; 0 off: every model
  * walks its octree; 1 on). */
 void vx__render_scene_grid(vx_render_scene* rs, int on);
+/* Benchmarks and tests: the union grid over a converter's regions
+ * (render_scene.c grid_union: trace.comp's kernel of one instance walks it
+ * instead of each region's grid under the BVH; -1 the default, on where it
+ * holds; 0 off; 1 on). Returns the instances it holds (0: none built). */
+uint32_t vx__render_scene_grid_union(vx_render_scene* rs, int on);
 /* Benchmarks: the last frame's traced pixels (the rest written as misses);
  * false where it traced the whole image (no cull). */
 bool vx__render_scene_traced(const vx_render_scene* rs, uint64_t* pixels);

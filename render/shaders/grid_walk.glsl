@@ -13,8 +13,9 @@
 // level at most k (render/grid.h vx__grid_top), a constant so that where every root is at level 1 the
 // lookups below the root fold away and the loop is the two-level walk; bit 2 (GRID_ALL): every model that
 // holds a cell has a grid, so the octree walk is compiled out; bit 3 (GRID_EXACT): every grid's root is at
-// level k (k >= 2), a constant too (terrain4096's root at level 2: its lookups and shifts fixed)
-layout(constant_id = 13) const uint GRID = 0u;
+// level k (k >= 2), a constant too (terrain4096's root at level 2: its lookups and shifts fixed); bit 4
+// (GRID_UNION, trace_common.glsl, where GRID is declared): trace.comp's kernel of one instance walks the
+// union of a converter's regions, a hit's cell then mapped to its region's instance and model cell
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
 const bool GRID_EXACT = (GRID & 8u) != 0u;
@@ -44,11 +45,13 @@ const bool GRID_FRAME = !USE_BVH;
 uint grid_frame_root() { return F.grid0; }
 vec3 grid_frame_lo() { return F.gbox_lo; }
 vec3 grid_frame_hi() { return F.gbox_hi; }
+uint grid_union_table() { return F.gunion; }
 #else
 const bool GRID_FRAME = false;
 uint grid_frame_root() { return NO_HIT; }
 vec3 grid_frame_lo() { return vec3(0.0); }
 vec3 grid_frame_hi() { return vec3(0.0); }
+uint grid_union_table() { return 0u; }
 #endif
 // model mi's grid: its root's word address in gwords (NO_HIT: none, the octree walk)
 uint grid_address(uint mi) { return GRID_FRAME ? grid_frame_root() : gwords[mi]; }
@@ -277,13 +280,25 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     h.t = th;
     if (any_hit) return true;
     uint fa = axis == 0 ? flip.x : (axis == 1 ? flip.y : flip.z); // mirrored: the direction's sign bit set
+    uint mflags = m.flags;
+    if (GRID_UNION) {
+        // the union of regions (render_scene.c grid_union): the hit cell's cube of 2^shift cells holds one
+        // instance; its entry: the instance and its model's offset in the union's cells
+        uint tb = grid_union_table();
+        uvec3 rc = cell >> gwords[tb];
+        uint e = tb + 4u + 4u * ((rc.z * gwords[tb + 2u] + rc.y) * gwords[tb + 1u] + rc.x);
+        h.inst = gwords[e];
+        cell -= uvec3(gwords[e + 1u], gwords[e + 2u], gwords[e + 3u]);
+        mi = INST_AT(h.inst).model;
+        mflags = model_at(mi).flags;
+    }
     h.cell = cell;
     h.axis = axis;
     h.nsign = fa != 0u ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
     // the record: one descent of the octree, only where the kernel reads it (GRID_RECORD)
-    if (HAS_COLOR && GRID_RECORD && (m.flags & 1u) != 0u) {
+    if (HAS_COLOR && GRID_RECORD && (mflags & 1u) != 0u) {
         uint level;
         uint a = model_cell_leaf(mi, cell, level);
         if (a != NO_HIT) {

@@ -25,6 +25,18 @@ layout(constant_id = 4) const bool WRITE_HITS = false;
 // scenes keep the plain loop and those of 9-10 level models pay only at hits.
 layout(constant_id = 8) const int DEEP = 0;
 const bool REBASE = DEEP >= 2;
+#if defined(TRACE_GRID) && !defined(PRECISE)
+// grid_walk.glsl's GRID (declared here, where inst_at and model_at read its bit 4, GRID_UNION)
+layout(constant_id = 13) const uint GRID = 0u;
+#endif
+#if defined(TRACE_GRID_UBO) && !defined(PRECISE)
+// trace.comp's kernel of one instance walks the union of a converter's regions (grid_walk.glsl): its
+// instance and model records (index 0xFFFFFFFF) are the frame block's, a hit's instance and model insts'
+// and models' (render_scene.c grid_union)
+const bool GRID_UNION = (GRID & 16u) != 0u && !USE_BVH;
+#else
+const bool GRID_UNION = false;
+#endif
 // Some model may hold a far pointer (render_scene.c sets it off where none
 // can: the far bit's test on every push cost 2-5% on the H200, issue 21).
 layout(constant_id = 9) const bool FAR = true;
@@ -161,6 +173,7 @@ layout(std140, binding = 0) uniform Frame {
     layout(offset = 10672) vec3 gbox_lo;
     uint grid0;
     vec3 gbox_hi;
+    uint gunion; // the union of regions' cube table (GRID_UNION)
 #endif
 } F;
 layout(std430, binding = 1) readonly buffer Nodes { uint nodes[]; };
@@ -188,7 +201,7 @@ layout(std430, binding = 3) readonly buffer CModels { uint cpalette[256]; CModel
 Model model_at(uint mi) {
 #ifndef PRECISE
 #ifdef TRACE_INST_UBO
-    if (!USE_BVH && !COMPACT) return F.model0;
+    if (!USE_BVH && !COMPACT && (!GRID_UNION || mi == 0xFFFFFFFFu)) return F.model0;
 #endif
     if (COMPACT) {
         CModel c = cmodels[mi];
@@ -202,7 +215,7 @@ Model model_at(uint mi) {
 #ifdef TRACE_INST_UBO
 Inst inst_at(uint i) {
 #ifndef PRECISE
-    if (!USE_BVH) return F.inst0;
+    if (!USE_BVH && (!GRID_UNION || i == 0xFFFFFFFFu)) return F.inst0;
 #endif
     return insts[i];
 }
@@ -1306,7 +1319,7 @@ bool trace_instance(uint i, RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h
     if (trace_model(I.model, om, om_lo, dm, t0, h.t, any_hit, lod_a, lod_b, h)) {
 #endif
 #endif
-        h.inst = i;
+        if (!GRID_UNION) h.inst = i; // (the union's walk set its hit's instance)
         return true;
     }
     return false;
@@ -1384,7 +1397,7 @@ uint g_start = 0u;
 bool trace_scene(RVEC3 o, RVEC3 d, REAL t0, bool any_hit, inout Hit h) {
     bool found = false;
     if (!USE_BVH) {
-        if (F.dims.w > 0u) found = trace_instance(0u, o, d, t0, any_hit, h);
+        if (F.dims.w > 0u) found = trace_instance(GRID_UNION ? 0xFFFFFFFFu : 0u, o, d, t0, any_hit, h);
         return found;
     }
     if (F.dims.w == 0u) return false;
