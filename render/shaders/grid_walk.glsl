@@ -68,20 +68,6 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // kernels (WALK_PRECISE, cmake/shaders.cmake) must give the same t bits (test_passes), and a compiler may
 // contract the setup's o + d te or length(d) in one and not the other (stop 77: 3 floats of a 5-sample frame
 // apart on the H100). The loop's own arithmetic is explicit fma, min and max: nothing there to contract.
-// entry_tau (entry_tau.glsl) for the hit cell of an exact model from the start cell: its entry planes less the
-// hi/lo origin as (pl - c0) + qo, pl - c0 the exact integer offset of the plane from the start cell's corner c0
-// (rel: the cell's), qo = (c0 - o) - o_lo from the walk's setup; the largest crossing, at least 0.
-float grid_entry_tau(vec3 qo, vec3 d, vec3 rel) {
-    precise vec3 pl = vec3(d.x < 0.0 ? rel.x + 1.0 : rel.x, d.y < 0.0 ? rel.y + 1.0 : rel.y,
-                           d.z < 0.0 ? rel.z + 1.0 : rel.z);
-    precise vec3 tau = (pl + qo) / d;
-    float r = 0.0;
-    if (d.x != 0.0) r = max(r, tau.x);
-    if (d.y != 0.0) r = max(r, tau.y);
-    if (d.z != 0.0) r = max(r, tau.z);
-    return r;
-}
-
 bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool any_hit, inout Hit h) {
     if (GRID_ALL && groot == NO_HIT) return false; // (a model without cells)
     Model m = model_at(mi);
@@ -118,11 +104,12 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec3 fr = clamp(mix(oa - c0, (c0 + 1.0) - oa, neg), vec3(0.0), vec3(1.0));
     uvec3 flip = mix(uvec3(0u), uvec3(N - 1u), neg);
     uvec3 f0 = uvec3(c0) ^ flip; // the start cell, mirrored
-    // Exact models (DEEP kernels): the start cell's corner less the hi/lo origin, qo = (c0 - o) - o_lo, made here
-    // so that the hit's exact t after the loop needs qo and d only, not o and o_lo (grid_entry_tau)
-    // (not q: the loop's lookups name their entry's coordinates so)
-    precise vec3 qo = vec3(0.0);
-    if (DEEP >= 1 && (m.flags & 2u) != 0u) qo = (c0 - o) - o_lo;
+    // Exact models (DEEP kernels): the hi/lo origin from the start cell's corner, oq = (o - c0) + o_lo, made here
+    // so that the hit's exact t after the loop needs oq and d only, not o and o_lo: entry_tau (entry_tau.glsl)
+    // of the hit cell's box in the start cell's frame, [rel, rel + 1], from oq (its planes' differences
+    // rel - oq exact integers less oq)
+    precise vec3 oq = vec3(0.0);
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) oq = (o - c0) + o_lo;
     ivec3 if0 = ivec3(f0);
     precise vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
@@ -267,7 +254,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uvec3 cell = f ^ flip;
     // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
-    // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (grid_entry_tau, from qo made at
+    // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau, from oq made at
     // the setup), as trace_model; elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
     precise vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
     int axis = 0;
@@ -275,7 +262,8 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (tent.y > ta) { axis = 1; ta = tent.y; }
     if (tent.z > ta) { axis = 2; ta = tent.z; }
     precise float th = te + max(ta, 0.0) / L;
-    if (DEEP >= 1 && (m.flags & 2u) != 0u) th = max(grid_entry_tau(qo, d, vec3(ivec3(cell) - ivec3(f0 ^ flip))), te);
+    if (DEEP >= 1 && (m.flags & 2u) != 0u)
+        th = max(entry_tau(oq, vec3(0.0), d, vec3(ivec3(cell) - ivec3(f0 ^ flip)), 1.0), te);
     if (!(th <= h.t)) return false;
     h.t = th;
     if (any_hit) return true;
