@@ -23,3 +23,14 @@ payload_end() {
   [ -n "$OUT" ] && tar czf $OUT/$1.tar.gz -C $T smi.log
   echo "== done $(date -u +%T), $(( $(date +%s) - s0 )) s"
 }
+# The GPU tests after a payload's timings: gpu_tests PATTERN NAME...: each test binary $T/NAME (unpacked by the
+# payload) within TLIM seconds (default 150), its exit status and time, and its log's lines that match the
+# failures, the counts and PATTERN (extra lines a payload wants, "" for none).
+gpu_tests() {
+  local pat=$1 t s rc; shift
+  for t in "$@"; do
+    s=$(date +%s); timeout ${TLIM:-150} $T/$t > $T/$t.log 2>&1; rc=$?
+    echo "-- $t: exit $rc in $(( $(date +%s) - s )) s"
+    grep -E "CHECK failed|FAIL|passed,|SKIP${pat:+|$pat}" $T/$t.log | head -60
+  done
+}

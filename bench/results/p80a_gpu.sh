@@ -24,9 +24,5 @@ run helmetr 40 $T/render_bench --grid-world --sizes $SIZE --runs $RUNS --warmup 
 run corpus 90 $T/render_bench --kernels $K --sizes $SIZE --runs $RUNS --warmup $WU $V
 run terrain 120 $T/render_bench --generate --kernels $K --sizes $SIZE --runs $RUNS --warmup $WU
 payload_end p80a
-for t in test_render_hits test_passes test_render_gpu; do
-  s=$(date +%s); timeout ${TLIM:-150} $T/$t > $T/$t.log 2>&1; rc=$?
-  echo "-- $t: exit $rc in $(( $(date +%s) - s )) s"
-  grep -E "CHECK failed|FAIL|passed,|hits frame|regions|SKIP|deep float, depth" $T/$t.log | head -60
-done
+gpu_tests "hits frame|regions|deep float, depth" test_render_hits test_passes test_render_gpu
 } 2>&1 | tee $R
