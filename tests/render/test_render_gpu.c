@@ -334,6 +334,20 @@ static void random_scene(vx_svo_scene* s, const double* m9, double tx, double ty
     ts_scene(s, &m, 1, &in, 1);
 }
 
+/* An orthographic depth view along an axis, px pixels over px units (exact pixel centres), from eye[axis] = from
+ * towards to: the eye line is the axis itself (the scene moves instead, onto the pixel centres), so that
+ * target - eye is exactly +0 or -0 (neg_zero; -0 - +0 = -0) across it. */
+static vx_render_desc axis_camera(int axis, double from, double to, bool neg_zero, uint32_t px) {
+    vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = px, .height = px};
+    d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = px;
+    double z = neg_zero ? -0.0 : 0.0, e[3] = {0, 0, 0}, t[3] = {z, z, z};
+    e[axis] = from, t[axis] = to;
+    memcpy(d.camera.eye, e, sizeof e);
+    memcpy(d.camera.target, t, sizeof t);
+    d.camera.up[(axis + 1) % 3] = 1;
+    return d;
+}
+
 static void test_axis_rays_on_edges(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -345,15 +359,7 @@ static void test_axis_rays_on_edges(void) {
     for (int o = 0; o < 2; o++)
         for (int z = 0; z < 2; z++)
             for (int axis = 0; axis < 3; axis++) {
-                vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 16, .height = 16};
-                d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 16;
-                /* the eye line is the axis itself; the scene moves instead, so
-                 * that target - eye is exactly +0 or -0 (-0 - +0 = -0) */
-                double e[3] = {0, 0, 0}, t[3] = {z ? -0.0 : 0.0, z ? -0.0 : 0.0, z ? -0.0 : 0.0};
-                e[axis] = 40, t[axis] = -3;
-                memcpy(d.camera.eye, e, sizeof e);
-                memcpy(d.camera.target, t, sizeof t);
-                d.camera.up[(axis + 1) % 3] = 1;
+                vx_render_desc d = axis_camera(axis, 40, -3, z, 16);
                 for (int k = 0; k < 3; k++) s.instances[0].xform[3 + 4 * k] = k == axis ? 0 : -offs[o];
                 char nm[64];
                 snprintf(nm, sizeof nm, "axis %d %s %s", axis, o ? "centres" : "edges", z ? "-0" : "+0");
@@ -1388,14 +1394,7 @@ static void test_grid_sparse_blocks(void) {
                 for (int axis = 0; axis < 3; axis++) {
                     /* 32 pixels over 32 units: exact pixel centres (a width that is not a power of two makes
                      * them inexact, rays a float step off the planes, which float and double resolve apart) */
-                    vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 32, .height = 32};
-                    d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 32;
-                    /* the eye line on the axis, the scene moved instead (as test_axis_rays_on_edges) */
-                    double e[3] = {0, 0, 0}, t[3] = {z ? -0.0 : 0.0, z ? -0.0 : 0.0, z ? -0.0 : 0.0};
-                    e[axis] = z ? -60 : 60, t[axis] = z ? 3 : -3;
-                    memcpy(d.camera.eye, e, sizeof e);
-                    memcpy(d.camera.target, t, sizeof t);
-                    d.camera.up[(axis + 1) % 3] = 1;
+                    vx_render_desc d = axis_camera(axis, z ? -60 : 60, z ? 3 : -3, z, 32);
                     double base[3] = {mirrored ? 24 : 0, 0, mirrored ? 24 : 0};
                     for (int k = 0; k < 3; k++) s.instances[0].xform[3 + 4 * k] = base[k] - (k == axis ? 12 : offs[o]);
                     char nm[80];
