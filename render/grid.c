@@ -99,8 +99,23 @@ static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
     }
 }
 
+uint32_t vx__grid_brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz) {
+    if (!b->cap) return UINT32_MAX;
+    size_t i = slot_of(b->key, b->cap, pack(bx, by, bz));
+    return b->key[i] ? b->val[i] : UINT32_MAX;
+}
+
+static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, const uint32_t* at,
+                        vx__grid_words* out, vx_error* err);
+
 vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
                           vx_error* err) {
+    return layout(b, depth, top, base, NULL, out, err);
+}
+
+/* vx__grid_layout; at (not NULL): brick i is at word address at[i] already (another grid's), not written. */
+static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, const uint32_t* at,
+                        vx__grid_words* out, vx_error* err) {
     const vx_allocator* a = b->alloc;
     if (depth < 3 || top < 1 || top > VX__GRID_MAX_TOP || depth < 3 * top || depth - 3 * top > 10)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: no layout for a 2^%u cube with its root at level %u",
@@ -114,16 +129,18 @@ vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint
     uint32_t* queue = vx_alloc(a, (R3 > 512 ? R3 : 512) * 4);
     vx__grid_words cc = {0}, ca = {0}; /* the cells of the level being placed: coordinates (3 words) and address */
     vx_result r = VX_OK;
-    if (!queue || !vx__grid_words_grow(a, out, R3 + b->bits.n) || !vx__grid_words_grow(a, &cc, b->coords.n) ||
+    size_t own = at ? 0 : b->bits.n; /* the bricks' words written here */
+    if (!queue || !vx__grid_words_grow(a, out, R3 + own) || !vx__grid_words_grow(a, &cc, b->coords.n) ||
         !vx__grid_words_grow(a, &ca, nb)) {
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks", nb);
         goto done;
     }
     for (uint64_t i = 0; i < R3; i++) out->w[root + i] = EMPTY;
-    if (nb) memcpy(out->w + root + R3, b->bits.w, b->bits.n * 4), memcpy(cc.w, b->coords.w, b->coords.n * 4);
-    out->n = root + R3 + b->bits.n;
+    if (own) memcpy(out->w + root + R3, b->bits.w, own * 4);
+    if (nb) memcpy(cc.w, b->coords.w, b->coords.n * 4);
+    out->n = root + R3 + own;
     cc.n = b->coords.n;
-    for (size_t i = 0; i < nb; i++) ca.w[ca.n++] = (uint32_t)(base + root + R3 + 16 * i);
+    for (size_t i = 0; i < nb; i++) ca.w[ca.n++] = at ? at[i] : (uint32_t)(base + root + R3 + 16 * i);
     for (uint32_t lv = 1; lv < top && !r; lv++) {
         /* nodes of level lv + 1 cells, each the 8^3 level-lv cells below it */
         uint64_t* pk = NULL;
@@ -187,6 +204,34 @@ vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t 
     if (!r && c.nomem)
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
     if (!r) r = vx__grid_layout(&b, depth, *top, base, out, err);
+    vx__grid_bricks_free(&b);
+    return r;
+}
+
+vx_result vx__grid_model_shared(const vx_allocator* a, const vx_svo_model* m, const vx__grid_bricks* ub,
+                                uint64_t ubase, const uint32_t off[3], vx__grid_words* out, uint32_t* top,
+                                vx_error* err) {
+    uint32_t depth = m->depth < 3 ? 3 : m->depth;
+    *top = vx__grid_top(depth, 0);
+    vx__grid_bricks b = {.alloc = a};
+    model_ctx c = {&b, false, {0, 0, 0}};
+    vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
+    if (!r && c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
+    size_t nb = b.bits.n / 16;
+    uint32_t* at = r ? NULL : vx_alloc(a, (nb ? nb : 1) * 4);
+    if (!r && !at) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks", nb);
+    for (size_t i = 0; i < nb && !r; i++) {
+        const uint32_t* bc = &b.coords.w[3 * i];
+        uint32_t j = vx__grid_brick_find(ub, bc[0] + off[0], bc[1] + off[1], bc[2] + off[2]);
+        /* the union's brick holds this model's cells and only them (its cube is the model's alone) */
+        if (j == UINT32_MAX || memcmp(&ub->bits.w[16 * (size_t)j], &b.bits.w[16 * i], 64))
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "grid: brick %u,%u,%u is not the union's", bc[0], bc[1],
+                        bc[2]);
+        else
+            at[i] = (uint32_t)(ubase + 16 * (uint64_t)j);
+    }
+    if (!r) r = layout(&b, depth, *top, 0, at, out, err);
+    vx_free(a, at);
     vx__grid_bricks_free(&b);
     return r;
 }

@@ -74,4 +74,13 @@ vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t 
  * each sum below 2^20): the bricks of several models placed in one grid
  * (render_scene.c's union of a converter's regions). m must be valid. */
 vx_result vx__grid_bricks_add(vx__grid_bricks* b, const vx_svo_model* m, const uint32_t off[3], vx_error* err);
+/* The index of b's brick at brick coordinates (bx, by, bz), UINT32_MAX none. */
+uint32_t vx__grid_brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz);
+/* vx__grid_model (base 0) for a model whose bricks a union grid holds already: ub the union's bricks (as
+ * vx__grid_bricks_add collected them, this model at brick offset off), laid out from word ubase (brick j at
+ * ubase + 16 j); the model's grid is its levels above the bricks, its entries the union's brick addresses
+ * (no brick written twice). VX_ERR_INVALID_ARG where a brick of the model is not the union's as is. */
+vx_result vx__grid_model_shared(const vx_allocator* a, const vx_svo_model* m, const vx__grid_bricks* ub,
+                                uint64_t ubase, const uint32_t off[3], vx__grid_words* out, uint32_t* top,
+                                vx_error* err);
 #endif

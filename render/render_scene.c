@@ -547,7 +547,17 @@ static uint32_t cube_shift(const uint64_t lo[3], const uint64_t hi[3]) {
  * (deep_level's rule: past VX_RENDER_EXACT_DEPTH the exact t, past VX_RENDER_REBASE_DEPTH the hi/lo origin:
  * its kernel's DEEP at least uni.deep). Anything else leaves rs->uni empty (the BVH); so does a layout that
  * fails (memory, the budget). */
-static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t budget, vx__grid_words* out) {
+/* The union's bricks, kept for the models' grids, which point at them (vx__grid_model_shared) rather than
+ * hold copies: its bricks b (brick j at word base + 16 j) and per model the brick offset of its first
+ * instance in the union (3 words; UINT32_MAX: none). */
+typedef struct union_bricks {
+    vx__grid_bricks b;
+    uint64_t base;
+    uint32_t* off;
+} union_bricks;
+
+static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t budget, vx__grid_words* out,
+                          union_bricks* ub) {
     uint32_t n = rs->inst_count, first = UINT32_MAX;
     if (n < 2) return;
     const inst_host* in = rs->inst;
@@ -644,7 +654,7 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         memcpy(rs->uni.box, cb, sizeof cb);
     }
     ok = ok && vx__grid_layout(&b, depth, top, 0, out, &ge) == VX_OK;
-    vx__grid_bricks_free(&b);
+    uint64_t R = (uint64_t)1 << (depth - 3 * top);
     uint32_t taddr = (uint32_t)out->n;
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
          (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * 13 * sizeof(double)));
@@ -660,9 +670,21 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
         rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
         rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (depth > VX_RENDER_EXACT_DEPTH ? VX__MODEL_EXACT : 0u);
+        /* the bricks for the models' grids: the first instance's offset of each model */
+        if ((ub->off = vx_alloc(&rs->alloc, (size_t)s->model_count * 12))) {
+            memset(ub->off, 0xFF, (size_t)s->model_count * 12);
+            for (uint32_t i = 0; i < n; i++) {
+                uint32_t* o = &ub->off[3 * in[i].model];
+                if (s->models[in[i].model].root == VX_SVO_ROOT_EMPTY || o[0] != UINT32_MAX) continue;
+                for (int k = 0; k < 3; k++) o[k] = (uint32_t)((e[3 * i + k] - emin[k]) >> 3);
+            }
+            ub->b = b, ub->base = addr + 4 + R * R * R;
+            b = (vx__grid_bricks){.alloc = &rs->alloc};
+        }
     } else {
         out->n = before;
     }
+    vx__grid_bricks_free(&b);
     vx_free(&rs->alloc, table);
     vx_free(&rs->alloc, e);
 }
@@ -697,6 +719,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
     memset(out.w, 0xFF, (size_t)s->model_count * 4);
     out.n = s->model_count;
     uint32_t made = 0, top = 0, low = UINT32_MAX, cells = 0;
+    /* the converter's regions as one grid first (trace.comp's kernel of one instance walks it), its bricks
+     * shared with the regions' own grids (the pass kernels' and the BVH's walk) */
+    union_bricks ub = {.b = {.alloc = &rs->alloc}};
+    prepare_union(rs, s, budget, &out, &ub);
     for (uint32_t i = 0; i < s->model_count; i++) {
         const vx_svo_model* m = &s->models[i];
         cells += m->root != VX_SVO_ROOT_EMPTY;
@@ -710,7 +736,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         out.n += 4;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
         uint32_t t;
-        if (vx__grid_model(&rs->alloc, m, 0, &out, &t, &e) || (uint64_t)out.n * 4 > budget) {
+        bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
+        if ((shared ? vx__grid_model_shared(&rs->alloc, m, &ub.b, ub.base, &ub.off[3 * i], &out, &t, &e)
+                    : vx__grid_model(&rs->alloc, m, 0, &out, &t, &e)) ||
+            (uint64_t)out.n * 4 > budget) {
             out.n = before;
             continue;
         }
@@ -719,8 +748,8 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         if (t > top) top = t;
         if (t < low) low = t;
     }
-    /* the converter's regions as one grid too (trace.comp's kernel of one instance walks it) */
-    if (made) prepare_union(rs, s, budget, &out);
+    vx__grid_bricks_free(&ub.b);
+    vx_free(&rs->alloc, ub.off);
     vx_result r = VX_OK;
     if (made && !(rs->grid_at = vx_alloc(&rs->alloc, (size_t)s->model_count * 4)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
@@ -736,6 +765,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         rs->layout.grid_models = made;
         rs->layout.grid_seconds = vx_time_now() - t0;
     }
+    if (!made || r) rs->uni.insts = 0; /* (no grid buffer) */
     vx_free(&rs->alloc, out.w);
     return r;
 }
