@@ -1,10 +1,10 @@
 #!/bin/bash
-# Stop 80 (issue 21), first run: the union grid of a converter's regions (render_scene.c grid_union, ed84b44):
+# Stop 80 (issue 21), first run: the union grid of a converter's regions (render_scene.c grid_union, ed84b44; bricks shared a12ef72):
 # DamagedHelmet at 1024 cells as vox2svo makes it (8 regions of 512) with the union and with each region under the
 # BVH (render_bench --regions) in the same process, and as one model (--region 1024); every other bench scene and view against
 # the kernel of fd65d1b (payload/gv/trace_p79.spv: none of them is regions, the same walk expected); then
 # test_render_hits, test_passes and test_render_gpu on the GPU. Run with carry [".gl", "payload"]: payload/ holds
-# render_bench.gz and T_*.gz (Release, 472c8a5), gv/, REV, lib/, the five corpus .vox files and the two helmet .svo files.
+# render_bench.gz and T_*.gz (Release, a12ef72), gv/, REV, lib/, the five corpus .vox files and the two helmet .svo files.
 if command -v nvidia-smi >/dev/null; then for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; fi
 export LD_LIBRARY_PATH=$PWD/payload/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
