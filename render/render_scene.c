@@ -2543,7 +2543,8 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     /* 6 one sample a pixel (id 6 is other kernels' too: passes, probes), 7 the starts below the root
      * (PATH_START; other kernels' 7 is theirs); 8 the float walk's DEEP,
      * 9 FAR, 10 COMPACT (off here), 11 the shadow map, 12 the screen cull's miss pass */
-    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1 && !uni, f->lod, want_hits, beam, f->spp <= 1,
+    uint32_t spec[14] = {(uint32_t)f->mode, rs->has_color, rs->inst_count > 1 && !uni, f->lod, want_hits, beam,
+                         f->spp <= 1,
                          rs->inst_count <= 1 && path_on(rs) && !grid,
                          uni && rs->uni.deep > vx__render_scene_deep(rs) ? rs->uni.deep : vx__render_scene_deep(rs),
                          rs->far, 0, smap, 0, grid};

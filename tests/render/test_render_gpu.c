@@ -1502,8 +1502,8 @@ static void test_grid_union(void) {
             CHECK(vx_render_cpu(&v, &d, NULL, &ci, &err) == VX_OK);
             snprintf(nm, sizeof nm, "regions%s, frame %u", lin ? " mirrored" : "", order[k]);
             cmp_result cr = compare(nm, &gi, &ci);
-            CHECKF((double)(cr.exact + cr.tie) >= g_min_share * (cr.pixels - cr.ambiguous), "%s: %zu of %zu pixels differ",
-                   nm, cr.bad, cr.pixels);
+            CHECKF((double)(cr.exact + cr.tie) >= g_min_share * (cr.pixels - cr.ambiguous),
+                   "%s: %zu of %zu pixels differ", nm, cr.bad, cr.pixels);
             CHECKF(cr.hits > 150, "%s: %zu hits", nm, cr.hits);
             vx_render_image_free(&gi), vx_render_image_free(&ci);
         }
