@@ -99,12 +99,6 @@ static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
     }
 }
 
-uint32_t vx__grid_brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz) {
-    if (!b->cap) return UINT32_MAX;
-    size_t i = slot_of(b->key, b->cap, pack(bx, by, bz));
-    return b->key[i] ? b->val[i] : UINT32_MAX;
-}
-
 static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, const uint32_t* at,
                         vx__grid_words* out, vx_error* err);
 
@@ -194,43 +188,35 @@ static bool block_cb(void* user, uint32_t bx, uint32_t by, uint32_t bz, const ui
     return true;
 }
 
-vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
-                         uint32_t* top, vx_error* err) {
-    uint32_t depth = m->depth < 3 ? 3 : m->depth;
-    *top = vx__grid_top(depth, 0);
-    vx__grid_bricks b = {.alloc = a};
-    model_ctx c = {&b, false, {0, 0, 0}};
-    vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
-    if (!r && c.nomem)
-        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
-    if (!r) r = vx__grid_layout(&b, depth, *top, base, out, err);
-    vx__grid_bricks_free(&b);
-    return r;
+/* The index of b's brick at brick coordinates (bx, by, bz), UINT32_MAX none. */
+static uint32_t brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz) {
+    if (!b->cap) return UINT32_MAX;
+    size_t i = slot_of(b->key, b->cap, pack(bx, by, bz));
+    return b->key[i] ? b->val[i] : UINT32_MAX;
 }
 
-vx_result vx__grid_model_shared(const vx_allocator* a, const vx_svo_model* m, const vx__grid_bricks* ub,
-                                uint64_t ubase, const uint32_t off[3], vx__grid_words* out, uint32_t* top,
-                                vx_error* err) {
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
+                         vx__grid_words* out, uint32_t* top, vx_error* err) {
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
     *top = vx__grid_top(depth, 0);
     vx__grid_bricks b = {.alloc = a};
-    model_ctx c = {&b, false, {0, 0, 0}};
-    vx_result r = vx_svo_decode_blocks(m, block_cb, &c, err);
-    if (!r && c.nomem) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory collecting bricks");
+    vx_result r = vx__grid_bricks_add(&b, m, (const uint32_t[3]){0, 0, 0}, err);
+    uint32_t* at = NULL; /* with share: each brick's address in the union's */
     size_t nb = b.bits.n / 16;
-    uint32_t* at = r ? NULL : vx_alloc(a, (nb ? nb : 1) * 4);
-    if (!r && !at) r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks", nb);
-    for (size_t i = 0; i < nb && !r; i++) {
+    if (!r && share && !(at = vx_alloc(a, (nb ? nb : 1) * 4)))
+        r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks", nb);
+    for (size_t i = 0; at && i < nb && !r; i++) {
         const uint32_t* bc = &b.coords.w[3 * i];
-        uint32_t j = vx__grid_brick_find(ub, bc[0] + off[0], bc[1] + off[1], bc[2] + off[2]);
+        const uint32_t* o = share->off;
+        uint32_t j = brick_find(share->bricks, bc[0] + o[0], bc[1] + o[1], bc[2] + o[2]);
         /* the union's brick holds this model's cells and only them (its cube is the model's alone) */
-        if (j == UINT32_MAX || memcmp(&ub->bits.w[16 * (size_t)j], &b.bits.w[16 * i], 64))
+        if (j == UINT32_MAX || memcmp(&share->bricks->bits.w[16 * (size_t)j], &b.bits.w[16 * i], 64))
             r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "grid: brick %u,%u,%u is not the union's", bc[0], bc[1],
                         bc[2]);
         else
-            at[i] = (uint32_t)(ubase + 16 * (uint64_t)j);
+            at[i] = (uint32_t)(share->base + 16 * (uint64_t)j);
     }
-    if (!r) r = layout(&b, depth, *top, 0, at, out, err);
+    if (!r) r = layout(&b, depth, *top, base, at, out, err);
     vx_free(a, at);
     vx__grid_bricks_free(&b);
     return r;

@@ -63,24 +63,27 @@ uint32_t vx__grid_top(uint32_t depth, uint32_t root_log);
 vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
                           vx_error* err);
 
+/* The bricks of a union grid that a model's grid points at rather than holds
+ * (render_scene.c's union of a converter's regions): bricks as
+ * vx__grid_bricks_add collected them, the model's at brick offset off, brick j
+ * at word base + 16 j. */
+typedef struct vx__grid_share {
+    const vx__grid_bricks* bricks;
+    uint64_t base;
+    uint32_t off[3];
+} vx__grid_share;
+
 /* Appends model m's grid to out as vx__grid_layout does, its bricks from the
  * octree (vx_svo_decode_blocks); *top its root's level (vx__grid_top(max(depth,
- * 3), 0)). A model of depth < 3 is walked in one brick (depth 3). m must be
- * valid. */
-vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, vx__grid_words* out,
-                         uint32_t* top, vx_error* err);
+ * 3), 0)). A model of depth < 3 is walked in one brick (depth 3). With share
+ * (not NULL) the grid is its levels above the bricks, its entries the
+ * union's brick addresses (no brick written twice); VX_ERR_INVALID_ARG where
+ * a brick of the model is not the union's as is. m must be valid. */
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
+                         vx__grid_words* out, uint32_t* top, vx_error* err);
 
 /* Adds model m's cells to b, each at its cell plus 8 off (off in bricks,
  * each sum below 2^20): the bricks of several models placed in one grid
  * (render_scene.c's union of a converter's regions). m must be valid. */
 vx_result vx__grid_bricks_add(vx__grid_bricks* b, const vx_svo_model* m, const uint32_t off[3], vx_error* err);
-/* The index of b's brick at brick coordinates (bx, by, bz), UINT32_MAX none. */
-uint32_t vx__grid_brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, uint32_t bz);
-/* vx__grid_model (base 0) for a model whose bricks a union grid holds already: ub the union's bricks (as
- * vx__grid_bricks_add collected them, this model at brick offset off), laid out from word ubase (brick j at
- * ubase + 16 j); the model's grid is its levels above the bricks, its entries the union's brick addresses
- * (no brick written twice). VX_ERR_INVALID_ARG where a brick of the model is not the union's as is. */
-vx_result vx__grid_model_shared(const vx_allocator* a, const vx_svo_model* m, const vx__grid_bricks* ub,
-                                uint64_t ubase, const uint32_t off[3], vx__grid_words* out, uint32_t* top,
-                                vx_error* err);
 #endif

@@ -547,7 +547,7 @@ static uint32_t cube_shift(const uint64_t lo[3], const uint64_t hi[3]) {
  * (deep_level's rule: past VX_RENDER_EXACT_DEPTH the exact t, past VX_RENDER_REBASE_DEPTH the hi/lo origin:
  * its kernel's DEEP at least uni.deep). Anything else leaves rs->uni empty (the BVH); so does a layout that
  * fails (memory, the budget). */
-/* The union's bricks, kept for the models' grids, which point at them (vx__grid_model_shared) rather than
+/* The union's bricks, kept for the models' grids, which point at them (vx__grid_model's share) rather than
  * hold copies: its bricks b (brick j at word base + 16 j) and per model the brick offset of its first
  * instance in the union (3 words; UINT32_MAX: none). */
 typedef struct union_bricks {
@@ -736,9 +736,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         out.n += 4;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
         uint32_t t;
+        vx__grid_share sh = {&ub.b, ub.base, {0, 0, 0}};
         bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
-        if ((shared ? vx__grid_model_shared(&rs->alloc, m, &ub.b, ub.base, &ub.off[3 * i], &out, &t, &e)
-                    : vx__grid_model(&rs->alloc, m, 0, &out, &t, &e)) ||
+        if (shared) memcpy(sh.off, &ub.off[3 * i], sizeof sh.off);
+        if (vx__grid_model(&rs->alloc, m, 0, shared ? &sh : NULL, &out, &t, &e) ||
             (uint64_t)out.n * 4 > budget) {
             out.n = before;
             continue;

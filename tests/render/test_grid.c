@@ -63,7 +63,7 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
     out.n = 7; /* words before the grid: its addresses count from the buffer's start */
     vx_error err = {0};
     uint32_t top;
-    vx_result r = vx__grid_model(NULL, m, 993, &out, &top, &err);
+    vx_result r = vx__grid_model(NULL, m, 993, NULL, &out, &top, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return;
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
@@ -141,7 +141,7 @@ static void test_deep_levels(void) {
         vx__grid_words out = {0};
         vx_error err = {0};
         uint32_t top;
-        CHECK(vx__grid_model(NULL, &m, 0, &out, &top, &err) == VX_OK);
+        CHECK(vx__grid_model(NULL, &m, 0, NULL, &out, &top, &err) == VX_OK);
         size_t wrong = 0;
         for (uint32_t i = 0; i < n; i++)
             for (int dz = -1; dz <= 1; dz++)
