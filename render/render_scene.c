@@ -54,7 +54,8 @@ typedef struct inst_host {
  * vox2svo's mesh regions, each a model at a whole region's offset), trace.comp's kernel of one instance
  * walks that grid without the BVH and maps a hit's cell to its cube's instance and model cell
  * (prepare_union). The instances it was built for are kept: it is used while they hold (a move or an
- * animation's frame that changes them walks the BVH again); an edit of a model drops it. */
+ * animation's frame that changes them walks the BVH again; set_frame compares them once, not each frame);
+ * an edit of a model drops it. */
 typedef struct grid_union {
     uint32_t insts;      /* instances it holds (0: none built or dropped) */
     uint32_t addr;       /* its header's word in rs->grid (grid_walk.glsl's groot: the header, then the grid) */
@@ -65,7 +66,8 @@ typedef struct grid_union {
     uint32_t deep;       /* the DEEP constant its walk needs (deep_level's rule for its depth) */
     double inv[12];      /* its cells from world */
     uint32_t n;          /* rs->inst_count when built */
-    double* held;        /* each instance's inv (12 doubles) and model (a 13th, as a double) when built */
+    inst_host* held;     /* rs->inst when built (n of them) */
+    bool holds;          /* rs->inst is held (as built): set by prepare_union, set_frame */
     int on;              /* vx__render_scene_grid_union: -1 the default (on where it holds), 0 off, 1 on */
 } grid_union;
 
@@ -657,14 +659,12 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
     uint64_t R = (uint64_t)1 << (depth - 3 * top);
     uint32_t taddr = (uint32_t)out->n;
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
-         (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * 13 * sizeof(double)));
+         (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * sizeof *in));
     if (ok) {
         memcpy(out->w + out->n, table, (size_t)(4 + 4 * cubes) * 4);
         out->n += 4 + 4 * cubes;
-        for (uint32_t i = 0; i < n; i++) {
-            memcpy(&rs->uni.held[13 * i], in[i].inv, 12 * sizeof(double));
-            rs->uni.held[13 * i + 12] = in[i].model;
-        }
+        memcpy(rs->uni.held, in, (size_t)n * sizeof *in);
+        rs->uni.holds = true;
         memcpy(rs->uni.inv, in[first].inv, sizeof rs->uni.inv);
         for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
         rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
@@ -689,15 +689,18 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
     vx_free(&rs->alloc, e);
 }
 
-/* Whether the union grid holds for the instances as they are now (those it was built for). */
-static bool union_holds(const vx_render_scene* rs) {
+/* Whether the instances as they are now are those the union grid was built for (set_frame's check). */
+static bool union_matches(const vx_render_scene* rs) {
     const grid_union* u = &rs->uni;
-    if (!u->insts || u->on == 0 || u->n != rs->inst_count) return false;
+    if (!u->insts || u->n != rs->inst_count) return false;
     for (uint32_t i = 0; i < u->n; i++)
-        if (memcmp(rs->inst[i].inv, &u->held[13 * i], 12 * sizeof(double)) || rs->inst[i].model != u->held[13 * i + 12])
+        if (memcmp(rs->inst[i].inv, u->held[i].inv, sizeof u->held[i].inv) || rs->inst[i].model != u->held[i].model)
             return false;
     return true;
 }
+
+/* Whether a frame walks the union grid. */
+static bool union_holds(const vx_render_scene* rs) { return rs->uni.insts && rs->uni.holds && rs->uni.on != 0; }
 
 /* The grid walk's grids (render/grid.h; trace.comp's grid_walk.glsl walks
  * them instead of the octrees): one per model of at most
@@ -1709,7 +1712,8 @@ static vx_result upload_items(vx_render_scene* rs, vx_error* err) {
  * moved instances), else it is built again (a model's new size: the
  * instances that overlap then tie as in a scene built from scratch, whose
  * tree is the same build's). */
-static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, bool refit, vx_error* err) {
+static vx_result set_frame_tables(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, bool refit,
+                                 vx_error* err) {
     vx_svo_scene v;
     if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
     if (!vx_svo_scene_frame(s, frame, &v))
@@ -1786,6 +1790,14 @@ static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t 
     /* the default framing: every frame's bounds, as at creation, of the scene as it is now (an instance edit moves them) */
     vx_svo_scene_world_bounds(s, rs->lo, rs->hi);
     return prepare_instances(rs, &v, err);
+}
+
+/* set_frame_tables, then whether the union grid holds for the instances it leaves (on an error too: it may
+ * leave them changed) */
+static vx_result set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, bool refit, vx_error* err) {
+    vx_result r = set_frame_tables(rs, s, frame, refit, err);
+    if (rs) rs->uni.holds = union_matches(rs);
+    return r;
 }
 
 vx_result vx_render_scene_set_frame(vx_render_scene* rs, const vx_svo_scene* s, uint32_t frame, vx_error* err) {
