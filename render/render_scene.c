@@ -63,7 +63,7 @@ typedef struct grid_union {
     uint32_t depth, top; /* its cube of 2^depth cells and root level */
     uint32_t box[6];     /* its cells' box, hi exclusive */
     uint32_t flags;      /* its model record's (VX__MODEL_HAS_COLOR, VX__MODEL_EXACT) */
-    uint32_t deep;       /* the DEEP constant its walk needs (deep_level's rule for its depth) */
+    uint32_t deep;       /* the DEEP constant its walk needs (vx__render_model_deep for its depth) */
     double inv[12];      /* its cells from world */
     uint32_t n;          /* rs->inst_count when built */
     inst_host* held;     /* rs->inst when built (n of them) */
@@ -546,9 +546,8 @@ static uint32_t cube_shift(const uint64_t lo[3], const uint64_t hi[3]) {
  * scene is one: every drawn instance whose model holds a cell has a model-from-world map with the first's
  * linear part and a translation that differs from the first's by whole bricks, its cells in an aligned cube
  * of its own; the union at most VX_RENDER_GRID_DEPTH levels. Its walk is exact as a model of its depth is
- * (deep_level's rule: past VX_RENDER_EXACT_DEPTH the exact t, past VX_RENDER_REBASE_DEPTH the hi/lo origin:
- * its kernel's DEEP at least uni.deep). Anything else leaves rs->uni empty (the BVH); so does a layout that
- * fails (memory, the budget). */
+ * (vx__render_model_deep: its kernel's DEEP at least uni.deep). Anything else leaves rs->uni empty (the
+ * BVH); so does a layout that fails (memory, the budget). */
 /* The union's bricks, kept for the models' grids, which point at them (vx__grid_model's share) rather than
  * hold copies: its bricks b (brick j at word base + 16 j) and per model the brick offset of its first
  * instance in the union (3 words; UINT32_MAX: none). */
@@ -612,7 +611,8 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
     }
     uint32_t depth = 3;
     while (depth < 40 && ((ext[0] - 1) >> depth || (ext[1] - 1) >> depth || (ext[2] - 1) >> depth)) depth++;
-    uint32_t need = depth > VX_RENDER_REBASE_DEPTH ? 2 : depth > VX_RENDER_EXACT_DEPTH ? 1 : 0;
+    /* its walk's precision: a model of its depth's (vx__render_model_deep) */
+    uint32_t rebase, need = vx__render_model_deep(&(vx_svo_model){.depth = depth, .root = 0}, &rebase);
     uint64_t nc[3], cubes = 1;
     for (int k = 0; k < 3; k++) nc[k] = ((ext[k] - 1) >> shift) + 1, cubes *= nc[k];
     uint32_t* table = NULL;
@@ -669,7 +669,7 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
         rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
         rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
-        rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (depth > VX_RENDER_EXACT_DEPTH ? VX__MODEL_EXACT : 0u);
+        rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (need ? VX__MODEL_EXACT : 0u);
         /* the bricks for the models' grids: the first instance's offset of each model */
         if ((ub->off = vx_alloc(&rs->alloc, (size_t)s->model_count * 12))) {
             memset(ub->off, 0xFF, (size_t)s->model_count * 12);
