@@ -1427,6 +1427,20 @@ static void test_grid_sparse_blocks(void) {
  * regions' shared faces) against the CPU reference, and against each region walked apart (check_scene's walks).
  * Scenes that are not regions (offsets within a brick, overlapping cubes) build none; a moved instance walks the
  * BVH (the union no longer holds) and moved back the union again; an edited model drops it. */
+/* The instances scene s's union grid holds (vx__render_scene_grid_union), UINT32_MAX where the scene is not
+ * made; the scene made with grids (as on an NVIDIA device) kept in *keep (not NULL) or destroyed. */
+static uint32_t union_insts(const vx_svo_scene* s, vx_render_scene** keep) {
+    vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
+    vx_render_scene* rs = NULL;
+    vx_error err = {0};
+    vx_result r = vx_render_scene_create_ex(gpu, s, &sd, &rs, &err);
+    CHECKF(r == VX_OK, "the scene with grids: %s", err.msg);
+    uint32_t n = r ? UINT32_MAX : vx__render_scene_grid_union(rs, -1);
+    if (keep) *keep = rs;
+    else vx_render_scene_destroy(rs);
+    return n;
+}
+
 static void test_grid_union(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const double mir[9] = {-0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5};
@@ -1448,12 +1462,11 @@ static void test_grid_union(void) {
             in[i] = ts_inst(mod[i], lm, 3 + sx * org[i][0], -2 + sc * org[i][1], 1 + sc * org[i][2]);
         vx_svo_scene s;
         ts_scene(&s, m, 5, in, 6);
-        vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
         vx_render_scene* rs = NULL;
         vx_error err = {0};
-        REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
-        CHECKF(vx__render_scene_grid_union(rs, -1) == 5, "regions%s: the union holds %u instances, expected 5",
-               lin ? " mirrored" : "", vx__render_scene_grid_union(rs, -1));
+        uint32_t held = union_insts(&s, &rs);
+        REQUIRE(rs);
+        CHECKF(held == 5, "regions%s: the union holds %u instances, expected 5", lin ? " mirrored" : "", held);
         double lo[3], hi[3], c[3];
         vx_svo_scene_world_bounds(&s, lo, hi);
         for (int k = 0; k < 3; k++) c[k] = (lo[k] + hi[k]) / 2;
@@ -1533,12 +1546,7 @@ static void test_grid_union(void) {
         vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, 1024, 0, 0)};
         vx_svo_scene s;
         ts_scene(&s, m, 2, in, 2);
-        vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
-        vx_render_scene* rs = NULL;
-        vx_error err = {0};
-        REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
-        CHECK(vx__render_scene_grid_union(rs, -1) == 2);
-        vx_render_scene_destroy(rs);
+        CHECK(union_insts(&s, NULL) == 2);
         vx_render_desc views[2] = {cam(1024 - 60, 480, 600, 1024, 520, 520), cam(1024 + 15, 560, 470, 1000, 510, 530)};
         for (int v = 0; v < 2; v++) {
             views[v].width = 64, views[v].height = 48;
@@ -1556,13 +1564,7 @@ static void test_grid_union(void) {
         vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, bad ? 8 : 20, 0, 0)};
         vx_svo_scene s;
         ts_scene(&s, m, 2, in, 2);
-        vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
-        vx_render_scene* rs = NULL;
-        vx_error err = {0};
-        REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
-        CHECKF(vx__render_scene_grid_union(rs, -1) == 0, "%s: a union was built",
-               bad ? "overlapping cubes" : "offset within a brick");
-        vx_render_scene_destroy(rs);
+        CHECKF(union_insts(&s, NULL) == 0, "%s: a union was built", bad ? "overlapping cubes" : "offset within a brick");
         check_scene(bad ? "overlapping cubes" : "offset within a brick", &s, cam(-30, -40, 50, 16, 8, 8), 100);
         vx_svo_scene_free(&s);
     }
