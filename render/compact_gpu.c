@@ -1282,7 +1282,7 @@ vx_result vx_compact_gpu_frame(vx_compact_gpu* cg, const vx_render_desc* desc, v
      * between frames; the next service takes them from there */
     if (cg->pg && cg->pg->cache) vx_compact_page_cache_prefetch(cg->pg->cache, cg->pg->pending, cg->pg->npending);
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &cg->gpu->alloc};
-    if ((r = vx__image_read(cg->gpu, &cg->pixels, want_hits ? &cg->hits : NULL, &img, err))) return r;
+    if ((r = vx__image_read(cg->gpu, &cg->pixels, false, want_hits ? &cg->hits : NULL, &img, err))) return r;
     img.gpu_seconds = sec;
     img.rays = (uint64_t)f.width * f.height * f.spp;
     *out = img;

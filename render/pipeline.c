@@ -1208,7 +1208,7 @@ static vx_result frame_run(vx_frame_renderer* fr, const vx_frame_desc* desc, vx_
         {
             vx_render_image img = {.width = f.width, .height = f.height, .mode = VX_RENDER_COLOR, .alloc = &g->alloc};
             bool read = ids || !desc->no_readback; /* no_readback: the image stays on the GPU */
-            if (read && (r = vx__image_read(g, &fr->b[run_aa ? B_OUT2 : B_ACC], ids ? &fr->b[B_GB2] : NULL, &img, err)))
+            if (read && (r = vx__image_read(g, &fr->b[run_aa ? B_OUT2 : B_ACC], false, ids ? &fr->b[B_GB2] : NULL, &img, err)))
                 goto done;
             img.gpu_seconds = out->frame_ms * 1e-3;
             img.rays = (uint64_t)npx * f.spp;

@@ -122,11 +122,13 @@ typedef struct vx__gpu_inst_precise {
 } vx__gpu_inst_precise;
 
 
-/* Reads a frame back into img (width, height and alloc set): the vec4 pixels,
- * and with hits the records of trace.comp / the pipeline's gbuffer ids (two
- * uvec4 per pixel: instance id, cell; depth bits, iterations). On failure img
- * holds nothing. */
-vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_render_image* img, vx_error* err);
+/* Reads a frame back into img (width, height and alloc set): the vec4 pixels
+ * (depth2: a vec2 of depth and coverage each, trace.comp's depth mode, widened
+ * to (depth, depth, depth, coverage)), and with hits the records of trace.comp
+ * / the pipeline's gbuffer ids (two uvec4 per pixel: instance id, cell; depth
+ * bits, iterations). On failure img holds nothing. */
+vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, bool depth2, vx__buffer* hits, vx_render_image* img,
+                         vx_error* err);
 
 /* ---- the directional light's depth map (shadow_map.c, shaders/smap.comp) ----------- */
 

@@ -3017,7 +3017,8 @@ static void hits_unpack(const uint32_t* raw, size_t n, vx_render_hit* hits) {
     }
 }
 
-vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_render_image* img, vx_error* err) {
+vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, bool depth2, vx__buffer* hits, vx_render_image* img,
+                         vx_error* err) {
     size_t npx = (size_t)img->width * img->height;
     img->pixels = vx_alloc(img->alloc, npx * 16);
     uint32_t* raw = hits ? vx_alloc(img->alloc, npx * 32) : NULL;
@@ -3025,7 +3026,12 @@ vx_result vx__image_read(vx_gpu* g, vx__buffer* pixels, vx__buffer* hits, vx_ren
     vx_result r = VX_OK;
     if (!img->pixels || (hits && (!raw || !img->hits)))
         r = vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for a %ux%u image", img->width, img->height);
-    if (!r) r = vx__buffer_download(g, pixels, img->pixels, npx * 16, err);
+    if (!r) r = vx__buffer_download(g, pixels, img->pixels, npx * (depth2 ? 8 : 16), err);
+    /* widened in place from the last pixel down (pixel i's 4 floats start at or after its 2's) */
+    for (size_t i = npx; !r && depth2 && i-- > 0;) {
+        float t = img->pixels[2 * i], a = img->pixels[2 * i + 1];
+        img->pixels[4 * i] = img->pixels[4 * i + 1] = img->pixels[4 * i + 2] = t, img->pixels[4 * i + 3] = a;
+    }
     if (!r && hits) r = vx__buffer_download(g, hits, raw, npx * 32, err);
     if (!r && hits) hits_unpack(raw, npx, img->hits);
     vx_free(img->alloc, raw);
@@ -3047,7 +3053,9 @@ vx_result vx_render_frame(vx_render_scene* rs, const vx_render_desc* desc, vx_re
     if (r) return r;
     size_t npx = (size_t)f.width * f.height;
     vx_render_image img = {.width = f.width, .height = f.height, .mode = f.mode, .alloc = &rs->gpu->alloc};
-    if ((r = vx__image_read(rs->gpu, &rs->pixels, want_hits ? &rs->hits : NULL, &img, err))) return r;
+    /* trace.comp's depth mode writes depth and coverage only */
+    bool depth2 = f.mode == VX_RENDER_DEPTH;
+    if ((r = vx__image_read(rs->gpu, &rs->pixels, depth2, want_hits ? &rs->hits : NULL, &img, err))) return r;
     img.gpu_seconds = sec;
     img.rays = (uint64_t)npx * f.spp;
     *out = img;

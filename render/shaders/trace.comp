@@ -53,6 +53,9 @@ layout(constant_id = 12) const bool MISS_PASS = false;
 #include "trace_common.glsl"
 
 layout(std430, binding = 7) writeonly buffer Pixels { vec4 pixels[]; };
+// the depth mode's pixels: depth and coverage (r = g = b in that mode), half the bytes a pixel (vx_render_frame
+// widens them); the same binding
+layout(std430, binding = 7) writeonly buffer PixelsDepth { vec2 pixels_depth[]; };
 layout(std430, binding = 8) writeonly buffer Hits { uvec4 hits[]; }; // 2 per pixel
 #ifdef TRACE_BEAM
 // beam.comp's eye distance per block (binding 9 is the float64 variant's)
@@ -207,7 +210,8 @@ void shade(uvec2 px) {
             hits[base + 1u] = uvec4(floatBitsToUint(t_hit), prim_iter, 0u, shadow_rec);
         }
     }
-    pixels[LEAN ? pix_i : px.y * W + px.x] = acc / float(spp);
+    if (MODE == MODE_DEPTH) pixels_depth[LEAN ? pix_i : px.y * W + px.x] = acc.xw / float(spp);
+    else pixels[LEAN ? pix_i : px.y * W + px.x] = acc / float(spp);
 }
 
 #include "screen_cull.glsl"

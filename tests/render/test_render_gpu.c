@@ -84,6 +84,15 @@ static cmp_result compare(const char* name, const vx_render_image* g, const vx_r
     }
     printf("%-28s %6zu px %6zu hits: %zu exact, %zu ties, %zu ambiguous, %zu mismatched, %zu depth off\n", name,
            r.pixels, r.hits, r.exact, r.tie, r.ambiguous, r.bad, r.depth_bad);
+    /* a depth frame's image (trace.comp writes depth and coverage, vx_render_frame widens them): each pixel its
+     * hit's t in r, g and b and 1 in a, a miss +inf and 0, the same bits as the hit records' t */
+    size_t wide = 0;
+    for (size_t i = 0; g->mode == VX_RENDER_DEPTH && g->pixels && i < n; i++) {
+        bool hit = g->hits[i].instance != VX_RENDER_NO_HIT;
+        float t = hit ? g->hits[i].t : INFINITY, want[4] = {t, t, t, hit ? 1.0f : 0.0f};
+        wide += memcmp(&g->pixels[4 * i], want, 16) != 0;
+    }
+    CHECKF(!wide, "%s: %zu depth pixels are not their hits' (t, t, t, 1) or a miss's (inf, inf, inf, 0)", name, wide);
     return r;
 }
 
