@@ -1,8 +1,19 @@
 # The lines the H200 payloads of issue 21 share (deep3_gpu_lib.sh, rbstart_b1_gpu.sh, rbstart_b2_gpu.sh; the payloads
-# that ran carried them inline), sourced once T (a fresh temporary folder) and LIM (the whole run's seconds) are set:
+# that ran carried them inline), sourced once LIM (the whole run's seconds) is set, T (a fresh temporary folder) by the
+# caller or payload_setup:
 # the time left, the clock, a time stamp per line, the rows' filter, one labelled process (run), the clock's log
 # (clock_start) and the end (payload_end NAME: $OUT/NAME.tar.gz holds the clock's log).
 # SIZE, RUNS, WU, TS (time scale) may be set (lavapipe: SIZE=96x54 RUNS=1 WU=0 TS=20).
+# payload_setup NAME [TEST...]: the NVIDIA driver's Vulkan loader where there is a GPU (docs: ../shared/guide/GPU.md),
+# payload/lib on the library path, T=/tmp/NAME afresh with render_bench and payload/T_TEST.gz unpacked into it.
+payload_setup() {
+  if command -v nvidia-smi >/dev/null; then for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
+    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; fi
+  export LD_LIBRARY_PATH=$PWD/payload/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+  T=/tmp/$1; shift; rm -rf $T; mkdir -p $T
+  gunzip -c payload/render_bench.gz > $T/render_bench; chmod +x $T/render_bench
+  local t; for t in "$@"; do gunzip -c payload/T_$t.gz > $T/$t; chmod +x $T/$t; done
+}
 s0=$(date +%s); left() { echo $(( $1 * ${TS:-1} - ($(date +%s) - s0) )); }
 SIZE=${SIZE:-1920x1080}; RUNS=${RUNS:-15}; WU=${WU:-0.5}
 smi() { nvidia-smi --query-gpu=clocks.sm,clocks.mem,power.draw,temperature.gpu,pstate --format=csv,noheader 2>/dev/null | head -1; }
