@@ -1429,13 +1429,6 @@ static void test_grid_sparse_blocks(void) {
     }
 }
 
-/* The union grid of a converter's regions (render_scene.c grid_union): instances translated by whole bricks, each
- * in an aligned cube of its own (one model twice, one empty, a region of 8^3 cells beside ones of 16^3), with a
- * common linear part (as is; mirrored and scaled), walked as one grid by trace.comp's kernel of one instance and a
- * hit mapped back to its instance and model cell: each view (perspective, axis views whose pixel centres lie on the
- * regions' shared faces) against the CPU reference, and against each region walked apart (check_scene's walks).
- * Scenes that are not regions (offsets within a brick, overlapping cubes) build none; a moved instance walks the
- * BVH (the union no longer holds) and moved back the union again; an edited model drops it. */
 /* The instances scene s's union grid holds (vx__render_scene_grid_union), UINT32_MAX where the scene is not
  * made; the scene made with grids (as on an NVIDIA device) kept in *keep (not NULL) or destroyed. */
 static uint32_t union_insts(const vx_svo_scene* s, vx_render_scene** keep) {
@@ -1450,6 +1443,13 @@ static uint32_t union_insts(const vx_svo_scene* s, vx_render_scene** keep) {
     return n;
 }
 
+/* The union grid of a converter's regions (render_scene.c grid_union): instances translated by whole bricks, each
+ * in an aligned cube of its own (one model twice, one empty, a region of 8^3 cells beside ones of 16^3), with a
+ * common linear part (as is; mirrored and scaled), walked as one grid by trace.comp's kernel of one instance and a
+ * hit mapped back to its instance and model cell: each view (perspective, axis views whose pixel centres lie on the
+ * regions' shared faces) against the CPU reference, and against each region walked apart (check_scene's walks).
+ * Scenes that are not regions (offsets within a brick, overlapping cubes) build none; a moved instance walks the
+ * BVH (the union no longer holds) and moved back the union again; an edited model drops it. */
 static void test_grid_union(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     static const double mir[9] = {-0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5};
