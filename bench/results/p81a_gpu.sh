@@ -5,13 +5,8 @@
 # pixels, the same walk) in the same processes; then test_render_hits, test_passes and test_render_gpu on the GPU.
 # Run with carry [".gl", "payload"]: payload/ holds render_bench.gz and T_*.gz (Release, this stop's tree), gv/, REV,
 # lib/, the five corpus .vox files and the helmet's .svo file.
-if command -v nvidia-smi >/dev/null; then for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; fi
-export LD_LIBRARY_PATH=$PWD/payload/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
-T=/tmp/p81a; rm -rf $T; mkdir -p $T
-gunzip -c payload/render_bench.gz > $T/render_bench; chmod +x $T/render_bench
-for t in test_passes test_render_gpu test_render_hits; do gunzip -c payload/T_$t.gz > $T/$t; chmod +x $T/$t; done
 LIM=${LIM:-330}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^helmet|^stats|^grid:"
+payload_setup p81a test_passes test_render_gpu test_render_hits
 V="payload/eph_monu1.vox payload/eph_menger.vox payload/eph_dragon.vox payload/ogt_doom.vox payload/ogt_test_multiple_model_scene.vox"
 K=payload/gv/trace_p80.spv@c1
 R=${OUT:-/tmp}/p81a.txt
