@@ -227,6 +227,31 @@ static void check_lean_colour(const char* name, vx_render_scene* rs, const vx_sv
     vx_frame_renderer_destroy(fr);
 }
 
+/* The albedo frame of walk wname (d's view) against the CPU reference's, ca: wherever both hit the same cell of
+ * the same instance, the same colour (the hit's attribute record: the grid walk finds it from its brick's record
+ * word, render/grid.h vx__grid_brick_record; the octree walk by its own descent), bit for bit. */
+static void check_albedo(const char* wname, vx_render_scene* rs, vx_render_desc d, const vx_render_image* ca) {
+    d.mode = VX_RENDER_ALBEDO;
+    d.want_hits = true;
+    vx_render_image ga = {0};
+    vx_error err = {0};
+    vx_result r = vx_render_frame(rs, &d, &ga, &err);
+    CHECKF(r == VX_OK, "%s albedo: %s", wname, err.msg);
+    size_t n = (size_t)d.width * d.height, same = 0, differ = 0;
+    for (size_t i = 0; !r && i < n; i++) {
+        const vx_render_hit *a = &ga.hits[i], *b = &ca->hits[i];
+        if (a->instance == VX_RENDER_NO_HIT || a->instance != b->instance || memcmp(a->cell, b->cell, sizeof a->cell))
+            continue;
+        same++;
+        if (memcmp(&ga.pixels[4 * i], &ca->pixels[4 * i], 12) && differ++ < 4)
+            fprintf(stderr, "  %s albedo pixel %zu: %g %g %g, the reference's %g %g %g\n", wname, i, ga.pixels[4 * i],
+                    ga.pixels[4 * i + 1], ga.pixels[4 * i + 2], ca->pixels[4 * i], ca->pixels[4 * i + 1],
+                    ca->pixels[4 * i + 2]);
+    }
+    CHECKF(!r && differ == 0, "%s: %zu of %zu hit pixels' albedo differ from the reference's", wname, differ, same);
+    vx_render_image_free(&ga);
+}
+
 /* Renders s on both paths and checks the 99.99% rule. min_hits guards
  * against a camera that sees nothing. With g_force == 0 (the float variant
  * forced, for comparison) it only reports. */
@@ -262,6 +287,14 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     /* a converter's regions walked as one grid by default (render_scene.c grid_union): then each region's grid
      * under the BVH too */
     bool uni = grids && vx__render_scene_grid_union(rs, -1) > 0;
+    /* with grids: each walk's albedo against the reference's (check_albedo) */
+    vx_render_image ca = {0};
+    if (grids && !rc) {
+        vx_render_desc da = d;
+        da.mode = VX_RENDER_ALBEDO, da.want_hits = true;
+        rc = vx_render_cpu(s, &da, NULL, &ca, &err);
+        CHECKF(rc == VX_OK, "%s: albedo reference: %s", name, err.msg);
+    }
     for (int walk = 0; walk < (grids ? 2 + uni : 1) && !r; walk++) {
         char wname[112];
         snprintf(wname, sizeof wname, "%s%s", name,
@@ -278,6 +311,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
          * same walk with them; the colour modes (and the passes, octree walks) once, on the default walk */
         bool octree = !grids || walk == 1;
         if (!r && octree) check_beam(name, rs, d, &gi);
+        if (!r && ca.pixels) check_albedo(wname, rs, d, &ca);
         if (!r && d.mode == VX_RENDER_DEPTH) check_lean(wname, rs, d, &gi);
         if (!r && !walk && d.mode == VX_RENDER_DEPTH && g_force != 1) check_lean_colour(name, rs, s, d);
         if (!r && !rc && g_force != 0) {
@@ -293,6 +327,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     if (!r) vx__render_scene_grid(rs, -1), vx__render_scene_grid_union(rs, -1);
     vx_render_image_free(&gi);
     vx_render_image_free(&ci);
+    vx_render_image_free(&ca);
     vx_render_scene_destroy(rs);
     CHECK(vx_gpu_validation_errors(gpu) == 0);
     return c;
