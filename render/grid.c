@@ -7,6 +7,8 @@
 enum { DIST_CAP = 0xFFFF };
 #define EMPTY VX__GRID_EMPTY
 
+static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
+
 bool vx__grid_words_grow(const vx_allocator* a, vx__grid_words* v, size_t add) {
     if (add > SIZE_MAX - v->n) return false;
     void* p = v->w;
@@ -195,10 +197,69 @@ static uint32_t brick_find(const vx__grid_bricks* b, uint32_t bx, uint32_t by, u
     return b->key[i] ? b->val[i] : UINT32_MAX;
 }
 
+uint32_t vx__grid_brick_record(const vx_svo_model* m, uint32_t bx, uint32_t by, uint32_t bz) {
+    if (!m->attrs || m->root == VX_SVO_ROOT_EMPTY) return VX__GRID_RECORD_NONE;
+    if (m->root == VX_SVO_ROOT_LEAF)
+        return m->root_attr < VX__GRID_RECORD_LEAF ? VX__GRID_RECORD_LEAF | m->root_attr : VX__GRID_RECORD_NONE;
+    /* down to the node of level 3 (its cube 8^3 cells: the brick), as vx_svo_model_cell_leaf descends */
+    uint32_t i = m->root, x = bx << 3, y = by << 3, z = bz << 3;
+    for (uint32_t l = m->depth; l-- > 3;) {
+        if (i >= m->node_count) return VX__GRID_RECORD_NONE; /* not a valid tree: no crash */
+        uint32_t d = m->nodes[i];
+        uint32_t o = ((x >> l) & 1u) | ((y >> l) & 1u) << 1 | ((z >> l) & 1u) << 2;
+        uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d);
+        uint32_t p = vx_svo_desc_ptr(d);
+        if (!(valid >> o & 1u) || p > i) return VX__GRID_RECORD_NONE;
+        uint32_t block = vx_svo_desc_far(d) ? m->nodes[i - p] : i - p;
+        if (leaf >> o & 1u) {
+            /* the block's attribute word after its inner children (svo.h), the leaf's record from it */
+            uint64_t at = (uint64_t)block + popc(valid & ~leaf);
+            if (at >= m->node_count) return VX__GRID_RECORD_NONE;
+            uint64_t rec = (uint64_t)m->nodes[at] + popc(valid & ((1u << o) - 1u));
+            return rec < VX__GRID_RECORD_LEAF ? VX__GRID_RECORD_LEAF | (uint32_t)rec : VX__GRID_RECORD_NONE;
+        }
+        i = block + popc(valid & ~leaf & ((1u << o) - 1u));
+    }
+    return i < VX__GRID_RECORD_LEAF ? i : VX__GRID_RECORD_NONE;
+}
+
+vx_result vx__grid_records(const vx__grid_bricks* b, vx__grid_record_model_fn model, void* user, uint64_t base,
+                           uint64_t brick0, vx__grid_words* out, uint32_t* rec, vx_error* err) {
+    size_t nb = b->bits.n / 16, at = out->n;
+    *rec = 0;
+    /* the key: the table's address less brick 0's >> 4 (brick j at brick0 + 16 j has its word at key + (w >> 4)),
+     * never 0: the table lies past the bricks */
+    uint64_t key = base + at - (brick0 >> 4);
+    if (!nb || key >= EMPTY || base + at + nb >= EMPTY) return VX_OK;
+    if (!vx__grid_words_grow(b->alloc, out, nb))
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "grid: out of memory for %zu bricks' records", nb);
+    bool any = false;
+    for (size_t i = 0; i < nb; i++) {
+        uint32_t off[3] = {0, 0, 0}, w = 0;
+        const vx_svo_model* m = model(user, i, off);
+        if (m) {
+            const uint32_t* c = &b->coords.w[3 * i];
+            w = vx__grid_brick_record(m, c[0] - off[0], c[1] - off[1], c[2] - off[2]);
+            if (w == VX__GRID_RECORD_NONE) return VX_OK; /* none at all: the descent from the root */
+            any = true;
+        }
+        out->w[at + i] = w;
+    }
+    if (any) out->n = at + nb, *rec = (uint32_t)key;
+    return VX_OK;
+}
+
+static const vx_svo_model* own_model(void* user, size_t brick, uint32_t off[3]) {
+    (void)brick, (void)off;
+    return user;
+}
+
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
-                         vx__grid_words* out, uint32_t* top, vx_error* err) {
+                         vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err) {
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
     *top = vx__grid_top(depth, 0);
+    *rec = share ? share->rec : 0;
+    size_t root = out->n;
     vx__grid_bricks b = {.alloc = a};
     vx_result r = vx__grid_bricks_add(&b, m, (const uint32_t[3]){0, 0, 0}, err);
     uint32_t* at = NULL; /* with share: each brick's address in the union's */
@@ -217,6 +278,10 @@ vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t 
             at[i] = (uint32_t)(share->base + 16 * (uint64_t)j);
     }
     if (!r) r = layout(&b, depth, *top, base, at, out, err);
+    if (!r && !share && m->attrs) {
+        uint64_t R = (uint64_t)1 << (depth - 3 * *top);
+        r = vx__grid_records(&b, own_model, (void*)m, base, base + root + R * R * R, out, rec, err);
+    }
     vx_free(a, at);
     vx__grid_bricks_free(&b);
     return r;

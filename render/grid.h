@@ -13,7 +13,10 @@
  * empty cell whose nearest occupied cell of the same level is d cells away in
  * the Chebyshev metric, within its node (nodes) or the root, so every cell
  * there within d - 1 of it is empty: a ray leaves that whole cube in one
- * step. Words: the root, the bricks, then each level's nodes bottom up.
+ * step. Words: the root, the bricks, then each level's nodes bottom up, then
+ * (a model with attributes) one record word a brick, in the bricks' order
+ * (vx__grid_brick_record: where a hit's octree descent for its attribute
+ * record starts, so that it walks the last three levels, not all).
  *
  * Memory: 4 R^3 bytes of root, 64 bytes a brick, 2 KiB a node (issue 21's
  * terrain4096: 63 MiB at root level 2, against the octree's 2.3 MiB and the
@@ -71,16 +74,43 @@ typedef struct vx__grid_share {
     const vx__grid_bricks* bricks;
     uint64_t base;
     uint32_t off[3];
+    uint32_t rec; /* the union's record key (vx__grid_model's *rec; 0: none) */
 } vx__grid_share;
 
+/* A brick's record word: for the brick at brick coordinates (bx, by, bz) of
+ * model m (8 bx .. 8 bx + 7 its cells' x), the word index (in m->nodes, as
+ * the renderer's node buffer holds them from the model's first word) of the
+ * node whose cube is the brick (the root where depth <= 3), or
+ * VX__GRID_RECORD_LEAF | a where a uniform leaf of 8^3 cells or more holds
+ * the brick, a its attribute record; VX__GRID_RECORD_NONE where m has no
+ * attributes, holds no cell there, or a value would not fit 31 bits.
+ * grid_walk.glsl descends from it (model_cell_leaf_brick): the last three
+ * levels to a hit cell's record instead of all. One descent; m valid. */
+#define VX__GRID_RECORD_LEAF UINT32_C(0x80000000)
+#define VX__GRID_RECORD_NONE UINT32_C(0xFFFFFFFF)
+uint32_t vx__grid_brick_record(const vx_svo_model* m, uint32_t bx, uint32_t by, uint32_t bz);
+
+/* The record words of bricks b (brick i at brick coordinates b->coords, minus
+ * off: in the cells of model(user, i), which returns NULL for a brick whose
+ * model has no attributes: word 0), appended to out; *rec the record key of
+ * a grid whose brick 0 lies at word address brick0 (grid_walk.glsl: brick
+ * word address w has its record at word *rec + (w >> 4); 0: no records,
+ * where no brick has one or a value does not fit). VX_ERR_NOMEM. */
+typedef const vx_svo_model* (*vx__grid_record_model_fn)(void* user, size_t brick, uint32_t off[3]);
+vx_result vx__grid_records(const vx__grid_bricks* b, vx__grid_record_model_fn model, void* user, uint64_t base,
+                           uint64_t brick0, vx__grid_words* out, uint32_t* rec, vx_error* err);
+
 /* Appends model m's grid to out as vx__grid_layout does, its bricks from the
- * octree (vx_svo_decode_blocks); *top its root's level (vx__grid_top(max(depth,
- * 3), 0)). A model of depth < 3 is walked in one brick (depth 3). With share
- * (not NULL) the grid is its levels above the bricks, its entries the
- * union's brick addresses (no brick written twice); VX_ERR_INVALID_ARG where
- * a brick of the model is not the union's as is. m must be valid. */
+ * octree (vx_svo_decode_blocks), then (m with attributes) their record words
+ * (vx__grid_records); *top its root's level (vx__grid_top(max(depth, 3), 0)),
+ * *rec its record key (the grid header's word 3, grid_walk.glsl; 0: none). A
+ * model of depth < 3 is walked in one brick (depth 3). With share (not NULL)
+ * the grid is its levels above the bricks, its entries the union's brick
+ * addresses (no brick written twice), its record key the union's;
+ * VX_ERR_INVALID_ARG where a brick of the model is not the union's as is. m
+ * must be valid. */
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
-                         vx__grid_words* out, uint32_t* top, vx_error* err);
+                         vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err);
 
 /* Adds model m's cells to b, each at its cell plus 8 off (off in bricks,
  * each sum below 2^20): the bricks of several models placed in one grid

@@ -555,7 +555,28 @@ typedef struct union_bricks {
     vx__grid_bricks b;
     uint64_t base;
     uint32_t* off;
+    uint32_t rec; /* the union's record key (vx__grid_records; 0: none) */
 } union_bricks;
+
+/* The union's bricks' models for their record words (vx__grid_records): a brick's cube's instance in the
+ * cube table (4 words a cube after its 4: instance, its cells' offset xyz). */
+typedef struct union_rec {
+    const uint32_t* table;
+    const vx__grid_bricks* b;
+    const vx_svo_scene* s;
+    const inst_host* in;
+} union_rec;
+
+static const vx_svo_model* union_rec_model(void* user, size_t brick, uint32_t off[3]) {
+    const union_rec* u = user;
+    const uint32_t *c = &u->b->coords.w[3 * brick], *t = u->table;
+    uint32_t sh = t[0] - 3; /* bricks to cubes */
+    const uint32_t* e = &t[4 + 4 * (((size_t)(c[2] >> sh) * t[2] + (c[1] >> sh)) * t[1] + (c[0] >> sh))];
+    if (e[0] == UINT32_MAX) return NULL;
+    const vx_svo_model* m = &u->s->models[u->in[e[0]].model];
+    for (int k = 0; k < 3; k++) off[k] = e[1 + k] >> 3;
+    return m->attrs ? m : NULL;
+}
 
 static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t budget, vx__grid_words* out,
                           union_bricks* ub) {
@@ -660,9 +681,18 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
     uint32_t taddr = (uint32_t)out->n;
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
          (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * sizeof *in));
+    uint32_t rec = 0;
     if (ok) {
         memcpy(out->w + out->n, table, (size_t)(4 + 4 * cubes) * 4);
         out->n += 4 + 4 * cubes;
+        /* the bricks' record words where a model has attributes (the hit's descent from its brick's node);
+         * none where they do not fit (memory, the budget): the descent from the root */
+        size_t at = out->n;
+        union_rec ur = {table, &b, s, in};
+        if (color && (vx__grid_records(&b, union_rec_model, &ur, 0, addr + 4 + R * R * R, out, &rec, &ge) ||
+                      out->n * 4 > budget))
+            out->n = at, rec = 0;
+        out->w[addr + 3] = rec;
         memcpy(rs->uni.held, in, (size_t)n * sizeof *in);
         rs->uni.holds = true;
         memcpy(rs->uni.inv, in[first].inv, sizeof rs->uni.inv);
@@ -678,7 +708,7 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
                 if (s->models[in[i].model].root == VX_SVO_ROOT_EMPTY || o[0] != UINT32_MAX) continue;
                 for (int k = 0; k < 3; k++) o[k] = (uint32_t)((e[3 * i + k] - emin[k]) >> 3);
             }
-            ub->b = b, ub->base = addr + 4 + R * R * R;
+            ub->b = b, ub->base = addr + 4 + R * R * R, ub->rec = rec;
             b = (vx__grid_bricks){.alloc = &rs->alloc};
         }
     } else {
@@ -739,14 +769,16 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         out.n += 4;
         vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
         uint32_t t;
-        vx__grid_share sh = {&ub.b, ub.base, {0, 0, 0}};
+        vx__grid_share sh = {&ub.b, ub.base, {0, 0, 0}, ub.rec};
         bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
         if (shared) memcpy(sh.off, &ub.off[3 * i], sizeof sh.off);
-        if (vx__grid_model(&rs->alloc, m, 0, shared ? &sh : NULL, &out, &t, &e) ||
+        uint32_t rec;
+        if (vx__grid_model(&rs->alloc, m, 0, shared ? &sh : NULL, &out, &t, &rec, &e) ||
             (uint64_t)out.n * 4 > budget) {
             out.n = before;
             continue;
         }
+        out.w[before + 3] = rec; /* the header's word 3: its bricks' record key (grid_walk.glsl) */
         out.w[i] = (uint32_t)before;
         made++;
         if (t > top) top = t;

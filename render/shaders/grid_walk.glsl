@@ -20,7 +20,8 @@ const uint GRID_TOP = GRID & 3u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
 const bool GRID_EXACT = (GRID & 8u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
-// (its cells' box, render_scene.c prepare_grids) and the grid (render/grid.h) from its root. Binding 14 in
+// (its cells' box, render_scene.c prepare_grids; word 3 its bricks' record key, render/grid.h vx__grid_records)
+// and the grid (render/grid.h) from its root. Binding 14 in
 // trace.comp; the pass kernels, whose 14 is taken, name theirs (GRID_BINDING, render/pipeline.c)
 #ifndef GRID_BINDING
 #define GRID_BINDING 14
@@ -285,10 +286,13 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     h.nsign = fa != 0u ? 1.0 : -1.0;
     h.color = 0xFFFFFFFFu;
     h.attr = NO_HIT;
-    // the record: one descent of the octree, only where the kernel reads it (GRID_RECORD)
+    // the record: one descent of the octree (from the brick), only where the kernel reads it (GRID_RECORD)
     if (HAS_COLOR && GRID_RECORD && (mflags & 1u) != 0u) {
-        uint level;
-        uint a = model_cell_leaf(mi, cell, level);
+        // from the hit brick's record word where the grid has them (the header's word 3, its record key: brick
+        // word address w has its record at key + (w >> 4); 0 none, render/grid.h): the last 3 levels, not all
+        uint rk = gwords[groot - 1u], a, level;
+        if (rk != 0u) a = model_cell_leaf_brick(mi, cell, gwords[rk + (base0 >> 4)]);
+        else a = model_cell_leaf(mi, cell, level);
         if (a != NO_HIT) {
             h.attr = a;
             h.color = colors[a];

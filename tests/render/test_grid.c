@@ -10,20 +10,68 @@
 #include "tests/render/scenes.h"
 #include "render/grid.h"
 
-/* Whether cell (x, y, z) is set in the grid at word `base` of w (root at base). */
-static bool grid_cell(const uint32_t* w, uint64_t base, uint64_t root, uint32_t depth, uint32_t top, uint32_t x,
-                      uint32_t y, uint32_t z) {
+/* The word address of the brick that holds cell (x, y, z) in the grid of w (word i at address base + i, its
+ * root at word root); VX__GRID_EMPTY where none does. */
+static uint32_t grid_brick(const uint32_t* w, uint64_t base, uint64_t root, uint32_t depth, uint32_t top, uint32_t x,
+                           uint32_t y, uint32_t z) {
     uint32_t R = 1u << (depth - 3 * top);
     uint32_t sh = 3 * top;
     uint32_t e = w[root + ((uint64_t)(z >> sh) * R + (y >> sh)) * R + (x >> sh)];
     for (uint32_t lv = top; lv > 1; lv--) {
-        if (e >= VX__GRID_EMPTY) return false;
+        if (e >= VX__GRID_EMPTY) return VX__GRID_EMPTY;
         sh -= 3;
         e = w[e - base + (((x >> sh) & 7) | ((y >> sh) & 7) << 3 | ((z >> sh) & 7) << 6)];
     }
+    return e >= VX__GRID_EMPTY ? VX__GRID_EMPTY : e;
+}
+
+/* Whether cell (x, y, z) is set in the grid at word `base` of w (root at base). */
+static bool grid_cell(const uint32_t* w, uint64_t base, uint64_t root, uint32_t depth, uint32_t top, uint32_t x,
+                      uint32_t y, uint32_t z) {
+    uint32_t e = grid_brick(w, base, root, depth, top, x, y, z);
     if (e >= VX__GRID_EMPTY) return false;
     uint32_t i = (x & 7) | (y & 7) << 3 | (z & 7) << 6;
     return w[e - base + (i >> 5)] >> (i & 31) & 1;
+}
+
+/* A hit cell's attribute record from its brick's record word rw, as grid_walk.glsl's model_cell_leaf_brick
+ * finds it (render/grid.h: bit 31 a uniform leaf's record, else the node whose cube is the brick, from which
+ * the last min(depth, 3) levels are descended as svo.h describes the nodes); UINT32_MAX where the cell is
+ * empty there. */
+static uint32_t record_from_brick(const vx_svo_model* m, uint32_t rw, uint32_t x, uint32_t y, uint32_t z) {
+    if (rw & VX__GRID_RECORD_LEAF) return rw & ~VX__GRID_RECORD_LEAF;
+    uint32_t i = rw;
+    for (uint32_t l = (m->depth < 3 ? m->depth : 3); l-- > 0;) {
+        uint32_t d = m->nodes[i], o = ((x >> l) & 1u) | ((y >> l) & 1u) << 1 | ((z >> l) & 1u) << 2;
+        uint32_t valid = vx_svo_desc_valid(d), leaf = vx_svo_desc_leaf(d), below = (1u << o) - 1u;
+        if (!(valid >> o & 1u)) return UINT32_MAX;
+        uint32_t block = vx_svo_desc_far(d) ? m->nodes[i - vx_svo_desc_ptr(d)] : i - vx_svo_desc_ptr(d);
+        if (leaf >> o & 1u)
+            return m->nodes[block + (uint32_t)__builtin_popcount(valid & ~leaf)] + (uint32_t)__builtin_popcount(valid & below);
+        i = block + (uint32_t)__builtin_popcount(valid & ~leaf & below);
+    }
+    return UINT32_MAX;
+}
+
+/* Every set cell's record (vx_svo_decode_model's attribute) against the one found from its brick's record
+ * word in grid w (its record key rec: brick address e has its word at rec + (e >> 4)). */
+typedef struct rec_check {
+    const vx_svo_model* m;
+    const uint32_t* w;
+    uint64_t base, root;
+    uint32_t depth, top, rec;
+    size_t cells, wrong;
+    const char* name;
+} rec_check;
+
+static bool rec_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
+    rec_check* c = user;
+    uint32_t e = grid_brick(c->w, c->base, c->root, c->depth, c->top, x, y, z), got = UINT32_MAX;
+    if (e < VX__GRID_EMPTY) got = record_from_brick(c->m, c->w[c->rec + (e >> 4) - c->base], x, y, z);
+    c->cells++;
+    if (got != attr && c->wrong++ < 4)
+        fprintf(stderr, "  %s: cell %u,%u,%u record %u from its brick, %u decoded\n", c->name, x, y, z, got, attr);
+    return true;
 }
 
 /* Every empty entry of an n^3 grid g (x fastest): no occupied entry within
@@ -62,10 +110,20 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
     CHECK(vx__grid_words_grow(NULL, &out, 7));
     out.n = 7; /* words before the grid: its addresses count from the buffer's start */
     vx_error err = {0};
-    uint32_t top;
-    vx_result r = vx__grid_model(NULL, m, 993, NULL, &out, &top, &err);
+    uint32_t top, rec;
+    vx_result r = vx__grid_model(NULL, m, 993, NULL, &out, &top, &rec, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return;
+    /* the bricks' record words: a model with attributes has them, every set cell's record found from them */
+    CHECKF((rec != 0) == (m->attrs != 0), "%s: record key %u with attributes %u", name, rec, m->attrs);
+    size_t rec_cells = 0;
+    if (rec) {
+        rec_check rc = {m, out.w, 993, 7, m->depth < 3 ? 3 : m->depth, top, rec, 0, 0, name};
+        CHECK(vx_svo_decode_model(m, rec_cell, &rc, &err) == VX_OK);
+        CHECKF(rc.wrong == 0 && rc.cells > 0, "%s: %zu of %zu cells' records differ from the decoded", name, rc.wrong,
+               rc.cells);
+        rec_cells = rc.cells;
+    }
     uint32_t depth = m->depth < 3 ? 3 : m->depth;
     CHECKF(top == vx__grid_top(depth, 0), "%s: root level %u", name, top);
     uint32_t R = 1u << (depth - 3 * top);
@@ -101,8 +159,8 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
         bad_nodes += check_distances(w + (e - base), 8) != 0;
     }
     CHECKF(bad_nodes == 0, "%s: %zu of %zu level-%u nodes with wrong distances", name, bad_nodes, nodes, top);
-    printf("%-28s depth %2u top %u root %3u^3: %zu words, %zu cells checked set%s\n", name, m->depth, top, R, out.n, cells,
-           every_cell ? " (every cell)" : " (sampled)");
+    printf("%-28s depth %2u top %u root %3u^3: %zu words, %zu cells checked set%s, %zu records from their bricks\n",
+           name, m->depth, top, R, out.n, cells, every_cell ? " (every cell)" : " (sampled)", rec_cells);
     vx_free(NULL, out.w);
 }
 
@@ -140,8 +198,8 @@ static void test_deep_levels(void) {
         /* every set cell, and its 26 neighbours */
         vx__grid_words out = {0};
         vx_error err = {0};
-        uint32_t top;
-        CHECK(vx__grid_model(NULL, &m, 0, NULL, &out, &top, &err) == VX_OK);
+        uint32_t top, rec;
+        CHECK(vx__grid_model(NULL, &m, 0, NULL, &out, &top, &rec, &err) == VX_OK && rec == 0);
         size_t wrong = 0;
         for (uint32_t i = 0; i < n; i++)
             for (int dz = -1; dz <= 1; dz++)
@@ -156,6 +214,61 @@ static void test_deep_levels(void) {
         vx_free(NULL, out.w);
         vx_svo_model_free(NULL, &m);
     }
+}
+
+/* The bricks' record words (vx__grid_brick_record) where the octree has uniform leaves of one record at the
+ * brick's level and above it (a 16^3 and an 8^3 block) and below it (a 4^3 block), far pointers (the builder's far
+ * limit 2: most blocks through a far slot), a whole model of one record (its root a leaf), a model of depth 2 (one
+ * brick: its root is the brick's node) and a root at level 2 (depth 11): every set cell's record from its brick
+ * against the decoded one (check_model). */
+static void test_records(void) {
+    for (uint32_t far = 0; far <= 2; far += 2) {
+        uint32_t n = 0, seed = 5 + far, *xyz = malloc(64 * 64 * 64 * 12);
+        uint8_t* pal = malloc(64 * 64 * 64);
+        CHECK(xyz && pal);
+        if (!xyz || !pal) return;
+        for (uint32_t z = 0; z < 64; z++)
+            for (uint32_t y = 0; y < 64; y++)
+                for (uint32_t x = 0; x < 64; x++) {
+                    bool a = x >= 16 && x < 32 && y >= 16 && y < 32 && z >= 16 && z < 32;
+                    bool b = x >= 40 && x < 48 && y < 8 && z >= 8 && z < 16;
+                    bool c = x >= 4 && x < 8 && y >= 4 && y < 8 && z >= 4 && z < 8;
+                    uint32_t r = ts_rng(&seed);
+                    if (!a && !b && !c && r % 100 >= 20) continue;
+                    xyz[3 * n] = x, xyz[3 * n + 1] = y, xyz[3 * n + 2] = z;
+                    pal[n++] = (uint8_t)(a ? 5 : b ? 9 : c ? 3 : 1 + (r >> 8) % 255);
+                }
+        vx_svo_model m;
+        CHECK(ts_model_far(&m, (uint32_t[3]){64, 64, 64}, xyz, pal, n, far) == VX_OK);
+        check_model(far ? "blocks of one record, far" : "blocks of one record", &m, true);
+        vx_svo_model_free(NULL, &m);
+        /* a whole 16^3 model of one record */
+        n = 0;
+        for (uint32_t i = 0; i < 16 * 16 * 16; i++, n++)
+            xyz[3 * n] = i & 15, xyz[3 * n + 1] = (i >> 4) & 15, xyz[3 * n + 2] = i >> 8, pal[n] = 77;
+        CHECK(ts_model_far(&m, (uint32_t[3]){16, 16, 16}, xyz, pal, n, far) == VX_OK);
+        CHECK(m.root == VX_SVO_ROOT_LEAF);
+        check_model("one record", &m, true);
+        vx_svo_model_free(NULL, &m);
+        /* depth 11 (root level 2), a few hundred cells and an 8^3 block of one record */
+        n = 0;
+        for (int i = 0; i < 300; i++, n++) {
+            for (int k = 0; k < 3; k++) xyz[3 * n + k] = ts_rng(&seed) % 2048;
+            pal[n] = (uint8_t)(1 + ts_rng(&seed) % 255);
+        }
+        for (uint32_t i = 0; i < 512; i++, n++)
+            xyz[3 * n] = 1024 + (i & 7), xyz[3 * n + 1] = 8 + ((i >> 3) & 7), xyz[3 * n + 2] = 64 + (i >> 6), pal[n] = 12;
+        CHECK(ts_model_far(&m, (uint32_t[3]){2048, 2048, 2048}, xyz, pal, n, far) == VX_OK);
+        check_model("depth 11 with records", &m, false);
+        vx_svo_model_free(NULL, &m);
+        free(xyz);
+        free(pal);
+    }
+    /* depth 2: the root is the brick's node */
+    vx_svo_model m;
+    CHECK(ts_random_model(&m, 3, 4, 2, 70, 3) == VX_OK && m.depth == 2);
+    check_model("depth 2 with records", &m, true);
+    vx_svo_model_free(NULL, &m);
 }
 
 /* The root level: render/grid.c's rule against grid_walk.glsl's table (depth
@@ -186,5 +299,6 @@ int main(void) {
     RUN(test_top_rule);
     RUN(test_models);
     RUN(test_deep_levels);
+    RUN(test_records);
     return vx_test_finish();
 }
