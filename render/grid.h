@@ -18,8 +18,9 @@
  * (vx__grid_brick_record: where a hit's octree descent for its attribute
  * record starts, so that it walks the last three levels, not all).
  *
- * Memory: 4 R^3 bytes of root, 64 bytes a brick, 2 KiB a node (issue 21's
- * terrain4096: 63 MiB at root level 2, against the octree's 2.3 MiB and the
+ * Memory: 4 R^3 bytes of root, 64 bytes a brick (and 4 of its record word
+ * where the model has attributes), 2 KiB a node (issue 21's terrain4096: 65
+ * MiB at root level 2 with its records, against the octree's 2.3 MiB and the
  * ESVO baseline's 1176); render_scene.c keeps the grids within a budget. */
 #ifndef VX_RENDER_GRID_H
 #define VX_RENDER_GRID_H
