@@ -296,8 +296,8 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     if (grids && !rc) {
         vx_render_desc da = d;
         da.mode = VX_RENDER_ALBEDO, da.want_hits = true;
-        rc = vx_render_cpu(s, &da, NULL, &ca, &err);
-        CHECKF(rc == VX_OK, "%s: albedo reference: %s", name, err.msg);
+        vx_result ra = vx_render_cpu(s, &da, NULL, &ca, &err);
+        CHECKF(ra == VX_OK, "%s: albedo reference: %s", name, err.msg);
     }
     for (int walk = 0; walk < (grids ? 2 + uni : 1) && !r; walk++) {
         char wname[112];
