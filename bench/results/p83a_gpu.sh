@@ -8,7 +8,7 @@
 # Then PI's map off and on (--shadow-map off,0: the map must change no pixel), and the GPU tests of PI's tree:
 # test_render_gpu (every walk's depth and albedo against the CPU reference) and test_render_smap.
 # Carry [".gl", "payload"].
-LIM=${LIM:-420}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
+LIM=${LIM:-330}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
 payload_setup p83a test_render_gpu test_render_smap
 A="payload/eph_monu1.vox payload/eph_menger.vox payload/eph_dragon.vox payload/ogt_doom.vox payload/ogt_test_multiple_model_scene.vox"
 R=${OUT:-/tmp}/p83a.txt
