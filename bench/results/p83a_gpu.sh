@@ -3,13 +3,14 @@
 # process: A, 442a119's render_bench; PI, the candidate: a brick's two words of a z pair side by side, read in one
 # 8-byte load by the grid walk's cell step, the bricks at multiples of 16 words (bench/results/p83_pair_layout.patch),
 # and the depth map's four texel words in one 16-byte load (bench/results/p82e_smap_texels.patch, prepared at stop
-# 82, never measured); IL, 442a119 with the depth map's patch alone (render_bench_il.gz). Order A1 PI1 IL A2 PI2,
-# then the terrains (render_bench --generate: terrain1024 and terrain4096) A PI A PI.
+# 82, never measured); order A1 PI1 A2 PI2, then the terrains (render_bench
+# --generate: terrain1024 and terrain4096) A PI (cut to fit the session's last device time: no IL build alone, no
+# second terrain pair, no test_render_smap on the GPU).
 # Then PI's map off and on (--shadow-map off,0: the map must change no pixel), and the GPU tests of PI's tree:
-# test_render_gpu (every walk's depth and albedo against the CPU reference) and test_render_smap.
+# test_render_gpu (every walk's depth and albedo against the CPU reference).
 # Carry [".gl", "payload"].
-LIM=${LIM:-330}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
-payload_setup p83a test_render_gpu test_render_smap
+LIM=${LIM:-230}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
+payload_setup p83a test_render_gpu
 A="payload/eph_monu1.vox payload/eph_menger.vox payload/eph_dragon.vox payload/ogt_doom.vox payload/ogt_test_multiple_model_scene.vox"
 R=${OUT:-/tmp}/p83a.txt
 {
@@ -19,15 +20,13 @@ for b in il pi; do gunzip -c payload/render_bench_$b.gz > $T/render_bench_$b; ch
 timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
 run A1 60 $T/render_bench --sizes $SIZE --runs $RUNS --warmup $WU $A
 run PI1 60 $T/render_bench_pi --sizes $SIZE --runs $RUNS --warmup $WU $A
-run IL 60 $T/render_bench_il --sizes $SIZE --runs $RUNS --warmup $WU $A
 run A2 60 $T/render_bench --sizes $SIZE --runs $RUNS --warmup $WU $A
 run PI2 60 $T/render_bench_pi --sizes $SIZE --runs $RUNS --warmup $WU $A
-for k in 1 2; do
+for k in 1; do
   run tA$k 60 $T/render_bench --generate --sizes $SIZE --runs $RUNS --warmup $WU
   run tPI$k 60 $T/render_bench_pi --generate --sizes $SIZE --runs $RUNS --warmup $WU
 done
 run mapsPI 20 $T/render_bench_pi --no-esvo --views overview --shadow-map off,0 --sizes $SIZE --runs $RUNS --warmup $WU payload/eph_menger.vox
 payload_end p83a
 TLIM=110 gpu_tests "albedo|regions" test_render_gpu
-TLIM=50 gpu_tests "" test_render_smap
 } 2>&1 | tee $R
