@@ -16,7 +16,7 @@ R=${OUT:-/tmp}/p83a.txt
 {
 echo "== $(cat payload/REV | tr '\n' ' ') on $(gpu_name), $(nproc) CPUs, $(date -u +%T)"
 clock_start
-for b in il pi; do gunzip -c payload/render_bench_$b.gz > $T/render_bench_$b; chmod +x $T/render_bench_$b; done
+for b in pi; do gunzip -c payload/render_bench_$b.gz > $T/render_bench_$b; chmod +x $T/render_bench_$b; done
 timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
 run A1 60 $T/render_bench --sizes $SIZE --runs $RUNS --warmup $WU $A
 run PI1 60 $T/render_bench_pi --sizes $SIZE --runs $RUNS --warmup $WU $A
