@@ -1,0 +1,20 @@
+#!/bin/bash
+# Stop 83 (issue 21), second run: the depth map's four texel words in one 16-byte load alone
+# (bench/results/p82e_smap_texels.patch on 442a119: render_bench_il.gz) against 442a119 (A), alternating processes
+# A IL A IL, the colour frames (primary plus shadow) of the corpus scenes' overviews and close-ups, no ESVO (p83a
+# measured the patch only together with the pair layout). Carry [".gl", "payload"].
+LIM=${LIM:-80}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
+payload_setup p83b
+V="payload/eph_menger.vox payload/eph_monu1.vox payload/eph_dragon.vox payload/ogt_test_multiple_model_scene.vox"
+R=${OUT:-/tmp}/p83b.txt
+{
+echo "== $(cat payload/REV | tr '\n' ' ') on $(gpu_name), $(nproc) CPUs, $(date -u +%T)"
+clock_start
+gunzip -c payload/render_bench_il.gz > $T/render_bench_il; chmod +x $T/render_bench_il
+timeout 6 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
+for k in 1 2; do
+  run A$k 16 $T/render_bench --no-esvo --views overview,closeup --sizes $SIZE --runs $RUNS --warmup $WU $V
+  run IL$k 16 $T/render_bench_il --no-esvo --views overview,closeup --sizes $SIZE --runs $RUNS --warmup $WU $V
+done
+payload_end p83b
+} 2>&1 | tee $R
