@@ -35,8 +35,9 @@ struct SInst { vec4 pu, pv, ps; vec4 q0, q1, q2, qd; uvec4 range; };
 
 layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = 1) readonly buffer Insts { SInst si[]; };
-// header (16 words, shadow_map.c writes it) then side * side texels of
-// m1, of m2, of top and of occl (all 0 first)
+// header (16 words, shadow_map.c writes it) then side * side texels of 4
+// words each: m1, m2, top and occl (all 0 first; smap_lookup.glsl reads a
+// texel's four in one 16-byte load)
 layout(std430, binding = 2) buffer Map { uint smap[]; };
 
 layout(push_constant) uniform P {
@@ -59,7 +60,6 @@ uint ordered(float f) {
 void main() {
     uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
     if (id >= pc.count) return;
-    uint T = pc.side * pc.side;
     // the instance whose work items hold id (the last with range.z <= id)
     uint lo = 0u, hi = pc.insts;
     while (hi - lo > 1u) {
@@ -124,7 +124,7 @@ void main() {
             precise float sm = st + pc.margin;
             uint w = ordered(sm), t = uint(y * side + x);
             if (pc.mode == 1u) {
-                atomicMax(smap[HDR + t], w);
+                atomicMax(smap[HDR + 4u * t], w);
                 bool inside = occluder;
                 for (int k = 0; k < 3; k++)
                     if (abs(dot(tc, nk[k]) - ck[k]) > ik[k]) inside = false;
@@ -134,12 +134,12 @@ void main() {
                     float low = 3.0e38;
                     for (int k = 0; k < 3; k++)
                         low = min(low, fa[k] + fb[k] * tc.x + fc[k] * tc.y - 0.5 * (abs(fb[k]) + abs(fc[k])));
-                    atomicMax(smap[HDR + 3u * T + t], ordered(low - pc.margin));
+                    atomicMax(smap[HDR + 4u * t + 3u], ordered(low - pc.margin));
                 }
-            } else if (w == smap[HDR + t]) {
-                if (atomicCompSwap(smap[HDR + 2u * T + t], 0u, id + 1u) != 0u) atomicOr(smap[HDR + 2u * T + t], 0x80000000u);
+            } else if (w == smap[HDR + 4u * t]) {
+                if (atomicCompSwap(smap[HDR + 4u * t + 2u], 0u, id + 1u) != 0u) atomicOr(smap[HDR + 4u * t + 2u], 0x80000000u);
             } else {
-                atomicMax(smap[HDR + T + t], w);
+                atomicMax(smap[HDR + 4u * t + 1u], w);
             }
         }
 }

@@ -6,13 +6,17 @@
 //
 // Define SMAP_BINDING (the first of three bindings) before including it. The
 // map: a header of 16 words (rows giving texel u and v from a point relative
-// to the map's origin, then the light), then per texel m1, the largest
-// s = dot(x - origin, light) of the geometry over it as an ordered uint (0:
-// none), m2, the largest of the others, top, the one node (smap.comp's work
-// item + 1; 0 or bit 31: none or several) that gave m1, and occl, below which
-// a ray of the texel surely meets a solid cube (0: none).
+// to the map's origin, then the light), then per texel 4 words: m1, the
+// largest s = dot(x - origin, light) of the geometry over it as an ordered
+// uint (0: none), m2, the largest of the others, top, the one node
+// (smap.comp's work item + 1; 0 or bit 31: none or several) that gave m1,
+// and occl, below which a ray of the texel surely meets a solid cube (0:
+// none). A texel's four words are one 16-byte load (smap_texels, the same
+// binding: the header is 4 of its entries), not four loads a texel's side^2
+// words apart.
 layout(constant_id = 11) const bool SMAP = false;
 layout(std430, binding = SMAP_BINDING) readonly buffer SMap { uint smap[]; };
+layout(std430, binding = SMAP_BINDING) readonly buffer SMapTexels { uvec4 smap_texels[]; };
 struct SNode { uint x, y, z, level; };
 struct SInst { vec4 pu, pv, ps; vec4 q0, q1, q2, qd; uvec4 range; };
 layout(std430, binding = SMAP_BINDING + 1) readonly buffer SNodes { SNode snodes[]; };
@@ -34,16 +38,16 @@ float smap_tmax(vec3 ps, vec3 L, vec4 org, uint side, uint ninst, uint inst, uve
     float u = dot(q, ru.xyz) + ru.w, v = dot(q, rv.xyz) + rv.w;
     float fside = float(side);
     if (!(u >= 0.0 && v >= 0.0 && u < fside && v < fside)) return 3.0e38;
-    uint T = side * side, t = uint(v) * side + uint(u);
-    uint w = smap[16u + t];
+    uvec4 tx = smap_texels[4u + uint(v) * side + uint(u)]; // m1, m2, top, occl
+    uint w = tx.x;
     if (w == 0u) return -1.0;
     float sp = dot(q, L);
-    uint oc = smap[16u + 3u * T + t];
+    uint oc = tx.w;
     if (oc != 0u) {
         float so = (oc & 0x80000000u) != 0u ? uintBitsToFloat(oc & 0x7FFFFFFFu) : uintBitsToFloat(~oc);
         if (sp < so - org.w) return -2.0;
     }
-    uint top = smap[16u + 2u * T + t];
+    uint top = tx.z;
     if (entered && top != 0u && (top & 0x80000000u) == 0u) {
         uint id = top - 1u, lo = 0u, hi = ninst;
         while (hi - lo > 1u) {
@@ -55,7 +59,7 @@ float smap_tmax(vec3 ps, vec3 L, vec4 org, uint side, uint ninst, uint inst, uve
         uvec3 d = cell - uvec3(n.x, n.y, n.z); // wraps below the cube's corner
         uint sz = 1u << (n.level & 255u);
         if (rg.w == inst && (n.level & 0x100u) != 0u && all(lessThan(d, uvec3(sz)))) {
-            w = smap[16u + T + t];
+            w = tx.y;
             if (w == 0u) return -1.0;
         }
     }
