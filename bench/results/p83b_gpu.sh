@@ -1,9 +1,11 @@
 #!/bin/bash
-# Stop 83 (issue 21), second run: the depth map's four texel words in one 16-byte load alone
-# (bench/results/p82e_smap_texels.patch on 442a119: render_bench_il.gz) against 442a119 (A), alternating processes
-# A IL A IL, the colour frames (primary plus shadow) of the corpus scenes' overviews and close-ups, no ESVO (p83a
-# measured the patch only together with the pair layout). Carry [".gl", "payload"].
-LIM=${LIM:-80}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
+# Stop 83 (issue 21), second run (not run at stop 83: no device time left; for the next stop): the depth map's four
+# texel words in one 16-byte load alone (main at 5731c2e: payload/render_bench_il.gz) against 442a119
+# (payload/render_bench.gz), alternating processes A IL A IL, the colour frames (primary plus shadow) of the corpus
+# scenes' overviews and close-ups, no ESVO (p83a measured the change only together with the pair layout); then
+# terrain4096's overview three times a build (its colour frame was 0.48 of primary in p83a, 0.69 in p82c with the
+# same kernel). Carry [".gl", "payload"].
+LIM=${LIM:-200}; source bench/results/gpu_payload_lib.sh; F="$F|^eph_|^ogt_|^grid:|^shadow map"
 payload_setup p83b
 V="payload/eph_menger.vox payload/eph_monu1.vox payload/eph_dragon.vox payload/ogt_test_multiple_model_scene.vox"
 R=${OUT:-/tmp}/p83b.txt
@@ -15,6 +17,10 @@ timeout 6 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views 
 for k in 1 2; do
   run A$k 16 $T/render_bench --no-esvo --views overview,closeup --sizes $SIZE --runs $RUNS --warmup $WU $V
   run IL$k 16 $T/render_bench_il --no-esvo --views overview,closeup --sizes $SIZE --runs $RUNS --warmup $WU $V
+done
+for k in 1 2 3; do
+  run tA$k 30 $T/render_bench --no-esvo --generate --views overview --sizes $SIZE --runs $RUNS --warmup $WU
+  run tIL$k 30 $T/render_bench_il --no-esvo --generate --views overview --sizes $SIZE --runs $RUNS --warmup $WU
 done
 payload_end p83b
 } 2>&1 | tee $R
