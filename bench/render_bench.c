@@ -32,9 +32,9 @@
  * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
  * then counts the pixels whose hits differ from the grid walk's). --grid: the
  * grids built on a CPU device too (none there by default). --regions:
- * voxkit's rows again with the instances of a union grid (a converter's
- * regions, turned instances: render_scene.c grid_union) each walked under the
- * BVH (the union grid off; rows end "[kernel regions apart]").
+ * voxkit's rows again with a converter's regions each walked under the BVH
+ * (the union grid off, render_scene.c grid_union; rows end "[kernel regions
+ * apart]").
  * --beam: voxkit's rows for each beam block size (vx_render_desc.beam; 0 or
  * 1: off, the default), one row each with the baselines timed once per
  * view; steps per ray count the primary walk only (not the beam pass), and
@@ -799,7 +799,7 @@ int main(int argc, char** argv) {
         uint32_t uni = vx__render_scene_grid_union(rs, -1); /* (the library's default) */
         if (rli.grid_models)
             printf("grid: %s: %u of %u models%s%.0u%s, %.2f MiB, built in %.3f s\n", name, rli.grid_models,
-                   s.model_count, uni ? " and the union grid of " : "", uni, uni ? " instances" : "",
+                   s.model_count, uni ? " and the union of " : "", uni, uni ? " regions" : "",
                    rli.grid_bytes / 1048576.0, rli.grid_seconds);
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;
         bench_esvo es = {0}, *esp = NULL;
