@@ -126,7 +126,7 @@ vx_result bench_brick_create(vx_gpu* gpu, const vx_svo_scene* s, uint32_t max_de
         for (int k = 0; k < 3; k++)
             out.w[2 + k] = m->cells ? (uint32_t)c.lo[k] : 0, out.w[5 + k] = m->cells ? (uint32_t)c.hi[k] : 0;
         out.n = HEADER;
-        r = vx__grid_layout(&c.b, m->depth, top, 0, &out, err);
+        r = vx__grid_layout(&c.b, m->depth, top, NULL, 0, &out, err);
     }
     if (!r) {
         m->words = out.n;

@@ -1011,6 +1011,9 @@ int main(int argc, char** argv) {
         for (uint32_t i = 0; i < s.instance_count; i++) voxels += s.models[s.instances[i].model].voxel_count;
         fprintf(stderr, "  (%s: %llu voxels, load %.2f s, ESVO build %.2f s, far pointer test %s)\n", name,
                 (unsigned long long)voxels, t_load, esp ? es.build_seconds : 0.0, vx__render_scene_far(rs) ? "on" : "off");
+        /* the MiB columns' bytes (small scenes round to 0.0x MiB): voxkit's nodes and records, its grids, ESVO's slots */
+        fprintf(stderr, "  (%s: GPU bytes voxkit %llu (grids %llu) / ESVO %llu)\n", name, (unsigned long long)vx_bytes,
+                (unsigned long long)rli.grid_bytes, esp ? (unsigned long long)bench_esvo_bytes(&es) : 0ull);
         if (t6p)
             fprintf(stderr, "  (%s: 64-tree %u levels, %llu cells, %llu nodes, build %.2f s)\n", name, t6.levels,
                     (unsigned long long)t6.cells, (unsigned long long)t6.node_count, t6.build_seconds);

@@ -101,17 +101,17 @@ static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
     }
 }
 
-static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, const uint32_t* at,
-                        vx__grid_words* out, vx_error* err);
+static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const uint32_t org[3], uint64_t base,
+                        const uint32_t* at, vx__grid_words* out, vx_error* err);
 
-vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
-                          vx_error* err) {
-    return layout(b, depth, top, base, NULL, out, err);
+vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const uint32_t org[3], uint64_t base,
+                          vx__grid_words* out, vx_error* err) {
+    return layout(b, depth, top, org, base, NULL, out, err);
 }
 
 /* vx__grid_layout; at (not NULL): brick i is at word address at[i] already (another grid's), not written. */
-static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, const uint32_t* at,
-                        vx__grid_words* out, vx_error* err) {
+static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const uint32_t org[3], uint64_t base,
+                        const uint32_t* at, vx__grid_words* out, vx_error* err) {
     const vx_allocator* a = b->alloc;
     if (depth < 3 || top < 1 || top > VX__GRID_MAX_TOP || depth < 3 * top || depth - 3 * top > 10)
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: no layout for a 2^%u cube with its root at level %u",
@@ -133,7 +133,20 @@ static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64
     }
     for (uint64_t i = 0; i < R3; i++) out->w[root + i] = EMPTY;
     if (own) memcpy(out->w + root + R3, b->bits.w, own * 4);
-    if (nb) memcpy(cc.w, b->coords.w, b->coords.n * 4);
+    /* the bricks' coordinates in the cube from org (in bricks), each checked inside it: the root's index
+     * below comes from them */
+    uint32_t ob[3] = {org ? org[0] >> 3 : 0, org ? org[1] >> 3 : 0, org ? org[2] >> 3 : 0};
+    uint64_t side = (uint64_t)1 << (depth - 3);
+    for (size_t i = 0; i < b->coords.n; i++) {
+        uint32_t c = b->coords.w[i], o = ob[i % 3];
+        if (c < o || c - o >= side) {
+            r = vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "grid: brick %u,%u,%u outside the 2^%u cube at %u,%u,%u",
+                        b->coords.w[i - i % 3], b->coords.w[i - i % 3 + 1], b->coords.w[i - i % 3 + 2], depth,
+                        8 * ob[0], 8 * ob[1], 8 * ob[2]);
+            goto done;
+        }
+        cc.w[i] = c - o;
+    }
     out->n = root + R3 + own;
     cc.n = b->coords.n;
     for (size_t i = 0; i < nb; i++) ca.w[ca.n++] = at ? at[i] : (uint32_t)(base + root + R3 + 16 * i);
@@ -254,9 +267,10 @@ static const vx_svo_model* own_model(void* user, size_t brick, uint32_t off[3]) 
     return user;
 }
 
-vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
-                         vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err) {
-    uint32_t depth = m->depth < 3 ? 3 : m->depth;
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, const uint32_t cb[6], uint64_t base,
+                         const vx__grid_share* share, vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err) {
+    uint32_t org[3] = {0, 0, 0}, depth = m->depth < 3 ? 3 : m->depth;
+    if (cb) depth = vx__grid_cube(cb, org);
     *top = vx__grid_top(depth, 0);
     *rec = share ? share->rec : 0;
     size_t root = out->n;
@@ -277,7 +291,7 @@ vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t 
         else
             at[i] = (uint32_t)(share->base + 16 * (uint64_t)j);
     }
-    if (!r) r = layout(&b, depth, *top, base, at, out, err);
+    if (!r) r = layout(&b, depth, *top, org, base, at, out, err);
     if (!r && !share && m->attrs) {
         uint64_t R = (uint64_t)1 << (depth - 3 * *top);
         r = vx__grid_records(&b, own_model, (void*)m, base, base + root + R * R * R, out, rec, err);

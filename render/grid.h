@@ -31,6 +31,24 @@
 /* The default root: at most 2^7 = 128 cells of level `top` a side (8 MiB). */
 enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
 
+/* A model's grid cube (stop 85): its cells' box cb [lo, hi) (lo xyz, hi xyz
+ * exclusive: the grid header's, render_scene.c) in the smallest aligned-to-
+ * its-corner cube from org = lo rounded down to whole bricks, 2^depth cells a
+ * side (depth >= 3, returned; org in cells, multiples of 8). The grid covers
+ * that cube, not the model's: a slab or a small group of cells in a large
+ * model is laid out at its own size (vengi's cubictest, 73 cells in a 2^8
+ * cube: a 2^3 cube and one brick, not a 32^3 root of 128 KiB). grid_walk.glsl
+ * derives the same from the header's box (grid_cube there). */
+static inline uint32_t vx__grid_cube(const uint32_t cb[6], uint32_t org[3]) {
+    uint32_t ext = 8, depth = 3;
+    for (int k = 0; k < 3; k++) {
+        org[k] = cb[k] & ~UINT32_C(7);
+        if (cb[3 + k] > org[k] && cb[3 + k] - org[k] > ext) ext = cb[3 + k] - org[k];
+    }
+    while (depth < 31 && (UINT32_C(1) << depth) < ext) depth++;
+    return depth;
+}
+
 /* Growing 32-bit words (allocator a, NULL: malloc). */
 typedef struct vx__grid_words {
     uint32_t* w;
@@ -60,12 +78,14 @@ void vx__grid_bricks_free(vx__grid_bricks* b);
  * root_log 0). */
 uint32_t vx__grid_top(uint32_t depth, uint32_t root_log);
 
-/* Appends the grid of bricks b (a 2^depth cube, depth >= 3, top from
- * vx__grid_top) to out, its root first at word out->n; addresses are out's
- * word indices plus base (where out's word 0 will lie). VX_ERR_LIMIT where
- * an address would reach VX__GRID_EMPTY, VX_ERR_NOMEM. */
-vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, uint64_t base, vx__grid_words* out,
-                          vx_error* err);
+/* Appends the grid of bricks b (a 2^depth cube from cell org, org in whole
+ * bricks' cells, NULL: 0; depth >= 3, top from vx__grid_top) to out, its
+ * root first at word out->n; addresses are out's word indices plus base
+ * (where out's word 0 will lie). VX_ERR_LIMIT where an address would reach
+ * VX__GRID_EMPTY, VX_ERR_INVALID_ARG where a brick lies outside the cube,
+ * VX_ERR_NOMEM. */
+vx_result vx__grid_layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const uint32_t org[3], uint64_t base,
+                          vx__grid_words* out, vx_error* err);
 
 /* The bricks of a union grid that a model's grid points at rather than holds
  * (render_scene.c's union of a converter's regions): bricks as
@@ -102,16 +122,18 @@ vx_result vx__grid_records(const vx__grid_bricks* b, vx__grid_record_model_fn mo
                            uint64_t brick0, vx__grid_words* out, uint32_t* rec, vx_error* err);
 
 /* Appends model m's grid to out as vx__grid_layout does, its bricks from the
- * octree (vx_svo_decode_blocks), then (m with attributes) their record words
- * (vx__grid_records); *top its root's level (vx__grid_top(max(depth, 3), 0)),
+ * octree (vx_svo_decode_blocks), over the cube vx__grid_cube gives for its
+ * cells' box cb (NULL: the model's cube from cell 0, max(depth, 3) levels;
+ * cb must hold every cell of m), then (m with attributes) their record words
+ * (vx__grid_records); *top its root's level (vx__grid_top of the cube's depth, 0),
  * *rec its record key (the grid header's word 3, grid_walk.glsl; 0: none). A
  * model of depth < 3 is walked in one brick (depth 3). With share (not NULL)
  * the grid is its levels above the bricks, its entries the union's brick
  * addresses (no brick written twice), its record key the union's;
  * VX_ERR_INVALID_ARG where a brick of the model is not the union's as is. m
  * must be valid. */
-vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, uint64_t base, const vx__grid_share* share,
-                         vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err);
+vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, const uint32_t cb[6], uint64_t base,
+                         const vx__grid_share* share, vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err);
 
 /* Adds model m's cells to b, each at its cell plus 8 off (off in bricks,
  * each sum below 2^20): the bricks of several models placed in one grid

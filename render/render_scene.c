@@ -665,19 +665,22 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         vx_error ge = {0};
         ok = vx__grid_bricks_add(&b, m, off, &ge) == VX_OK;
     }
-    uint32_t top = vx__grid_top(depth, 0), addr = (uint32_t)out->n;
+    /* the union's grid covers the cube of its cells' box (vx__grid_cube, as grid_walk.glsl derives it from
+     * the header), not the union's whole extent */
+    uint32_t cb[6] = {(uint32_t)blo[0], (uint32_t)blo[1], (uint32_t)blo[2],
+                      (uint32_t)bhi[0], (uint32_t)bhi[1], (uint32_t)bhi[2]};
+    uint32_t gorg[3], gdepth = vx__grid_cube(cb, gorg);
+    uint32_t top = vx__grid_top(gdepth, 0), addr = (uint32_t)out->n;
     vx_error ge = {0};
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4);
     if (ok) {
-        uint32_t cb[6] = {(uint32_t)blo[0], (uint32_t)blo[1], (uint32_t)blo[2],
-                          (uint32_t)bhi[0], (uint32_t)bhi[1], (uint32_t)bhi[2]};
         grid_header(cb, &out->w[out->n]);
         out->w[out->n + 3] = 0;
         out->n += 4;
         memcpy(rs->uni.box, cb, sizeof cb);
     }
-    ok = ok && vx__grid_layout(&b, depth, top, 0, out, &ge) == VX_OK;
-    uint64_t R = (uint64_t)1 << (depth - 3 * top);
+    ok = ok && vx__grid_layout(&b, gdepth, top, gorg, 0, out, &ge) == VX_OK;
+    uint64_t R = (uint64_t)1 << (gdepth - 3 * top);
     uint32_t taddr = (uint32_t)out->n;
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
          (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * sizeof *in));
@@ -773,7 +776,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
         if (shared) memcpy(sh.off, &ub.off[3 * i], sizeof sh.off);
         uint32_t rec;
-        if (vx__grid_model(&rs->alloc, m, 0, shared ? &sh : NULL, &out, &t, &rec, &e) ||
+        if (vx__grid_model(&rs->alloc, m, &rs->mcells[6 * i], 0, shared ? &sh : NULL, &out, &t, &rec, &e) ||
             (uint64_t)out.n * 4 > budget) {
             out.n = before;
             continue;

@@ -60,6 +60,15 @@ uint grid_address(uint mi) { return GRID_FRAME ? grid_frame_root() : gwords[mi];
 // render/grid.c vx__grid_top(depth, 0) for the depths that have grids
 uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u); }
 
+// A grid's cube from its header's cells' box [blo, bhi) (render/grid.h vx__grid_cube, the same rule): its
+// corner org, blo rounded down to whole bricks (exact: integers below 2^16), and its depth, the smallest
+// 2^depth >= 8 that reaches bhi from org. The walk runs in the cube's cells (the model's less org).
+vec3 grid_org(vec3 blo) { return floor(blo * 0.125) * 8.0; }
+uint grid_depth(vec3 org, vec3 bhi) {
+    uvec3 e = uvec3(max(bhi - org, vec3(8.0))) - 1u;
+    return max(uint(findMSB(max(max(e.x, e.y), e.z)) + 1), 3u);
+}
+
 // As trace_model (same arguments and Hit), for model mi whose root is at word groot of gwords. The walk
 // runs in the model's cells from the box entry point with the direction normalised and mirrored to be
 // positive (a mirrored axis's stored index is the walked one xor (2^depth - 1)); the hit's cell is the
@@ -84,7 +93,9 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec2 tb = box_t(o, safe_inv(d), blo, bhi);
     precise float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
-    precise vec3 oa = o + d * te;
+    // the walk's cells: the grid's cube's (its corner gorg: oa less it is exact, oa within the box, below 2^16)
+    vec3 gorg = grid_org(blo);
+    precise vec3 oa = (o + d * te) - gorg;
     precise float L = length(d);
     precise vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
@@ -92,7 +103,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
     precise vec3 invd = 1.0 / ad;
     precise float tl1 = (tx - te) * L; // the ray's end in the walk's units
-    uint depth = max(m.depth, 3u);
+    uint depth = grid_depth(gorg, bhi);
     uint top = GRID_TOP == 1u || GRID_EXACT ? GRID_TOP : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
     // The walk's coordinates start at the start cell's (mirrored) lower corner, not at the cube's: mirrored
@@ -110,7 +121,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // of the hit cell's box in the start cell's frame, [rel, rel + 1], from oq (its planes' differences
     // rel - oq exact integers less oq)
     precise vec3 oq = vec3(0.0);
-    if (DEEP >= 1 && (m.flags & 2u) != 0u) oq = (o - c0) + o_lo;
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) oq = (o - (c0 + gorg)) + o_lo;
     ivec3 if0 = ivec3(f0);
     precise vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
@@ -252,7 +263,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (!hit) return false;
     flip = FLIP_SH(0u);
 #undef FLIP_SH
-    uvec3 cell = f ^ flip;
+    uvec3 cell = f ^ flip; // (in the grid's cube; the model's after the exact t below)
     // the hit cell's entry: the last of its entry planes crossed (mirrored: its lower planes), in the walk's
     // units from the box entry; 0 where the ray starts in it. Exact models (deeper than VX_RENDER_EXACT_DEPTH,
     // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau, from oq made at
@@ -268,6 +279,14 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (!(th <= h.t)) return false;
     h.t = th;
     if (any_hit) return true;
+    // the model's cell: the cube's corner again from the header (the frame block's box, or the header's words:
+    // cheaper to load again than to hold across the loop)
+    if (GRID_FRAME) {
+        cell += uvec3(grid_org(grid_frame_lo()));
+    } else {
+        uvec2 hw = uvec2(gwords[groot - 4u], gwords[groot - 3u]);
+        cell += uvec3(grid_org(vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu)));
+    }
     uint fa = axis == 0 ? flip.x : (axis == 1 ? flip.y : flip.z); // mirrored: the direction's sign bit set
     uint mflags = m.flags;
     if (GRID_UNION) {

@@ -5,6 +5,7 @@
  * by brute force (no occupied entry nearer, one at that distance); the root
  * level rule against the shader's (grid_walk.glsl grid_top). CPU only. */
 #include <stdio.h>
+#include <string.h>
 
 #include "tests/test.h"
 #include "tests/render/scenes.h"
@@ -62,11 +63,13 @@ typedef struct rec_check {
     uint32_t depth, top, rec;
     size_t cells, wrong;
     const char* name;
+    uint32_t org[3]; /* the grid's cube's corner (vx__grid_cube; 0: the model's) */
 } rec_check;
 
 static bool rec_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t attr) {
     rec_check* c = user;
-    uint32_t e = grid_brick(c->w, c->base, c->root, c->depth, c->top, x, y, z), got = UINT32_MAX;
+    uint32_t e = grid_brick(c->w, c->base, c->root, c->depth, c->top, x - c->org[0], y - c->org[1], z - c->org[2]);
+    uint32_t got = UINT32_MAX;
     if (e < VX__GRID_EMPTY) got = record_from_brick(c->m, c->w[c->rec + (e >> 4) - c->base], x, y, z);
     c->cells++;
     if (got != attr && c->wrong++ < 4)
@@ -111,14 +114,14 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
     out.n = 7; /* words before the grid: its addresses count from the buffer's start */
     vx_error err = {0};
     uint32_t top, rec;
-    vx_result r = vx__grid_model(NULL, m, 993, NULL, &out, &top, &rec, &err);
+    vx_result r = vx__grid_model(NULL, m, NULL, 993, NULL, &out, &top, &rec, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);
     if (r) return;
     /* the bricks' record words: a model with attributes has them, every set cell's record found from them */
     CHECKF((rec != 0) == (m->attrs != 0), "%s: record key %u with attributes %u", name, rec, m->attrs);
     size_t rec_cells = 0;
     if (rec) {
-        rec_check rc = {m, out.w, 993, 7, m->depth < 3 ? 3 : m->depth, top, rec, 0, 0, name};
+        rec_check rc = {m, out.w, 993, 7, m->depth < 3 ? 3 : m->depth, top, rec, 0, 0, name, {0, 0, 0}};
         CHECK(vx_svo_decode_model(m, rec_cell, &rc, &err) == VX_OK);
         CHECKF(rc.wrong == 0 && rc.cells > 0, "%s: %zu of %zu cells' records differ from the decoded", name, rc.wrong,
                rc.cells);
@@ -199,7 +202,7 @@ static void test_deep_levels(void) {
         vx__grid_words out = {0};
         vx_error err = {0};
         uint32_t top, rec;
-        CHECK(vx__grid_model(NULL, &m, 0, NULL, &out, &top, &rec, &err) == VX_OK && rec == 0);
+        CHECK(vx__grid_model(NULL, &m, NULL, 0, NULL, &out, &top, &rec, &err) == VX_OK && rec == 0);
         size_t wrong = 0;
         for (uint32_t i = 0; i < n; i++)
             for (int dz = -1; dz <= 1; dz++)
@@ -283,9 +286,9 @@ static void test_top_rule(void) {
     vx__grid_bricks b = {0};
     vx__grid_words out = {0};
     vx_error err = {0};
-    CHECK(vx__grid_layout(&b, 2, 1, 0, &out, &err) == VX_ERR_LIMIT);
-    CHECK(vx__grid_layout(&b, 12, 4, 0, &out, &err) == VX_ERR_LIMIT);
-    CHECK(vx__grid_layout(&b, 12, 2, UINT64_C(0x7FFFFFF0), &out, &err) == VX_ERR_LIMIT); /* addresses past 2^31 */
+    CHECK(vx__grid_layout(&b, 2, 1, NULL, 0, &out, &err) == VX_ERR_LIMIT);
+    CHECK(vx__grid_layout(&b, 12, 4, NULL, 0, &out, &err) == VX_ERR_LIMIT);
+    CHECK(vx__grid_layout(&b, 12, 2, NULL, UINT64_C(0x7FFFFFF0), &out, &err) == VX_ERR_LIMIT); /* addresses past 2^31 */
     CHECK(out.n == 0);
     /* two sources ORed into one brick */
     uint32_t* w = vx__grid_brick_at(&b, 1, 2, 3);
@@ -295,8 +298,94 @@ static void test_top_rule(void) {
     vx__grid_bricks_free(&b);
 }
 
+/* The grid over its cells' box's cube (vx__grid_cube, stop 85): the rule on boxes at the seams (a box that
+ * ends on a brick's edge or one past it, a box of one cell, lo on a multiple of 8 and one below), then models
+ * whose cells lie in a small box of a large cube (a slab, a small group far from cell 0, and one with a solid
+ * 8^3 block of one record: a uniform leaf) laid out over that cube: every cell of the cube against the octree,
+ * every set cell's record, the distances; and a brick outside the cube refused with nothing written. */
+static void test_cube(void) {
+    static const struct { uint32_t cb[6], org[3], depth; } rule[] = {
+        {{0, 0, 0, 8, 8, 8}, {0, 0, 0}, 3},          {{0, 0, 0, 9, 1, 1}, {0, 0, 0}, 4},
+        {{7, 7, 7, 8, 8, 8}, {0, 0, 0}, 3},          {{8, 8, 8, 9, 9, 9}, {8, 8, 8}, 3},
+        {{7, 0, 0, 9, 1, 1}, {0, 0, 0}, 4},          {{15, 16, 17, 16, 17, 18}, {8, 16, 16}, 3},
+        {{203, 100, 17, 231, 105, 41}, {200, 96, 16}, 5}, {{0, 0, 0, 1024, 3, 3}, {0, 0, 0}, 10},
+        {{44, 62, 5, 50, 71, 10}, {40, 56, 0}, 4},   {{1, 2, 3, 4, 5, 6}, {0, 0, 0}, 3},
+    };
+    for (size_t i = 0; i < sizeof rule / sizeof rule[0]; i++) {
+        uint32_t org[3], d = vx__grid_cube(rule[i].cb, org);
+        CHECKF(d == rule[i].depth && !memcmp(org, rule[i].org, sizeof org), "box %zu: depth %u org %u,%u,%u", i, d,
+               org[0], org[1], org[2]);
+        for (int k = 0; k < 3; k++) /* the cube holds the box */
+            CHECKF(org[k] <= rule[i].cb[k] && rule[i].cb[3 + k] - org[k] <= (1u << d), "box %zu axis %d", i, k);
+    }
+    for (int v = 0; v < 3; v++) {
+        uint32_t n = 0, seed = 31 + (uint32_t)v, *xyz = malloc(3 * 4096 * 4);
+        uint8_t* pal = malloc(4096);
+        CHECK(xyz && pal);
+        if (!xyz || !pal) return;
+        for (int i = 0; i < 600; i++, n++) {
+            /* v 0: a slab 40 x 2 x 60 at 150, 401, 77; v 1: a 9^3 group at 300, 17, 250; v 2: as v 1 and a block */
+            uint32_t r = ts_rng(&seed);
+            if (v == 0) xyz[3 * n] = 150 + r % 40, xyz[3 * n + 1] = 401 + (r >> 8) % 2, xyz[3 * n + 2] = 77 + (r >> 12) % 60;
+            else xyz[3 * n] = 300 + r % 9, xyz[3 * n + 1] = 17 + (r >> 8) % 9, xyz[3 * n + 2] = 250 + (r >> 16) % 9;
+            pal[n] = (uint8_t)(1 + (r >> 20) % 200);
+        }
+        if (v == 2)
+            for (uint32_t j = 0; j < 512; j++, n++)
+                xyz[3 * n] = 312 + (j & 7), xyz[3 * n + 1] = 24 + ((j >> 3) & 7), xyz[3 * n + 2] = 256 + (j >> 6), pal[n] = 9;
+        vx_svo_model m;
+        CHECK(ts_model_far(&m, (uint32_t[3]){500, 500, 500}, xyz, pal, n, 0) == VX_OK);
+        char nm[64];
+        snprintf(nm, sizeof nm, "%s in 2^%u", v == 0 ? "slab" : v == 1 ? "group" : "group and block", m.depth);
+        uint32_t cb[6], org[3];
+        vx_svo_model_cell_box(&m, cb, cb + 3);
+        uint32_t depth = vx__grid_cube(cb, org);
+        vx__grid_words out = {0};
+        CHECK(vx__grid_words_grow(NULL, &out, 5));
+        out.n = 5;
+        vx_error err = {0};
+        uint32_t top, rec;
+        vx_result r = vx__grid_model(NULL, &m, cb, 71, NULL, &out, &top, &rec, &err);
+        CHECKF(r == VX_OK && rec != 0, "%s: %s", nm, err.msg);
+        CHECKF(depth < m.depth && top == vx__grid_top(depth, 0), "%s: cube 2^%u, model 2^%u", nm, depth, m.depth);
+        if (!r) {
+            /* every cell of the cube */
+            size_t wrong = 0, cells = 0;
+            uint32_t side = 1u << depth;
+            for (uint32_t z = 0; z < side; z++)
+                for (uint32_t y = 0; y < side; y++)
+                    for (uint32_t x = 0; x < side; x++) {
+                        bool a = grid_cell(out.w, 71, 5, depth, top, x, y, z);
+                        bool b = vx_svo_model_cell_set(&m, org[0] + x, org[1] + y, org[2] + z);
+                        cells += b;
+                        if (a != b && wrong++ < 4) fprintf(stderr, "  %s: cell %u,%u,%u grid %d octree %d\n", nm, x, y, z, a, b);
+                    }
+            CHECKF(wrong == 0 && cells > 0 && cells == m.voxel_count, "%s: %zu cells differ, %zu of %llu found", nm,
+                   wrong, cells, (unsigned long long)m.voxel_count);
+            uint32_t R = 1u << (depth - 3 * top);
+            if (R <= 16) CHECKF(check_distances(out.w + 5, R) == 0, "%s: root distances", nm);
+            rec_check rc = {&m, out.w, 71, 5, depth, top, rec, 0, 0, nm, {org[0], org[1], org[2]}};
+            CHECK(vx_svo_decode_model(&m, rec_cell, &rc, &err) == VX_OK);
+            CHECKF(rc.wrong == 0 && rc.cells == m.voxel_count, "%s: %zu of %zu cells' records differ", nm, rc.wrong,
+                   rc.cells);
+            printf("%-28s cube 2^%u at %u,%u,%u: %zu words (the model's cube: 2^%u)\n", nm, depth, org[0], org[1],
+                   org[2], out.n - 5, m.depth);
+        }
+        /* a box that leaves a cell out: its brick outside the cube, refused, nothing appended */
+        uint32_t small[6] = {cb[0], cb[1], cb[2], cb[0] + 1, cb[1] + 1, cb[2] + 1};
+        size_t before = out.n;
+        r = vx__grid_model(NULL, &m, small, 71, NULL, &out, &top, &rec, &err);
+        CHECKF(r == VX_ERR_INVALID_ARG && out.n == before, "%s: a brick outside the cube: %d", nm, (int)r);
+        vx_free(NULL, out.w);
+        vx_svo_model_free(NULL, &m);
+        free(xyz);
+        free(pal);
+    }
+}
+
 int main(void) {
     RUN(test_top_rule);
+    RUN(test_cube);
     RUN(test_models);
     RUN(test_deep_levels);
     RUN(test_records);
