@@ -270,7 +270,7 @@ static const vx_svo_model* own_model(void* user, size_t brick, uint32_t off[3]) 
 vx_result vx__grid_model(const vx_allocator* a, const vx_svo_model* m, const uint32_t cb[6], uint64_t base,
                          const vx__grid_share* share, vx__grid_words* out, uint32_t* top, uint32_t* rec, vx_error* err) {
     uint32_t org[3] = {0, 0, 0}, depth = m->depth < 3 ? 3 : m->depth;
-    if (cb) depth = vx__grid_cube(cb, org);
+    if (cb) depth = vx__grid_cube(cb, m->depth, org);
     *top = vx__grid_top(depth, 0);
     *rec = share ? share->rec : 0;
     size_t root = out->n;

@@ -31,21 +31,24 @@
 /* The default root: at most 2^7 = 128 cells of level `top` a side (8 MiB). */
 enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
 
-/* A model's grid cube (stop 85): its cells' box cb [lo, hi) (lo xyz, hi xyz
- * exclusive: the grid header's, render_scene.c) in the smallest aligned-to-
- * its-corner cube from org = lo rounded down to whole bricks, 2^depth cells a
- * side (depth >= 3, returned; org in cells, multiples of 8). The grid covers
- * that cube, not the model's: a slab or a small group of cells in a large
- * model is laid out at its own size (vengi's cubictest, 73 cells in a 2^8
- * cube: a 2^3 cube and one brick, not a 32^3 root of 128 KiB). grid_walk.glsl
- * derives the same from the header's box (grid_cube there). */
-static inline uint32_t vx__grid_cube(const uint32_t cb[6], uint32_t org[3]) {
-    uint32_t ext = 8, depth = 3;
+/* A model's grid cube (stop 85): for a model of depth model_depth whose
+ * cells lie in the box cb [lo, hi) (lo xyz, hi xyz exclusive: the grid
+ * header's, render_scene.c), the smallest cube from org = lo rounded down to
+ * whole bricks, 2^depth cells a side (depth >= 3), where that is smaller than
+ * the model's; else the model's cube (org 0, depth max(model_depth, 3)).
+ * Returns depth, org in cells (multiples of 8). A slab or a small group of
+ * cells in a large model is laid out at its own size (vengi's cubictest, 73
+ * cells in a 2^8 cube: a 2^3 cube and one brick, not a 32^3 root of 128
+ * KiB). grid_walk.glsl derives the same from the header's box and the
+ * model's depth (grid_cube there) in kernels whose GRID has bit 5. */
+static inline uint32_t vx__grid_cube(const uint32_t cb[6], uint32_t model_depth, uint32_t org[3]) {
+    uint32_t ext = 8, depth = 3, md = model_depth < 3 ? 3 : model_depth;
     for (int k = 0; k < 3; k++) {
         org[k] = cb[k] & ~UINT32_C(7);
         if (cb[3 + k] > org[k] && cb[3 + k] - org[k] > ext) ext = cb[3 + k] - org[k];
     }
     while (depth < 31 && (UINT32_C(1) << depth) < ext) depth++;
+    if (depth >= md) org[0] = org[1] = org[2] = 0, depth = md;
     return depth;
 }
 

@@ -501,6 +501,9 @@ typedef struct vx_render_layout_info {
     double upload_seconds;   /* its start tables and upload (vx_compact_gpu_create), or the pages' */
     uint64_t grid_bytes;     /* the grid walk's grids (vx_render_scene_desc.grid_budget), 0: none */
     uint32_t grid_models;    /* the models that have one */
+    uint32_t grid_cubes;     /* of those, the grids over a cube smaller than their model's: the one of their
+                                cells' box (render/grid.h vx__grid_cube), less memory on a slab or a small
+                                group of cells in a large model */
     double grid_seconds;     /* their build on the host */
 } vx_render_layout_info;
 /* Paging (render/compact.h "pages"): each frame first loads the pages the

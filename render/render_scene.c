@@ -61,6 +61,7 @@ typedef struct grid_union {
     uint32_t addr;       /* its header's word in rs->grid (grid_walk.glsl's groot: the header, then the grid) */
     uint32_t table;      /* its cube table's word: shift, nx, ny, nz, then per cube instance, cell offset xyz */
     uint32_t depth, top; /* its cube of 2^depth cells and root level */
+    bool cube;           /* its grid covers a smaller cube than that (vx__grid_cube): GRID's bit 5 */
     uint32_t box[6];     /* its cells' box, hi exclusive */
     uint32_t flags;      /* its model record's (VX__MODEL_HAS_COLOR, VX__MODEL_EXACT) */
     uint32_t deep;       /* the DEEP constant its walk needs (vx__render_model_deep for its depth) */
@@ -131,7 +132,8 @@ struct vx_render_scene {
     /* the grid walk (render/grid.h, trace.comp's GRID): words 0 .. model_count - 1 each model's grid address
      * (UINT32_MAX: none), then the grids, each after a 4-word header (its cells' box: lo.x | lo.y << 16,
      * lo.z | hi.x << 16, hi.y | hi.z << 16, 0; hi exclusive); grid_top the kernel's GRID: the greatest root level (0: no grid),
-     * | 4 where every model that holds a cell has one (the octree walk compiled out);
+     * | 4 where every model that holds a cell has one (the octree walk compiled out), | 8 every root at the
+     * greatest level (>= 2), | 32 some grid's cube is not its model's (vx__grid_cube: GRID_CUBE);
      * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
     vx__buffer grid;
     uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
@@ -669,7 +671,7 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
      * the header), not the union's whole extent */
     uint32_t cb[6] = {(uint32_t)blo[0], (uint32_t)blo[1], (uint32_t)blo[2],
                       (uint32_t)bhi[0], (uint32_t)bhi[1], (uint32_t)bhi[2]};
-    uint32_t gorg[3], gdepth = vx__grid_cube(cb, gorg);
+    uint32_t gorg[3], gdepth = vx__grid_cube(cb, depth, gorg);
     uint32_t top = vx__grid_top(gdepth, 0), addr = (uint32_t)out->n;
     vx_error ge = {0};
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4);
@@ -702,6 +704,7 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
         rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
         rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
+        rs->uni.cube = gdepth != depth || gorg[0] || gorg[1] || gorg[2];
         rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (need ? VX__MODEL_EXACT : 0u);
         /* the bricks for the models' grids: the first instance's offset of each model */
         if ((ub->off = vx_alloc(&rs->alloc, (size_t)s->model_count * 12))) {
@@ -755,6 +758,8 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
     memset(out.w, 0xFF, (size_t)s->model_count * 4);
     out.n = s->model_count;
     uint32_t made = 0, top = 0, low = UINT32_MAX, cells = 0;
+    bool cube = false; /* some grid's cube is not its model's (vx__grid_cube): grid_walk.glsl's GRID_CUBE */
+    uint32_t cubes = 0;
     /* the converter's regions as one grid first (trace.comp's kernel of one instance walks it), its bricks
      * shared with the regions' own grids (the pass kernels' and the BVH's walk) */
     union_bricks ub = {.b = {.alloc = &rs->alloc}};
@@ -782,6 +787,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
             continue;
         }
         out.w[before + 3] = rec; /* the header's word 3: its bricks' record key (grid_walk.glsl) */
+        uint32_t co[3], cd = vx__grid_cube(&rs->mcells[6 * i], m->depth, co);
+        bool small = cd != (m->depth < 3 ? 3 : m->depth) || co[0] || co[1] || co[2];
+        cube |= small;
+        cubes += small;
         out.w[i] = (uint32_t)before;
         made++;
         if (t > top) top = t;
@@ -799,9 +808,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         memcpy(rs->grid_at, out.w, (size_t)s->model_count * 4);
         /* grid_walk.glsl's GRID: GRID_ALL where every model has one, GRID_EXACT where every root is at level
          * top >= 2 (at 1 the level is a constant already) */
-        rs->grid_top = top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u);
+        rs->grid_top = top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (cube ? 32u : 0u);
         rs->layout.grid_bytes = (uint64_t)out.n * 4;
         rs->layout.grid_models = made;
+        rs->layout.grid_cubes = cubes;
         rs->layout.grid_seconds = vx_time_now() - t0;
     }
     if (!made || r) rs->uni.insts = 0; /* (no grid buffer) */
@@ -1929,8 +1939,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
         if (gr) return gr;
         rs->grid_at[mi] = UINT32_MAX;
-        rs->grid_top &= 3u; /* not every model has a grid now: the octree walk is compiled in (and the root
-                             * level taken from each model's depth: its bits 2-3 off) */
+        rs->grid_top &= 3u | 32u; /* not every model has a grid now: the octree walk is compiled in (and the
+                                   * root level taken from each grid's depth: its bits 2-3 off) */
     }
     /* the shadow map's node list is the models' as made: an edited scene has
      * no map (listing the nodes again would cost a stroke tens of ms on a
@@ -2566,7 +2576,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     bool uni = grid && union_holds(rs);
     if (uni) {
         fill_union(rs, f);
-        grid = rs->uni.top | 4u | 16u | (rs->uni.top >= 2 ? 8u : 0u);
+        grid = rs->uni.top | 4u | 16u | (rs->uni.top >= 2 ? 8u : 0u) | (rs->uni.cube ? 32u : 0u);
     }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;

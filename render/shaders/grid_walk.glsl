@@ -15,8 +15,13 @@
 // holds a cell has a grid, so the octree walk is compiled out; bit 3 (GRID_EXACT): every grid's root is at
 // level k (k >= 2), a constant too (terrain4096's root at level 2: its lookups and shifts fixed); bit 4
 // (GRID_UNION, trace_common.glsl, where GRID is declared): trace.comp's kernel of one instance walks the
-// union of a converter's regions, a hit's cell then mapped to its region's instance and model cell
+// union of a converter's regions, a hit's cell then mapped to its region's instance and model cell; bit 5
+// (GRID_CUBE): some grid covers a cube other than its model's (render/grid.h vx__grid_cube: its cells' box's,
+// smaller), so each walk takes its cube from its header's box (grid_org, grid_depth); without it every grid's
+// cube is its model's from cell 0 and that code is compiled out (stop 85, H100: deriving it in every walk cost
+// 1-5% of the rays/s on the scenes whose cubes it does not change)
 const uint GRID_TOP = GRID & 3u;
+const bool GRID_CUBE = (GRID & 32u) != 0u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
 const bool GRID_EXACT = (GRID & 8u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
@@ -60,13 +65,19 @@ uint grid_address(uint mi) { return GRID_FRAME ? grid_frame_root() : gwords[mi];
 // render/grid.c vx__grid_top(depth, 0) for the depths that have grids
 uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u); }
 
-// A grid's cube from its header's cells' box [blo, bhi) (render/grid.h vx__grid_cube, the same rule): its
-// corner org, blo rounded down to whole bricks (exact: integers below 2^16), and its depth, the smallest
-// 2^depth >= 8 that reaches bhi from org. The walk runs in the cube's cells (the model's less org).
-vec3 grid_org(vec3 blo) { return floor(blo * 0.125) * 8.0; }
-uint grid_depth(vec3 org, vec3 bhi) {
+// GRID_CUBE: a grid's cube from its header's cells' box [blo, bhi) and its model's depth (render/grid.h
+// vx__grid_cube, the same rule): from its corner org, blo rounded down to whole bricks (exact: integers below
+// 2^16), the smallest 2^depth >= 8 that reaches bhi, where smaller than the model's cube; else the model's
+// (org 0). The walk runs in the cube's cells (the model's less org).
+uint grid_cube(vec3 blo, vec3 bhi, uint mdepth, out vec3 org) {
+    org = floor(blo * 0.125) * 8.0;
     uvec3 e = uvec3(max(bhi - org, vec3(8.0))) - 1u;
-    return max(uint(findMSB(max(max(e.x, e.y), e.z)) + 1), 3u);
+    uint d = max(uint(findMSB(max(max(e.x, e.y), e.z)) + 1), 3u), md = max(mdepth, 3u);
+    if (d >= md) {
+        org = vec3(0.0);
+        d = md;
+    }
+    return d;
 }
 
 // As trace_model (same arguments and Hit), for model mi whose root is at word groot of gwords. The walk
@@ -93,9 +104,12 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec2 tb = box_t(o, safe_inv(d), blo, bhi);
     precise float te = max(tb.x, t0), tx = min(tb.y, t1);
     if (!(te < tx)) return false;
-    // the walk's cells: the grid's cube's (its corner gorg: oa less it is exact, oa within the box, below 2^16)
-    vec3 gorg = grid_org(blo);
-    precise vec3 oa = (o + d * te) - gorg;
+    // the walk's cells: the grid's cube's (GRID_CUBE: its corner gorg; oa less it is exact, oa within the box,
+    // below 2^16)
+    vec3 gorg = vec3(0.0);
+    uint depth = GRID_CUBE ? grid_cube(blo, bhi, m.depth, gorg) : max(m.depth, 3u);
+    precise vec3 oa = o + d * te;
+    if (GRID_CUBE) oa = oa - gorg;
     precise float L = length(d);
     precise vec3 dl = d / L;
     // tiny components would overflow the coefficients: at least 2^-23 (the octree walk's eps); a mirrored
@@ -103,7 +117,6 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     precise vec3 ad = max(abs(dl), vec3(exp2(-23.0)));
     precise vec3 invd = 1.0 / ad;
     precise float tl1 = (tx - te) * L; // the ray's end in the walk's units
-    uint depth = grid_depth(gorg, bhi);
     uint top = GRID_TOP == 1u || GRID_EXACT ? GRID_TOP : grid_top(depth);
     uint R = 1u << (depth - 3u * top), N = 1u << depth;
     // The walk's coordinates start at the start cell's (mirrored) lower corner, not at the cube's: mirrored
@@ -121,7 +134,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // of the hit cell's box in the start cell's frame, [rel, rel + 1], from oq (its planes' differences
     // rel - oq exact integers less oq)
     precise vec3 oq = vec3(0.0);
-    if (DEEP >= 1 && (m.flags & 2u) != 0u) oq = (o - (c0 + gorg)) + o_lo;
+    if (DEEP >= 1 && (m.flags & 2u) != 0u) oq = (o - (GRID_CUBE ? c0 + gorg : c0)) + o_lo;
     ivec3 if0 = ivec3(f0);
     precise vec3 bias = -fr * invd;
     uint bflip = (flip.x & 7u) | ((flip.y & 7u) << 3) | ((flip.z & 7u) << 6); // a brick's bit index, mirrored
@@ -279,13 +292,16 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     if (!(th <= h.t)) return false;
     h.t = th;
     if (any_hit) return true;
-    // the model's cell: the cube's corner again from the header (the frame block's box, or the header's words:
-    // cheaper to load again than to hold across the loop)
-    if (GRID_FRAME) {
-        cell += uvec3(grid_org(grid_frame_lo()));
-    } else {
-        uvec2 hw = uvec2(gwords[groot - 4u], gwords[groot - 3u]);
-        cell += uvec3(grid_org(vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu)));
+    // the model's cell (GRID_CUBE): the cube's corner again from the header (the frame block's box, or the
+    // header's words: cheaper to load again than to hold across the loop)
+    if (GRID_CUBE) {
+        vec3 clo = grid_frame_lo(), chi = grid_frame_hi(), corg;
+        if (!GRID_FRAME) {
+            uvec3 hw = uvec3(gwords[groot - 4u], gwords[groot - 3u], gwords[groot - 2u]);
+            clo = vec3(hw.x & 0xFFFFu, hw.x >> 16, hw.y & 0xFFFFu), chi = vec3(hw.y >> 16, hw.z & 0xFFFFu, hw.z >> 16);
+        }
+        grid_cube(clo, chi, m.depth, corg);
+        cell += uvec3(corg);
     }
     uint fa = axis == 0 ? flip.x : (axis == 1 ? flip.y : flip.z); // mirrored: the direction's sign bit set
     uint mflags = m.flags;

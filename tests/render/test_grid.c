@@ -304,6 +304,8 @@ static void test_top_rule(void) {
  * 8^3 block of one record: a uniform leaf) laid out over that cube: every cell of the cube against the octree,
  * every set cell's record, the distances; and a brick outside the cube refused with nothing written. */
 static void test_cube(void) {
+    /* a model of depth 20 (every cube below smaller than its), then boxes whose cube is not smaller than their
+     * model's: the model's cube from 0 */
     static const struct { uint32_t cb[6], org[3], depth; } rule[] = {
         {{0, 0, 0, 8, 8, 8}, {0, 0, 0}, 3},          {{0, 0, 0, 9, 1, 1}, {0, 0, 0}, 4},
         {{7, 7, 7, 8, 8, 8}, {0, 0, 0}, 3},          {{8, 8, 8, 9, 9, 9}, {8, 8, 8}, 3},
@@ -311,8 +313,17 @@ static void test_cube(void) {
         {{203, 100, 17, 231, 105, 41}, {200, 96, 16}, 5}, {{0, 0, 0, 1024, 3, 3}, {0, 0, 0}, 10},
         {{44, 62, 5, 50, 71, 10}, {40, 56, 0}, 4},   {{1, 2, 3, 4, 5, 6}, {0, 0, 0}, 3},
     };
+    static const struct { uint32_t cb[6], model_depth; } same[] = {
+        {{8, 56, 0, 113, 65, 116}, 7}, /* ogt_doom's: org 8,56,0 would give 2^7 too */
+        {{0, 0, 0, 17, 5, 9}, 5},      {{3, 3, 3, 4, 4, 4}, 2}, {{8, 8, 8, 16, 16, 16}, 3}, {{9, 0, 0, 30, 1, 1}, 5},
+    };
+    for (size_t i = 0; i < sizeof same / sizeof same[0]; i++) {
+        uint32_t org[3] = {1, 1, 1}, d = vx__grid_cube(same[i].cb, same[i].model_depth, org), md = same[i].model_depth;
+        CHECKF(d == (md < 3 ? 3 : md) && !(org[0] | org[1] | org[2]), "box %zu: depth %u org %u,%u,%u, the model's %u",
+               i, d, org[0], org[1], org[2], md);
+    }
     for (size_t i = 0; i < sizeof rule / sizeof rule[0]; i++) {
-        uint32_t org[3], d = vx__grid_cube(rule[i].cb, org);
+        uint32_t org[3], d = vx__grid_cube(rule[i].cb, 20, org);
         CHECKF(d == rule[i].depth && !memcmp(org, rule[i].org, sizeof org), "box %zu: depth %u org %u,%u,%u", i, d,
                org[0], org[1], org[2]);
         for (int k = 0; k < 3; k++) /* the cube holds the box */
@@ -339,7 +350,7 @@ static void test_cube(void) {
         snprintf(nm, sizeof nm, "%s in 2^%u", v == 0 ? "slab" : v == 1 ? "group" : "group and block", m.depth);
         uint32_t cb[6], org[3];
         vx_svo_model_cell_box(&m, cb, cb + 3);
-        uint32_t depth = vx__grid_cube(cb, org);
+        uint32_t depth = vx__grid_cube(cb, m.depth, org);
         vx__grid_words out = {0};
         CHECK(vx__grid_words_grow(NULL, &out, 5));
         out.n = 5;

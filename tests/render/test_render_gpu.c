@@ -1420,6 +1420,72 @@ static void test_grid_mixed_roots(void) {
     }
 }
 
+/* A grid over its cells' box's cube, not its model's (render/grid.h vx__grid_cube, grid_walk.glsl GRID_CUBE, stop
+ * 85): a 2^10 model whose cells lie in a slab 73 x 5 x 62 far from cell 0, with a solid 8^3 block of one record, and
+ * a 2^9 model whose cells are a 9^3 group at 290, 17, 250 (its cube 2^4 from 288, 16, 248); the first alone (one
+ * instance: the frame block's box) and both with a turned and a mirrored copy (the BVH: the headers' boxes), each
+ * walk against the CPU reference, and the grids' memory: a 16^3 root at most, where the model's cube would take a
+ * 128^3 one (8 MiB). */
+static void grid_cube_models(vx_svo_model m[2]) {
+    enum { N = 3000 };
+    static uint32_t xyz[3 * (N + 512)];
+    static uint8_t pal[N + 512];
+    uint32_t seed = 85, n = 0;
+    memset(m, 0, 2 * sizeof *m);
+    for (uint32_t i = 0; i < N; i++, n++) {
+        uint32_t r = ts_rng(&seed);
+        xyz[3 * n] = 403 + r % 73, xyz[3 * n + 1] = 130 + (r >> 8) % 5, xyz[3 * n + 2] = 250 + (r >> 12) % 62;
+        pal[n] = (uint8_t)(1 + (r >> 20) % 200);
+    }
+    for (uint32_t j = 0; j < 512; j++, n++)
+        xyz[3 * n] = 440 + (j & 7), xyz[3 * n + 1] = 128 + ((j >> 3) & 7), xyz[3 * n + 2] = 296 + (j >> 6), pal[n] = 9;
+    REQUIRE(ts_model(&m[0], (uint32_t[3]){1000, 1000, 1000}, xyz, pal, n) == VX_OK);
+    n = 0;
+    for (uint32_t i = 0; i < 400; i++, n++) {
+        uint32_t r = ts_rng(&seed);
+        xyz[3 * n] = 290 + r % 9, xyz[3 * n + 1] = 17 + (r >> 8) % 9, xyz[3 * n + 2] = 250 + (r >> 16) % 9;
+        pal[n] = (uint8_t)(1 + (r >> 24) % 200);
+    }
+    REQUIRE(ts_model(&m[1], (uint32_t[3]){300, 300, 300}, xyz, pal, n) == VX_OK);
+    CHECK(m[0].depth == 10 && m[1].depth == 9);
+}
+
+static void test_grid_cube(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const double rot[9] = {0, -1, 0, 1, 0, 0, 0, 0, 1}, mir[9] = {1, 0, 0, 0, -1, 0, 0, 0, 1};
+    /* the group's copies beside the slab (x 403-476, y 130-135, z 250-312) and a mirrored slab above it */
+    vx_svo_instance in[4] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, 130, 118, 10),
+                             ts_inst(1, rot, 470, -160, 20), ts_inst(0, mir, 0, 300, 0)};
+    for (int many = 0; many <= 1; many++) {
+        vx_svo_model m[2];
+        grid_cube_models(m);
+        vx_svo_scene s;
+        ts_scene(&s, m, 2, in, many ? 4 : 1);
+        /* the grids' memory (the scene's layout): the slab's cube 2^7 (a 16^3 root), the group's 2^4 */
+        vx_render_scene* rs = NULL;
+        vx_error err = {0};
+        vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
+        CHECKF(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK, "%s", err.msg);
+        if (rs) {
+            vx_render_layout_info li = {0};
+            vx_render_scene_layout(rs, &li);
+            CHECKF(li.grid_models == 2 && li.grid_bytes < 256 * 1024, "%u grids, %llu bytes", li.grid_models,
+                   (unsigned long long)li.grid_bytes);
+            vx_render_scene_destroy(rs);
+        }
+        /* from above, oblique, and a close-up of the block's edge */
+        vx_render_desc views[3] = {cam(441, 230, 282, 440, 132, 280), cam(370, 175, 215, 440, 132, 280),
+                                   cam(436.5, 150, 292.5, 441, 130, 299)};
+        for (int v = 0; v < 3; v++) {
+            views[v].width = 64, views[v].height = 48;
+            char nm[64];
+            snprintf(nm, sizeof nm, "grid cube, %s, view %d", many ? "4 instances" : "1 instance", v);
+            check_scene(nm, &s, views[v], 200);
+        }
+        vx_svo_scene_free(&s);
+    }
+}
+
 /* The grid walk's empty 2^3 blocks (grid_walk.glsl: a fine step whose cell's aligned 2^3 block is empty leaves the
  * block in one step, through the planes the cell by cell walk would cross): a sparse 24^3 model (3% of its cells:
  * most blocks of its bricks empty, occupied ones beside them), seen along each axis with pixel centres on cell
@@ -1951,6 +2017,7 @@ int main(void) {
     gpu_skip = vx_test_gpu_open((vx_gpu_desc){.logger = &logger}, true, &gpu);
     RUN(test_empty_and_single);
     RUN(test_grid_mixed_roots);
+    RUN(test_grid_cube);
     RUN(test_grid_sparse_blocks);
     RUN(test_grid_union);
     RUN(test_axis_rays_on_edges);
