@@ -61,7 +61,6 @@ typedef struct grid_union {
     uint32_t addr;       /* its header's word in rs->grid (grid_walk.glsl's groot: the header, then the grid) */
     uint32_t table;      /* its cube table's word: shift, nx, ny, nz, then per cube instance, cell offset xyz */
     uint32_t depth, top; /* its cube of 2^depth cells and root level */
-    bool cube;           /* its grid covers a smaller cube than that (vx__grid_cube): GRID's bit 5 */
     uint32_t box[6];     /* its cells' box, hi exclusive */
     uint32_t flags;      /* its model record's (VX__MODEL_HAS_COLOR, VX__MODEL_EXACT) */
     uint32_t deep;       /* the DEEP constant its walk needs (vx__render_model_deep for its depth) */
@@ -667,12 +666,10 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         vx_error ge = {0};
         ok = vx__grid_bricks_add(&b, m, off, &ge) == VX_OK;
     }
-    /* the union's grid covers the cube of its cells' box (vx__grid_cube, as grid_walk.glsl derives it from
-     * the header), not the union's whole extent */
+    /* (the union's grid covers its whole cube: its kernel's GRID has no GRID_CUBE) */
     uint32_t cb[6] = {(uint32_t)blo[0], (uint32_t)blo[1], (uint32_t)blo[2],
                       (uint32_t)bhi[0], (uint32_t)bhi[1], (uint32_t)bhi[2]};
-    uint32_t gorg[3], gdepth = vx__grid_cube(cb, depth, gorg);
-    uint32_t top = vx__grid_top(gdepth, 0), addr = (uint32_t)out->n;
+    uint32_t top = vx__grid_top(depth, 0), addr = (uint32_t)out->n;
     vx_error ge = {0};
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4);
     if (ok) {
@@ -681,8 +678,8 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         out->n += 4;
         memcpy(rs->uni.box, cb, sizeof cb);
     }
-    ok = ok && vx__grid_layout(&b, gdepth, top, gorg, 0, out, &ge) == VX_OK;
-    uint64_t R = (uint64_t)1 << (gdepth - 3 * top);
+    ok = ok && vx__grid_layout(&b, depth, top, NULL, 0, out, &ge) == VX_OK;
+    uint64_t R = (uint64_t)1 << (depth - 3 * top);
     uint32_t taddr = (uint32_t)out->n;
     ok = ok && vx__grid_words_grow(&rs->alloc, out, 4 + 4 * cubes) && (out->n + 4 + 4 * cubes) * 4 <= budget &&
          (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * sizeof *in));
@@ -704,7 +701,6 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
         for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
         rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
         rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
-        rs->uni.cube = gdepth != depth || gorg[0] || gorg[1] || gorg[2];
         rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (need ? VX__MODEL_EXACT : 0u);
         /* the bricks for the models' grids: the first instance's offset of each model */
         if ((ub->off = vx_alloc(&rs->alloc, (size_t)s->model_count * 12))) {
@@ -764,37 +760,55 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
      * shared with the regions' own grids (the pass kernels' and the BVH's walk) */
     union_bricks ub = {.b = {.alloc = &rs->alloc}};
     prepare_union(rs, s, budget, &out, &ub);
-    for (uint32_t i = 0; i < s->model_count; i++) {
-        const vx_svo_model* m = &s->models[i];
-        cells += m->root != VX_SVO_ROOT_EMPTY;
-        if (m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes)) continue;
-        size_t before = out.n;
-        /* the header: the cells' box (grid_walk.glsl clips the ray to it, not to the model's extent: a slab
-         * of cells in a large model's cube, ogt_doom's, walked 7x the steps of the prototype that clipped) */
-        if (!vx__grid_words_grow(&rs->alloc, &out, 4)) continue;
-        grid_header(&rs->mcells[6 * i], &out.w[out.n]);
-        out.w[out.n + 3] = 0;
-        out.n += 4;
-        vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
-        uint32_t t;
-        vx__grid_share sh = {&ub.b, ub.base, {0, 0, 0}, ub.rec};
-        bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
-        if (shared) memcpy(sh.off, &ub.off[3 * i], sizeof sh.off);
-        uint32_t rec;
-        if (vx__grid_model(&rs->alloc, m, &rs->mcells[6 * i], 0, shared ? &sh : NULL, &out, &t, &rec, &e) ||
-            (uint64_t)out.n * 4 > budget) {
-            out.n = before;
-            continue;
+    /* Each grid over its model's cube (pass 0); where some grid would take more words than its model's
+     * octree (nodes and records) and its cells' box's cube is smaller (render/grid.h vx__grid_cube: a slab or
+     * a small group of cells in a large model, whose dense root is mostly empty), every grid is laid out
+     * again over that cube where it is smaller (pass 1, GRID_CUBE: each walk then derives its cube, which
+     * cost 2-5% of the rays/s on the H100 where it changed nothing, p85b; so not where no grid needs it) */
+    size_t models_at = out.n;
+    bool shrink = false;
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1) {
+            if (!shrink) break;
+            out.n = models_at;
+            memset(out.w, 0xFF, (size_t)s->model_count * 4);
+            made = top = cells = cubes = 0, low = UINT32_MAX;
         }
-        out.w[before + 3] = rec; /* the header's word 3: its bricks' record key (grid_walk.glsl) */
-        uint32_t co[3], cd = vx__grid_cube(&rs->mcells[6 * i], m->depth, co);
-        bool small = cd != (m->depth < 3 ? 3 : m->depth) || co[0] || co[1] || co[2];
-        cube |= small;
-        cubes += small;
-        out.w[i] = (uint32_t)before;
-        made++;
-        if (t > top) top = t;
-        if (t < low) low = t;
+        for (uint32_t i = 0; i < s->model_count; i++) {
+            const vx_svo_model* m = &s->models[i];
+            cells += m->root != VX_SVO_ROOT_EMPTY;
+            if (m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes))
+                continue;
+            size_t before = out.n;
+            /* the header: the cells' box (grid_walk.glsl clips the ray to it, not to the model's extent: a slab
+             * of cells in a large model's cube, ogt_doom's, walked 7x the steps of the prototype that clipped) */
+            if (!vx__grid_words_grow(&rs->alloc, &out, 4)) continue;
+            grid_header(&rs->mcells[6 * i], &out.w[out.n]);
+            out.w[out.n + 3] = 0;
+            out.n += 4;
+            vx_error e = {0}; /* a model the layout refuses (memory, 2^31 words) keeps the octree walk */
+            uint32_t t;
+            vx__grid_share sh = {&ub.b, ub.base, {0, 0, 0}, ub.rec};
+            bool shared = ub.off && ub.off[3 * i] != UINT32_MAX;
+            if (shared) memcpy(sh.off, &ub.off[3 * i], sizeof sh.off);
+            uint32_t rec;
+            const uint32_t* cb = pass ? &rs->mcells[6 * i] : NULL;
+            if (vx__grid_model(&rs->alloc, m, cb, 0, shared ? &sh : NULL, &out, &t, &rec, &e) ||
+                (uint64_t)out.n * 4 > budget) {
+                out.n = before;
+                continue;
+            }
+            out.w[before + 3] = rec; /* the header's word 3: its bricks' record key (grid_walk.glsl) */
+            uint32_t co[3], cd = vx__grid_cube(&rs->mcells[6 * i], m->depth, co);
+            bool small = cd != (m->depth < 3 ? 3 : m->depth) || co[0] || co[1] || co[2];
+            shrink |= small && out.n - before - 4 > (uint64_t)m->node_count + (m->attrs ? m->attr_count : 0);
+            cube |= small && pass;
+            cubes += small && pass;
+            out.w[i] = (uint32_t)before;
+            made++;
+            if (t > top) top = t;
+            if (t < low) low = t;
+        }
     }
     vx__grid_bricks_free(&ub.b);
     vx_free(&rs->alloc, ub.off);
@@ -2576,7 +2590,7 @@ vx_result vx__render_dispatch(vx_render_scene* rs, const vx_render_desc* desc, b
     bool uni = grid && union_holds(rs);
     if (uni) {
         fill_union(rs, f);
-        grid = rs->uni.top | 4u | 16u | (rs->uni.top >= 2 ? 8u : 0u) | (rs->uni.cube ? 32u : 0u);
+        grid = rs->uni.top | 4u | 16u | (rs->uni.top >= 2 ? 8u : 0u);
     }
     /* the beam pass: float variant, without LOD (see shaders/beam.comp) */
     uint32_t beam = !precise && !f->lod && f->beam > 1 && !grid ? f->beam : 0;
