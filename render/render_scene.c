@@ -764,7 +764,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
      * octree (nodes and records) and its cells' box's cube is smaller (render/grid.h vx__grid_cube: a slab or
      * a small group of cells in a large model, whose dense root is mostly empty), every grid is laid out
      * again over that cube where it is smaller (pass 1, GRID_CUBE: each walk then derives its cube, which
-     * cost 2-5% of the rays/s on the H100 where it changed nothing, p85b; so not where no grid needs it) */
+     * cost 1-5% of the rays/s on the H100 where it changed nothing, p85b; so not where no grid needs it) */
     size_t models_at = out.n;
     bool shrink = false;
     for (int pass = 0; pass < 2; pass++) {
