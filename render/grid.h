@@ -38,9 +38,11 @@ enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
  * the model's; else the model's cube (org 0, depth max(model_depth, 3)).
  * Returns depth, org in cells (multiples of 8). A slab or a small group of
  * cells in a large model is laid out at its own size (vengi's cubictest, 73
- * cells in a 2^8 cube: a 2^3 cube and one brick, not a 32^3 root of 128
- * KiB). grid_walk.glsl derives the same from the header's box and the
- * model's depth (grid_cube there) in kernels whose GRID has bit 5. */
+ * cells in a 2^8 cube: a 2^4 cube, its root 2^3 words over 5 bricks, not a
+ * 32^3 root of 128 KiB). grid_walk.glsl derives the same from the header's
+ * box and the model's depth (grid_cube there) in kernels whose GRID has bit
+ * 5; render_scene.c lays grids out so only in scenes where some grid would
+ * outweigh its model's octree. */
 static inline uint32_t vx__grid_cube(const uint32_t cb[6], uint32_t model_depth, uint32_t org[3]) {
     uint32_t ext = 8, depth = 3, md = model_depth < 3 ? 3 : model_depth;
     for (int k = 0; k < 3; k++) {

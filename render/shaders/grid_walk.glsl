@@ -17,9 +17,9 @@
 // (GRID_UNION, trace_common.glsl, where GRID is declared): trace.comp's kernel of one instance walks the
 // union of a converter's regions, a hit's cell then mapped to its region's instance and model cell; bit 5
 // (GRID_CUBE): some grid covers a cube other than its model's (render/grid.h vx__grid_cube: its cells' box's,
-// smaller), so each walk takes its cube from its header's box (grid_org, grid_depth); without it every grid's
-// cube is its model's from cell 0 and that code is compiled out (stop 85, H100: deriving it in every walk cost
-// 1-5% of the rays/s on the scenes whose cubes it does not change)
+// smaller), so each walk takes its cube from its header's box and its model's depth (grid_cube); without it
+// every grid's cube is its model's from cell 0 and that code is compiled out (stop 85, H100: deriving it in
+// every walk cost 1-5% of the rays/s on the scenes whose cubes it does not change)
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_CUBE = (GRID & 32u) != 0u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
