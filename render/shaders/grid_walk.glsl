@@ -70,9 +70,12 @@ uint grid_top(uint depth) { return depth <= 10u ? 1u : (depth <= 13u ? 2u : 3u);
 // 2^16), the smallest 2^depth >= 8 that reaches bhi, where smaller than the model's cube; else the model's
 // (org 0). The walk runs in the cube's cells (the model's less org).
 uint grid_cube(vec3 blo, vec3 bhi, uint mdepth, out vec3 org) {
-    org = floor(blo * 0.125) * 8.0;
-    uvec3 e = uvec3(max(bhi - org, vec3(8.0))) - 1u;
+    // precise as the rest of the walk (test_spirv_precise): exact here either way, integers below 2^16
+    precise vec3 o = floor(blo * 0.125) * 8.0;
+    precise vec3 ext = max(bhi - o, vec3(8.0));
+    uvec3 e = uvec3(ext) - 1u;
     uint d = max(uint(findMSB(max(max(e.x, e.y), e.z)) + 1), 3u), md = max(mdepth, 3u);
+    org = o;
     if (d >= md) {
         org = vec3(0.0);
         d = md;
