@@ -387,8 +387,9 @@ typedef struct vx_render_scene_desc {
      * their bytes stay within grid_budget: 0 VX_RENDER_GRID_BUDGET on a GPU
      * and none on a CPU device (lavapipe traced the grid walk at 0.2-0.7 of
      * the octree walk's rays/s; a budget given builds them there too),
-     * VX_RENDER_NO_GRID none. An edited model (vx_render_scene_update_model)
-     * goes back to its octree walk. The pass pipeline's kernels that trace
+     * VX_RENDER_NO_GRID none. An edited model's grid (vx_render_scene_update_model)
+     * is made again where it took at most 1 MiB (a few ms a stroke); a larger
+     * one is dropped and the model walks its octree. The pass pipeline's kernels that trace
      * (G-buffer, direct, AO, the merged frame: render/pipeline.h) take the
      * same walk by the same rule; probes and the GI methods' kernels walk the
      * octrees. */
@@ -596,6 +597,9 @@ typedef struct vx_render_scene_stats {
      * under a still camera: its row and box), all of them when the camera
      * moved (the rows are relative to it) */
     uint64_t table_rows_uploaded;
+    /* grids of edited models made again by update_model (vx_render_scene_desc.grid_budget: the grid walk
+     * kept after a stroke) */
+    uint32_t grids_rebuilt;
 } vx_render_scene_stats;
 void vx_render_scene_get_stats(const vx_render_scene* rs, vx_render_scene_stats* out);
 /* Whether the scene is traced by the float64 variant (a model deeper than

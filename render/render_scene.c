@@ -136,6 +136,15 @@ struct vx_render_scene {
      * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
     vx__buffer grid;
     uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
+    /* per model, its grid's place in rs->grid: the header's word, the words there (header and grid) and its
+     * root's level; kept after an edit drops the grid, whose rebuild (regrid) writes over it where it fits.
+     * grid_end: the words of rs->grid in use (a rebuilt grid too large for its place goes there); grid_budget
+     * the scene's (vx_render_scene_desc.grid_budget, bytes) */
+    struct grid_slot {
+        uint32_t addr, words, top;
+    }* grid_slot;
+    uint64_t grid_end, grid_budget;
+    bool grid_cube; /* the grids were laid out over their cells' boxes' cubes (prepare_grids' pass 1: GRID_CUBE) */
     uint32_t grid_top;
     int grid_on;
     grid_union uni; /* one grid over a converter's regions (prepare_union), in rs->grid after the models' */
@@ -753,6 +762,11 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
     memset(out.w, 0xFF, (size_t)s->model_count * 4);
     out.n = s->model_count;
+    struct grid_slot* slot = vx_calloc(&rs->alloc, s->model_count, sizeof *slot);
+    if (!slot) {
+        vx_free(&rs->alloc, out.w);
+        return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
+    }
     uint32_t made = 0, top = 0, low = UINT32_MAX, cells = 0;
     bool cube = false; /* some grid's cube is not its model's (vx__grid_cube): grid_walk.glsl's GRID_CUBE */
     uint32_t cubes = 0;
@@ -772,6 +786,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
             if (!shrink) break;
             out.n = models_at;
             memset(out.w, 0xFF, (size_t)s->model_count * 4);
+            memset(slot, 0, (size_t)s->model_count * sizeof *slot);
             made = top = cells = cubes = 0, low = UINT32_MAX;
         }
         for (uint32_t i = 0; i < s->model_count; i++) {
@@ -805,6 +820,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
             cube |= small && pass;
             cubes += small && pass;
             out.w[i] = (uint32_t)before;
+            slot[i] = (struct grid_slot){(uint32_t)before, (uint32_t)(out.n - before), t};
             made++;
             if (t > top) top = t;
             if (t < low) low = t;
@@ -820,6 +836,8 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         r = vx__buffer_upload(rs->gpu, &rs->grid, out.w, (VkDeviceSize)out.n * 4, err);
     if (!r && made) {
         memcpy(rs->grid_at, out.w, (size_t)s->model_count * 4);
+        rs->grid_slot = slot, slot = NULL;
+        rs->grid_end = out.n, rs->grid_budget = budget, rs->grid_cube = cube;
         /* grid_walk.glsl's GRID: GRID_ALL where every model has one, GRID_EXACT where every root is at level
          * top >= 2 (at 1 the level is a constant already) */
         rs->grid_top = top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (cube ? 32u : 0u);
@@ -830,6 +848,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
     }
     if (!made || r) rs->uni.insts = 0; /* (no grid buffer) */
     vx_free(&rs->alloc, out.w);
+    vx_free(&rs->alloc, slot);
     return r;
 }
 
@@ -1726,6 +1745,7 @@ void vx_render_scene_destroy(vx_render_scene* rs) {
     for (uint32_t i = 0; rs->top && i < rs->model_count; i++) vx_free(&a, rs->top[i]);
     vx_free(&a, rs->top);
     vx_free(&a, rs->grid_at);
+    vx_free(&a, rs->grid_slot);
     vx_free(&a, rs->uni.held);
     vx_free(&a, rs->top_count);
     for (uint32_t i = 0; rs->df && i < rs->model_count; i++) vx_free(&a, rs->df[i].bits);
@@ -1926,6 +1946,95 @@ static void commit_room(arena* a, region* reg, uint32_t mi, const room* p, uint3
     reg[mi].have = have;
 }
 
+/* grid_walk.glsl's GRID from the grids the models have now, by prepare_grids' rule (GRID_CUBE as they were
+ * laid out: rs->grid_cube) */
+static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
+    uint32_t made = 0, cells = 0, top = 0, low = UINT32_MAX;
+    for (uint32_t i = 0; i < rs->model_count; i++) {
+        cells += s->models[i].root != VX_SVO_ROOT_EMPTY;
+        if (rs->grid_at[i] == UINT32_MAX) continue;
+        uint32_t t = rs->grid_slot[i].top;
+        made++;
+        if (t > top) top = t;
+        if (t < low) low = t;
+    }
+    rs->grid_top = !made ? 0u
+                         : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (rs->grid_cube ? 32u : 0u);
+}
+
+/* An edited model's grid made again (vx_render_scene_update_model, after its words, its cells' box and the
+ * instances), where the grid it had took at most REGRID_WORDS words: a stroke keeps the grid walk (on the H100
+ * 1.3-3x the rays/s of the octree walk on the .vox scenes, issue 21) for one build of the grid, 1-3 ms for the
+ * corpus's .vox models' grids of 0.02-0.09 MiB (render_bench's "built in"; about 75 MB of grid a second on the
+ * GPU host, so at most about 15 ms). A larger grid stays dropped (the model walks its octree), as before this
+ * rule. The same cube rule as prepare_grids; the grid goes where the old one was where it fits, else after the
+ * grids in use (rs->grid grows; the old place stays unused), within the scene's grid budget. VX_OK without a
+ * grid where the model has none now (empty, too deep, past the budget, out of host or device memory for it: the
+ * octree walk, as prepare_grids leaves such a model); an error only where the GPU fails a copy or an upload. */
+enum { REGRID_WORDS = 1u << 18 };
+static vx_result regrid(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, vx_error* err) {
+    const vx_svo_model* m = &s->models[mi];
+    struct grid_slot* sl = &rs->grid_slot[mi];
+    if (!sl->words || sl->words > REGRID_WORDS || m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH ||
+        (m->node_count && !m->nodes))
+        return VX_OK;
+    const uint32_t* cb = &rs->mcells[6 * mi];
+    vx__grid_words out = {0};
+    uint32_t top = 0, rec = 0;
+    uint64_t addr = sl->addr;
+    bool placed = false, at_end = false;
+    for (int k = 0; k < 2 && !placed; k++) {
+        at_end = k == 1;
+        if (at_end) addr = rs->grid_end;
+        out.n = 0;
+        vx_error e = {0};
+        if (!vx__grid_words_grow(&rs->alloc, &out, 4)) break;
+        grid_header(cb, out.w);
+        out.n = 4;
+        if (vx__grid_model(&rs->alloc, m, rs->grid_cube ? cb : NULL, addr, NULL, &out, &top, &rec, &e)) break;
+        out.w[3] = rec; /* the header's word 3: its bricks' record key */
+        placed = at_end ? (addr + out.n) * 4 <= rs->grid_budget : out.n <= sl->words;
+    }
+    vx_result r = VX_OK;
+    vx_gpu* g = rs->gpu;
+    /* a grid that outgrew its place gets a quarter more room at the end, for the next strokes' */
+    uint64_t end = addr + out.n, room = at_end ? end + out.n / 4 + 64 : end;
+    if (room * 4 > rs->grid_budget) room = end;
+    if (placed && room * 4 > rs->grid.size) {
+        /* the buffer grows (with headroom for the next strokes' grids), the words in use copied */
+        vx__buffer nb = {0};
+        vx_error e = {0};
+        if (vx__buffer_create(g, with_headroom(room, rs->grid_budget / 4) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                              "grid", &nb, &e))
+            placed = false;
+        else if (!(r = vx__cmd_begin(g, err))) {
+            VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)rs->grid_end * 4};
+            vkCmdCopyBuffer(g->cmd, rs->grid.buf, nb.buf, 1, &c);
+            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                  .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                  .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
+                                 NULL, 0, NULL);
+            r = vx__cmd_submit_wait(g, err);
+        }
+        if (r || !placed) vx__buffer_destroy(g, &nb);
+        else vx__buffer_destroy(g, &rs->grid), rs->grid = nb;
+    }
+    uint32_t a32 = (uint32_t)addr;
+    if (placed && !r && !(r = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)addr * 4, out.w, (VkDeviceSize)out.n * 4, err)) &&
+        !(r = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &a32, 4, err))) {
+        rs->grid_at[mi] = a32;
+        sl->addr = a32, sl->top = top;
+        if (at_end) sl->words = (uint32_t)(room - addr), rs->grid_end = room;
+        rs->layout.grid_bytes = rs->grid_end * 4;
+        rs->stats.grids_rebuilt++;
+    }
+    vx_free(&rs->alloc, out.w);
+    grid_bits(rs, s);
+    return r;
+}
+
 vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, uint32_t words_from,
                                        uint32_t records_from, vx_error* err) {
     if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
@@ -1947,8 +2056,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
     settle(rs); /* the model record and the appended words' place may be read by a frame in flight */
     rs->uni.insts = 0; /* the union grid's bricks are the models' as made: the BVH from now on */
     if (rs->grid_at && rs->grid_at[mi] != UINT32_MAX) {
-        /* the edited model walks its octree from now on (its grid is not made again); models without one
-         * (most strokes after the first) need no upload */
+        /* the edited model walks its octree until its grid is made again at the end (regrid, where that is
+         * cheap; else from now on): its old grid does not hold the new cells. Models without one need no upload */
         uint32_t none = UINT32_MAX;
         vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
         if (gr) return gr;
@@ -2100,6 +2209,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         uint32_t f = rs->shown < vx_svo_scene_frames(s) ? rs->shown : 0;
         if ((r = set_frame(rs, s, f, false, err))) return r;
     }
+    /* its grid made again (dropped above) where that is cheap */
+    if (rs->grid_at && (r = regrid(rs, s, mi, err))) return r;
     return VX_OK;
 fail:
     vx__buffer_destroy(g, &nwb);
@@ -2144,6 +2255,12 @@ uint32_t vx__render_scene_grid_spec(vx_render_scene* rs, const vx__frame* f, vx_
 
 void vx__render_scene_grid(vx_render_scene* rs, int on) {
     if (rs) rs->grid_on = on < 0 ? -1 : on > 0;
+}
+
+uint32_t vx__render_scene_grid_models(const vx_render_scene* rs) {
+    uint32_t n = 0;
+    for (uint32_t i = 0; rs && rs->grid_at && i < rs->model_count; i++) n += rs->grid_at[i] != UINT32_MAX;
+    return n;
 }
 
 uint32_t vx__render_scene_grid_union(vx_render_scene* rs, int on) {

@@ -50,6 +50,9 @@ void vx__render_scene_trace_path(vx_render_scene* rs, int path);
  * for the models that have a grid (-1 the default, on; 0 off: every model
  * walks its octree; 1 on). */
 void vx__render_scene_grid(vx_render_scene* rs, int on);
+/* Tests: the models whose grid the walk takes now (grid_at; after
+ * vx_render_scene_update_model, those whose grids were made again). */
+uint32_t vx__render_scene_grid_models(const vx_render_scene* rs);
 /* Benchmarks and tests: the union grid over a converter's regions
  * (render_scene.c grid_union: trace.comp's kernel of one instance walks it
  * instead of each region's grid under the BVH; -1 the default, on where it
