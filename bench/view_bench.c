@@ -14,13 +14,16 @@
  *        of FRAMES frames, every instance one cell further along x each frame
  *        (models shared: playback in svo_view --bench switches frames with no
  *        upload; bench/view_bench.sh compares it with the still scene)
- *        view_bench --stroke IN.svo|terrain256 [STROKES (default 30)] [RADIUS (default 4)]:
+ *        view_bench --stroke IN.svo|terrain256 [STROKES (default 30)] [RADIUS (default 4)] [GRID (on|off)]:
  *        svo_view's brush strokes (sphere, add/remove/paint in turn, centred on
  *        the surface of instance 0's model at random columns): the editor's
  *        apply (vvx_apply) and the GPU update (vx_render_scene_update_model),
  *        undo (header restored + update), against the path before (the model
  *        decoded and built again, the render scene made again) on the same
- *        strokes. terrain256: the tracer benchmarks' terrain at 256^3.
+ *        strokes. terrain256: the tracer benchmarks' terrain at 256^3. GRID:
+ *        the render scenes' grids asked for or none (default: a GPU builds
+ *        them, a CPU device does not); with grids a stroke's update makes its
+ *        model's grid again where it is small (render_scene.c regrid).
  *        view_bench --frame IN.svo [W H (default 1920 1080)] [FRAMES (default 30)] [PASSES]:
  *        svo_view's colour frame without a window, on each path, medians:
  *        the passes' GPU time (svo_render's trace time for the same passes,
@@ -165,7 +168,7 @@ static double median(double* v, uint32_t n) {
     return n ? v[n / 2] : 0;
 }
 
-static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius) {
+static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius, const char* grid) {
     vx_svo_scene s, s2;
     vx_error err = {0};
     bool terrain = !strcmp(in, "terrain256");
@@ -192,9 +195,18 @@ static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius) {
     }
     vx_gpu* gpu;
     vx_render_scene *rs = NULL, *rs2 = NULL;
-    if (vx_gpu_create(NULL, &gpu, &err) || vx_render_scene_create(gpu, &s, &rs, &err) ||
-        vx_render_scene_create(gpu, &s2, &rs2, &err))
+    /* GRID: the render scenes' grids (the default: a GPU's budget, none on a CPU device; "on": asked for;
+     * "off": none), so that a stroke's update includes its grid's rebuild (render_scene.c regrid) */
+    vx_render_scene_desc sd = {.grid_budget = !grid                   ? 0
+                                              : !strcmp(grid, "on")  ? VX_RENDER_GRID_BUDGET
+                                              : !strcmp(grid, "off") ? VX_RENDER_NO_GRID
+                                                                     : UINT64_MAX};
+    if (sd.grid_budget == UINT64_MAX) return fprintf(stderr, "--stroke: GRID is on or off, not %s\n", grid), 2;
+    if (vx_gpu_create(NULL, &gpu, &err) || vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) ||
+        vx_render_scene_create_ex(gpu, &s2, &sd, &rs2, &err))
         return fprintf(stderr, "%s\n", err.msg), 1;
+    vx_render_layout_info li0;
+    vx_render_scene_layout(rs, &li0);
     ved e, e2;
     ved_init(&e, &s);
     ved_init(&e2, &s2);
@@ -236,7 +248,7 @@ static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius) {
         if (vvx_apply(&e2, model, (vvx_op)(k % 3), &b, c[k], &n, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
         double t1 = vx_time_now();
         vx_render_scene_destroy(rs2);
-        if (vx_render_scene_create(gpu, &s2, &rs2, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
+        if (vx_render_scene_create_ex(gpu, &s2, &sd, &rs2, &err)) return fprintf(stderr, "%s\n", err.msg), 1;
         rb[k] = (t1 - t0) * 1e3, rc[k] = (vx_time_now() - t1) * 1e3;
     }
     printf("view_bench --stroke: %s model %u (%ux%ux%u, %llu voxels, %u node words) on %s, sphere radius %u, %u strokes "
@@ -248,6 +260,13 @@ static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius) {
            median(tot, strokes), median(apply, strokes), median(upd, strokes), t_first, median(undo, strokes));
     printf("  before (decode + build, scene made again), %u strokes: median %.2f ms + %.2f ms\n", nb, median(rb, nb),
            median(rc, nb));
+    vx_render_scene_stats st;
+    vx_render_scene_get_stats(rs, &st);
+    vx_render_layout_info li;
+    vx_render_scene_layout(rs, &li);
+    printf("  grids: %u models at the start (%.3f MiB, built in %.4f s), %u made again by the strokes and undos "
+           "(%.3f MiB of grid buffer at the end)\n",
+           li0.grid_models, li0.grid_bytes / 1048576.0, li0.grid_seconds, st.grids_rebuilt, li.grid_bytes / 1048576.0);
     free(apply), free(upd), free(tot), free(undo), free(rb), free(rc), free(c), free(hm.h);
     ved_free(&e);
     ved_free(&e2);
@@ -1057,7 +1076,7 @@ int main(int argc, char** argv) {
                             argc > 7 ? argv[7] : NULL);
     if (argc >= 3 && !strcmp(argv[1], "--stroke"))
         return stroke_bench(argv[2], argc > 3 ? (uint32_t)strtoul(argv[3], NULL, 10) : 30,
-                            argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4);
+                            argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 4, argc > 5 ? argv[5] : NULL);
     if (argc >= 3 && !strcmp(argv[1], "--frame"))
         return frame_bench(argv[2], argc > 4 ? (uint32_t)strtoul(argv[3], NULL, 10) : 1920,
                            argc > 4 ? (uint32_t)strtoul(argv[4], NULL, 10) : 1080,
