@@ -6,7 +6,7 @@
  * the GPU scene is updated with only the appended words and records; its
  * frame (instance, cell and colour of every pixel) must equal the frame of
  * a scene created from the compacted models (vx_svo_model_compact: the
- * builder's model of the same cells). Also after an undo and a redo
+ * builder's model of the same cells), which walks their octrees. Also after an undo and a redo
  * (headers restored, nothing uploaded), after a stroke made after the undo,
  * and on a scene created while the model was undone (the words it never
  * received are uploaded). The strokes append more words than the buffers'
@@ -90,23 +90,23 @@ static vx_render_desc view(void) {
  * compacted models of s: pixels whose instance, cell or colour differ. */
 static size_t frame_diff_ties(vx_render_scene* rs, const vx_svo_scene* s, size_t* hits, size_t* ties) {
     vx_svo_scene c = *s;
-    vx_svo_model cm[2];
+    vx_svo_model cm[2] = {0};
     c.models = cm;
     vx_error err = {0};
     size_t bad = SIZE_MAX;
-    if (vx_svo_model_compact(NULL, &s->models[0], &cm[0], &err)) {
-        fprintf(stderr, "compact: %s\n", err.msg);
-        return SIZE_MAX;
-    }
-    if (vx_svo_model_compact(NULL, &s->models[1], &cm[1], &err)) {
-        fprintf(stderr, "compact: %s\n", err.msg);
-        vx_svo_model_free(NULL, &cm[0]);
-        return SIZE_MAX;
-    }
+    if (s->model_count > 2) return SIZE_MAX;
+    for (uint32_t i = 0; i < s->model_count; i++)
+        if (vx_svo_model_compact(NULL, &s->models[i], &cm[i], &err)) {
+            fprintf(stderr, "compact: %s\n", err.msg);
+            for (uint32_t j = 0; j < i; j++) vx_svo_model_free(NULL, &cm[j]);
+            return SIZE_MAX;
+        }
     vx_render_scene* ref = NULL;
     vx_render_image a = {0}, b = {0};
     vx_render_desc d = view();
-    if (vx_render_scene_create(gpu, &c, &ref, &err) || vx_render_frame(rs, &d, &a, &err) ||
+    /* the reference walks the octrees on every device (a GPU builds grids by default) */
+    vx_render_scene_desc rd = {.grid_budget = VX_RENDER_NO_GRID};
+    if (vx_render_scene_create_ex(gpu, &c, &rd, &ref, &err) || vx_render_frame(rs, &d, &a, &err) ||
         vx_render_frame(ref, &d, &b, &err)) {
         fprintf(stderr, "frame: %s\n", err.msg);
     } else {
@@ -135,8 +135,7 @@ static size_t frame_diff_ties(vx_render_scene* rs, const vx_svo_scene* s, size_t
     vx_render_image_free(&a);
     vx_render_image_free(&b);
     vx_render_scene_destroy(ref);
-    vx_svo_model_free(NULL, &cm[0]);
-    vx_svo_model_free(NULL, &cm[1]);
+    for (uint32_t i = 0; i < s->model_count; i++) vx_svo_model_free(NULL, &cm[i]);
     return bad;
 }
 
@@ -199,7 +198,7 @@ static void update_model(bool grids) {
     REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e0, &err) == VX_OK);
     REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[1], &e1, &err) == VX_OK);
     vx_render_scene* rs = NULL;
-    vx_render_scene_desc sd = {.grid_budget = grids ? VX_RENDER_GRID_BUDGET : 0};
+    vx_render_scene_desc sd = {.grid_budget = grids ? VX_RENDER_GRID_BUDGET : VX_RENDER_NO_GRID};
     REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
     CHECK(vx__render_scene_grid_models(rs) == (grids ? 2u : 0u));
     size_t most_ties = 0;
@@ -285,8 +284,11 @@ static void test_update_model_grids(void) { update_model(true); }
 
 /* Cells added outside a model's cells' box (inside its size): the
  * instances' boxes (the BVH's) are its cells' box, so the update must make
- * them again, or the new cells are culled. */
-static void test_update_past_cells(void) {
+ * them again, or the new cells are culled. With grids, the same for the
+ * grid's header (the box the walk clips to, and the cube the grid covers:
+ * model 0's 8^3 cells in a 2^6 cube make the scene lay its grids over their
+ * cells' cubes, GRID_CUBE). */
+static void update_past_cells(bool grids) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
     make_scene(&s, true);
@@ -294,8 +296,9 @@ static void test_update_past_cells(void) {
     vx_svo_editor* e0 = NULL;
     REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e0, &err) == VX_OK);
     vx_render_scene* rs = NULL;
-    REQUIRE(vx_render_scene_create(gpu, &s, &rs, &err) == VX_OK);
-    size_t hits0 = 0, hits = 0, bad = frame_diff(rs, &s, &hits0);
+    vx_render_scene_desc sd = {.grid_budget = grids ? VX_RENDER_GRID_BUDGET : VX_RENDER_NO_GRID};
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
+    size_t most_ties = 0, hits0 = 0, hits = 0, bad = grid_diff(rs, &s, &hits0, grids, &most_ties);
     CHECKF(bad == 0, "before the edit: %zu pixels differ", bad);
     /* a block at the model's far corner, inside its size */
     static vx_svo_cell_write w[12 * 12 * 12];
@@ -308,8 +311,10 @@ static void test_update_past_cells(void) {
     REQUIRE(vx_svo_editor_apply(e0, w, n, &st, &err) == VX_OK);
     CHECK(s.models[0].size[0] == 40);
     REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
-    bad = frame_diff(rs, &s, &hits);
-    CHECKF(bad == 0 && hits > hits0, "after the edit: %zu pixels differ, %zu hits (%zu before)", bad, hits, hits0);
+    CHECK(vx__render_scene_grid_models(rs) == (grids ? 2u : 0u));
+    bad = grid_diff(rs, &s, &hits, grids, &most_ties);
+    CHECKF(bad == 0 && hits > hits0, "after the edit%s: %zu pixels differ, %zu hits (%zu before)", grids ? " (grids)" : "",
+           bad, hits, hits0);
     CHECK(vx_gpu_validation_errors(gpu) == 0);
     vx_render_scene_destroy(rs);
     vx_svo_editor_destroy(e0);
@@ -324,6 +329,65 @@ static void test_update_past_cells(void) {
  * (a redo that reaches words no earlier root reached) must turn and upload
  * those words below words_from; and a descriptor that points outside its
  * model's words is refused at the upload, not traced. */
+/* A grid over its cells' cube (render/grid.h vx__grid_cube; GRID_CUBE) made
+ * again: a 2^8 model whose cells are an 8^3 block at 40 (its grid over a 2^3
+ * cube at 40, where the model's cube would take a 32^3 root), then a block
+ * added at (60, 20, 10): the cube is now 2^6 from (40, 16, 8). Its frames
+ * against the octree walk's after each step, the new block's hits seen. */
+static void test_update_grid_cube(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    vx_svo_scene s;
+    vx_svo_scene_init(&s, NULL);
+    s.models = vx_calloc(NULL, 1, sizeof *s.models);
+    s.instances = vx_calloc(NULL, 1, sizeof *s.instances);
+    REQUIRE(s.models && s.instances);
+    s.model_count = 1, s.instance_count = 1;
+    uint64_t keys[512];
+    uint8_t pal[512];
+    size_t n = 0;
+    for (uint32_t z = 40; z < 48; z++)
+        for (uint32_t y = 40; y < 48; y++)
+            for (uint32_t x = 40; x < 48; x++) keys[n] = vx_svo_morton(x, y, z), pal[n++] = (uint8_t)(1 + (x + y + z) % 5);
+    vx_svo_voxels v = {.size = {256, 256, 256}, .count = n, .keys = keys, .attrs = VX_ATTR_PALETTE, .palette = pal};
+    REQUIRE(vx_svo_build_model(&(vx_svo_build_desc){0}, &v, &s.models[0], NULL, NULL) == VX_OK);
+    static const double x0[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    memcpy(s.instances[0].xform, x0, sizeof x0);
+    s.instances[0].layer = UINT32_MAX;
+    s.has_palette = true;
+    for (uint32_t i = 1; i < 256; i++) s.palette[i] = 0xFF000000u | (i * 0x00294F83u & 0x00FFFFFFu);
+    vx_svo_scene_update_bounds(&s);
+    vx_error err = {0};
+    vx_render_scene* rs = NULL;
+    vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err) == VX_OK);
+    vx_render_layout_info li = {0};
+    vx_render_scene_layout(rs, &li);
+    CHECKF(li.grid_models == 1 && li.grid_cubes == 1, "%u grids, %u over their cells' cubes", li.grid_models, li.grid_cubes);
+    size_t most_ties = 0, hits0 = 0, hits = 0, bad = grid_diff(rs, &s, &hits0, true, &most_ties);
+    CHECKF(bad == 0 && hits0 > 0, "before the edit: %zu pixels differ, %zu hits", bad, hits0);
+    vx_svo_editor* e = NULL;
+    REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e, &err) == VX_OK);
+    static vx_svo_cell_write w[6 * 6 * 6];
+    n = 0;
+    for (uint32_t z = 10; z < 16; z++)
+        for (uint32_t y = 20; y < 26; y++)
+            for (uint32_t x = 60; x < 66; x++)
+                w[n++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = true, .value = {.palette = 7}};
+    vx_svo_edit_stats st;
+    REQUIRE(vx_svo_editor_apply(e, w, n, &st, &err) == VX_OK);
+    REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
+    CHECK(vx__render_scene_grid_models(rs) == 1);
+    bad = grid_diff(rs, &s, &hits, true, &most_ties);
+    CHECKF(bad == 0 && hits > hits0, "after the edit: %zu pixels differ, %zu hits (%zu before)", bad, hits, hits0);
+    CHECK(vx_gpu_validation_errors(gpu) == 0);
+    vx_render_scene_destroy(rs);
+    vx_svo_editor_destroy(e);
+    vx_svo_scene_free(&s);
+}
+
+static void test_update_past_cells(void) { update_past_cells(false); }
+static void test_update_past_cells_grids(void) { update_past_cells(true); }
+
 static void test_update_gpu_form(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
@@ -366,7 +430,8 @@ static void test_update_gpu_form(void) {
     uint32_t saved = m->nodes[m->root];
     m->nodes[m->root] = vx_svo_desc_make(m->root + 1, false, vx_svo_desc_valid(saved), vx_svo_desc_leaf(saved));
     rs = NULL;
-    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    vx_render_scene_desc sd = {.grid_budget = VX_RENDER_NO_GRID}; /* the octrees' GPU form (a GPU builds grids) */
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &sd, &rs, &err);
     CHECKF(r == VX_ERR_BAD_FORMAT && strstr(err.msg, "model 0") && !rs, "bad pointer: result %d, %s", (int)r, err.msg);
     vx_render_scene_destroy(rs);
     m->nodes[m->root] = saved;
@@ -380,6 +445,8 @@ int main(void) {
     RUN(test_update_model);
     RUN(test_update_model_grids);
     RUN(test_update_past_cells);
+    RUN(test_update_past_cells_grids);
+    RUN(test_update_grid_cube);
     RUN(test_update_gpu_form);
     if (gpu) vx_gpu_destroy(gpu);
     return vx_test_finish();
