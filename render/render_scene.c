@@ -1967,8 +1967,9 @@ static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
  * 1.3-3x the rays/s of the octree walk on the .vox scenes, issue 21) for one build of the grid. On dev (one
  * core, `view_bench --stroke FILE 30 4 on`) a stroke's update took 0.42 ms on eph_monu1 and 0.89 ms on
  * eph_dragon (0.05 MiB grids; 0.04-0.07 ms without grids) and 3.2 ms on the 256^3 terrain (0.38 MiB), so
- * about 9 ms at the limit. A larger grid stays dropped (the model walks its octree), as before this rule. The same cube rule as prepare_grids; the grid goes where the old one was where it fits, else after the
- * grids in use (rs->grid grows; the old place stays unused), within the scene's grid budget. VX_OK without a
+ * about 9 ms at the limit. A larger grid stays dropped (the model walks its octree), as before this rule.
+ * The same cube rule as prepare_grids; the grid goes where the old one was where it fits, else after the grids
+ * in use (rs->grid grows; the old place stays unused), within the scene's grid budget. VX_OK without a
  * grid where the model has none now (empty, too deep, past the budget, out of host or device memory for it: the
  * octree walk, as prepare_grids leaves such a model); an error only where the GPU fails a copy or an upload. */
 enum { REGRID_WORDS = 1u << 18 };
