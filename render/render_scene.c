@@ -749,6 +749,23 @@ static bool union_holds(const vx_render_scene* rs) { return rs->uni.insts && rs-
  * their words stay within the budget (desc->grid_budget) and one storage
  * buffer's range; by default none on a CPU device, and none for the float64
  * variant's scenes. A model the grid cannot lay out keeps its octree walk. */
+/* grid_walk.glsl's GRID from the grids the models have now (prepare_grids, regrid): the greatest root level,
+ * GRID_ALL where every model that holds a cell has a grid, GRID_EXACT where every root is at that level and it is
+ * 2 or more (at 1 the level is a constant already), GRID_CUBE as the grids were laid out (rs->grid_cube) */
+static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
+    uint32_t made = 0, cells = 0, top = 0, low = UINT32_MAX;
+    for (uint32_t i = 0; i < rs->model_count; i++) {
+        cells += s->models[i].root != VX_SVO_ROOT_EMPTY;
+        if (rs->grid_at[i] == UINT32_MAX) continue;
+        uint32_t t = rs->grid_slot[i].top;
+        made++;
+        if (t > top) top = t;
+        if (t < low) low = t;
+    }
+    rs->grid_top = !made ? 0u
+                         : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (rs->grid_cube ? 32u : 0u);
+}
+
 static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                vx_error* err) {
     uint64_t budget = desc && desc->grid_budget ? desc->grid_budget : VX_RENDER_GRID_BUDGET;
@@ -767,7 +784,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         vx_free(&rs->alloc, out.w);
         return vx_fail(err, VX_ERR_NOMEM, VX_NO_OFFSET, "out of memory for the grid table");
     }
-    uint32_t made = 0, top = 0, low = UINT32_MAX, cells = 0;
+    uint32_t made = 0;
     bool cube = false; /* some grid's cube is not its model's (vx__grid_cube): grid_walk.glsl's GRID_CUBE */
     uint32_t cubes = 0;
     /* the converter's regions as one grid first (trace.comp's kernel of one instance walks it), its bricks
@@ -787,11 +804,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
             out.n = models_at;
             memset(out.w, 0xFF, (size_t)s->model_count * 4);
             memset(slot, 0, (size_t)s->model_count * sizeof *slot);
-            made = top = cells = cubes = 0, low = UINT32_MAX;
+            made = cubes = 0;
         }
         for (uint32_t i = 0; i < s->model_count; i++) {
             const vx_svo_model* m = &s->models[i];
-            cells += m->root != VX_SVO_ROOT_EMPTY;
             if (m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes))
                 continue;
             size_t before = out.n;
@@ -822,8 +838,6 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
             out.w[i] = (uint32_t)before;
             slot[i] = (struct grid_slot){(uint32_t)before, (uint32_t)(out.n - before), t};
             made++;
-            if (t > top) top = t;
-            if (t < low) low = t;
         }
     }
     vx__grid_bricks_free(&ub.b);
@@ -838,9 +852,7 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
         memcpy(rs->grid_at, out.w, (size_t)s->model_count * 4);
         rs->grid_slot = slot, slot = NULL;
         rs->grid_end = out.n, rs->grid_budget = budget, rs->grid_cube = cube;
-        /* grid_walk.glsl's GRID: GRID_ALL where every model has one, GRID_EXACT where every root is at level
-         * top >= 2 (at 1 the level is a constant already) */
-        rs->grid_top = top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (cube ? 32u : 0u);
+        grid_bits(rs, s);
         rs->layout.grid_bytes = (uint64_t)out.n * 4;
         rs->layout.grid_models = made;
         rs->layout.grid_cubes = cubes;
@@ -1944,22 +1956,6 @@ static void commit_room(arena* a, region* reg, uint32_t mi, const room* p, uint3
     a->cap = (uint32_t)p->cap;
     if (a->tail == mi) reg[mi].cap = a->cap - reg[mi].off;
     reg[mi].have = have;
-}
-
-/* grid_walk.glsl's GRID from the grids the models have now, by prepare_grids' rule (GRID_CUBE as they were
- * laid out: rs->grid_cube) */
-static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
-    uint32_t made = 0, cells = 0, top = 0, low = UINT32_MAX;
-    for (uint32_t i = 0; i < rs->model_count; i++) {
-        cells += s->models[i].root != VX_SVO_ROOT_EMPTY;
-        if (rs->grid_at[i] == UINT32_MAX) continue;
-        uint32_t t = rs->grid_slot[i].top;
-        made++;
-        if (t > top) top = t;
-        if (t < low) low = t;
-    }
-    rs->grid_top = !made ? 0u
-                         : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (rs->grid_cube ? 32u : 0u);
 }
 
 /* An edited model's grid made again (vx_render_scene_update_model, after its words, its cells' box and the

@@ -282,6 +282,17 @@ static void update_model(bool grids) {
 static void test_update_model(void) { update_model(false); }
 static void test_update_model_grids(void) { update_model(true); }
 
+/* Writes setting every cell of the box [lo, hi) to palette entry pal into
+ * w; returns their count. */
+static size_t box_writes(vx_svo_cell_write* w, const uint32_t lo[3], const uint32_t hi[3], uint8_t pal) {
+    size_t n = 0;
+    for (uint32_t z = lo[2]; z < hi[2]; z++)
+        for (uint32_t y = lo[1]; y < hi[1]; y++)
+            for (uint32_t x = lo[0]; x < hi[0]; x++)
+                w[n++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = true, .value = {.palette = pal}};
+    return n;
+}
+
 /* Cells added outside a model's cells' box (inside its size): the
  * instances' boxes (the BVH's) are its cells' box, so the update must make
  * them again, or the new cells are culled. With grids, the same for the
@@ -302,11 +313,7 @@ static void update_past_cells(bool grids) {
     CHECKF(bad == 0, "before the edit: %zu pixels differ", bad);
     /* a block at the model's far corner, inside its size */
     static vx_svo_cell_write w[12 * 12 * 12];
-    size_t n = 0;
-    for (uint32_t z = 26; z < 38; z++)
-        for (uint32_t y = 26; y < 38; y++)
-            for (uint32_t x = 26; x < 38; x++)
-                w[n++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = true, .value = {.palette = 3}};
+    size_t n = box_writes(w, (const uint32_t[3]){26, 26, 26}, (const uint32_t[3]){38, 38, 38}, 3);
     vx_svo_edit_stats st;
     REQUIRE(vx_svo_editor_apply(e0, w, n, &st, &err) == VX_OK);
     CHECK(s.models[0].size[0] == 40);
@@ -321,14 +328,6 @@ static void update_past_cells(bool grids) {
     vx_svo_scene_free(&s);
 }
 
-/* The node buffer holds the descriptors a model's walk reaches in the GPU
- * form (render_scene.c, issue 21: the low byte the inner mask), the other
- * words as the model has them. A scene made while model 0's root is its
- * octant-0 child (one level less, its other subtrees unreachable, so never
- * turned) and updated with the whole model's header and nothing appended
- * (a redo that reaches words no earlier root reached) must turn and upload
- * those words below words_from; and a descriptor that points outside its
- * model's words is refused at the upload, not traced. */
 /* A grid over its cells' cube (render/grid.h vx__grid_cube; GRID_CUBE) made
  * again: a 2^8 model whose cells are an 8^3 block at 40 (its grid over a 2^3
  * cube at 40, where the model's cube would take a 32^3 root), then a block
@@ -368,11 +367,7 @@ static void test_update_grid_cube(void) {
     vx_svo_editor* e = NULL;
     REQUIRE(vx_svo_editor_create(&(vx_svo_editor_desc){0}, &s.models[0], &e, &err) == VX_OK);
     static vx_svo_cell_write w[6 * 6 * 6];
-    n = 0;
-    for (uint32_t z = 10; z < 16; z++)
-        for (uint32_t y = 20; y < 26; y++)
-            for (uint32_t x = 60; x < 66; x++)
-                w[n++] = (vx_svo_cell_write){.x = x, .y = y, .z = z, .set = true, .value = {.palette = 7}};
+    n = box_writes(w, (const uint32_t[3]){60, 20, 10}, (const uint32_t[3]){66, 26, 16}, 7);
     vx_svo_edit_stats st;
     REQUIRE(vx_svo_editor_apply(e, w, n, &st, &err) == VX_OK);
     REQUIRE(vx_render_scene_update_model(rs, &s, 0, st.words_from, st.records_from, &err) == VX_OK);
@@ -388,6 +383,14 @@ static void test_update_grid_cube(void) {
 static void test_update_past_cells(void) { update_past_cells(false); }
 static void test_update_past_cells_grids(void) { update_past_cells(true); }
 
+/* The node buffer holds the descriptors a model's walk reaches in the GPU
+ * form (render_scene.c, issue 21: the low byte the inner mask), the other
+ * words as the model has them. A scene made while model 0's root is its
+ * octant-0 child (one level less, its other subtrees unreachable, so never
+ * turned) and updated with the whole model's header and nothing appended
+ * (a redo that reaches words no earlier root reached) must turn and upload
+ * those words below words_from; and a descriptor that points outside its
+ * model's words is refused at the upload, not traced. */
 static void test_update_gpu_form(void) {
     if (gpu_skip) SKIP("%s", gpu_skip);
     vx_svo_scene s;
