@@ -1958,6 +1958,20 @@ static void commit_room(arena* a, region* reg, uint32_t mi, const room* p, uint3
     reg[mi].have = have;
 }
 
+/* rs->stage (the update's host-visible staging buffer) at least `bytes` long: made again, twice the size, where
+ * shorter. Its contents are not kept. */
+static vx_result stage_room(vx_render_scene* rs, VkDeviceSize bytes, vx_error* err) {
+    if (bytes <= rs->stage.size) return VX_OK;
+    vx__buffer_destroy(rs->gpu, &rs->stage);
+    vx_result r = vx__buffer_create(rs->gpu, bytes * 2, 0, true, "update staging", &rs->stage, err);
+    if (r) return r;
+    if (!rs->stage.map) {
+        vx__buffer_destroy(rs->gpu, &rs->stage);
+        return vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "staging buffer is not host visible");
+    }
+    return VX_OK;
+}
+
 /* An edited model's grid made again (vx_render_scene_update_model, after its words, its cells' box and the
  * instances), where the grid it had took at most REGRID_WORDS words: a stroke keeps the grid walk (on the H100
  * 1.3-3x the rays/s of the octree walk on the .vox scenes, issue 21) for one build of the grid. On dev (one
@@ -1967,9 +1981,10 @@ static void commit_room(arena* a, region* reg, uint32_t mi, const room* p, uint3
  * The same cube rule as prepare_grids; the grid goes where the old one was where it fits, else after the grids
  * in use (rs->grid grows; the old place stays unused), within the scene's grid budget. VX_OK without a
  * grid where the model has none now (empty, too deep, past the budget, out of host or device memory for it: the
- * octree walk, as prepare_grids leaves such a model); an error only where the GPU fails a copy or an upload. */
+ * octree walk, as prepare_grids leaves such a model); an error only where the GPU fails a copy or an upload.
+ * *stale: the GPU's table word for mi still names the dropped grid; cleared where the new grid's is written. */
 enum { REGRID_WORDS = 1u << 18 };
-static vx_result regrid(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, vx_error* err) {
+static vx_result regrid(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, bool* stale, vx_error* err) {
     const vx_svo_model* m = &s->models[mi];
     struct grid_slot* sl = &rs->grid_slot[mi];
     if (!sl->words || sl->words > REGRID_WORDS || m->root == VX_SVO_ROOT_EMPTY || m->depth > VX_RENDER_GRID_DEPTH ||
@@ -1997,31 +2012,55 @@ static vx_result regrid(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi,
     /* a grid that outgrew its place gets a quarter more room at the end, for the next strokes' */
     uint64_t end = addr + out.n, room = at_end ? end + out.n / 4 + 64 : end;
     if (room * 4 > rs->grid_budget) room = end;
+    vx__buffer nb = {0}; /* the grown buffer, where the grid does not fit the one in use */
     if (placed && room * 4 > rs->grid.size) {
-        /* the buffer grows (with headroom for the next strokes' grids), the words in use copied */
-        vx__buffer nb = {0};
         vx_error e = {0};
         if (vx__buffer_create(g, with_headroom(room, rs->grid_budget / 4) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                               "grid", &nb, &e))
             placed = false;
-        else if (!(r = vx__cmd_begin(g, err))) {
-            VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)rs->grid_end * 4};
-            vkCmdCopyBuffer(g->cmd, rs->grid.buf, nb.buf, 1, &c);
-            VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-                                  .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-                                  .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
-            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
-                                 NULL, 0, NULL);
-            r = vx__cmd_submit_wait(g, err);
-        }
-        if (r || !placed) vx__buffer_destroy(g, &nb);
-        else vx__buffer_destroy(g, &rs->grid), rs->grid = nb;
     }
+    vx__buffer* gb = nb.buf ? &nb : &rs->grid;
     uint32_t a32 = (uint32_t)addr;
-    if (placed && !r && !(r = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)addr * 4, out.w, (VkDeviceSize)out.n * 4, err)) &&
-        !(r = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &a32, 4, err))) {
+    VkDeviceSize bytes = (VkDeviceSize)out.n * 4;
+    /* one submission (a device-local buffer): the words in use copied into a grown buffer, the grid's words from
+     * the update's staging buffer and its table word. Before, three staged uploads (each a staging buffer made
+     * and freed, a submission and a wait) took about 2 ms a stroke on the H100 (PERFORMANCE.md, stop 86) */
+    bool staged = placed && (!gb->map || nb.buf);
+    if (staged && !gb->map && (r = stage_room(rs, bytes, err))) placed = false;
+    if (staged && placed && !(r = vx__cmd_begin(g, err))) {
+        VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                              .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+        if (nb.buf) {
+            VkBufferCopy c = {.srcOffset = 0, .dstOffset = 0, .size = (VkDeviceSize)rs->grid_end * 4};
+            if (c.size) vkCmdCopyBuffer(g->cmd, rs->grid.buf, nb.buf, 1, &c);
+            VkMemoryBarrier tb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                                  .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                                  .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT};
+            vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &tb, 0,
+                                 NULL, 0, NULL);
+        }
+        if (!gb->map) {
+            memcpy(rs->stage.map, out.w, bytes);
+            VkBufferCopy c = {.srcOffset = 0, .dstOffset = (VkDeviceSize)addr * 4, .size = bytes};
+            vkCmdCopyBuffer(g->cmd, rs->stage.buf, gb->buf, 1, &c);
+            vkCmdUpdateBuffer(g->cmd, gb->buf, (VkDeviceSize)mi * 4, 4, &a32);
+        }
+        vkCmdPipelineBarrier(g->cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
+                             0, NULL);
+        r = vx__cmd_submit_wait(g, err);
+    }
+    if (r) placed = false;
+    if (placed && gb->map) { /* mapped (lavapipe, resizable BAR): written in place, no frame is in flight */
+        memcpy((uint32_t*)gb->map + addr, out.w, bytes);
+        memcpy((uint32_t*)gb->map + mi, &a32, 4);
+    }
+    if (placed && nb.buf) vx__buffer_destroy(g, &rs->grid), rs->grid = nb, nb = (vx__buffer){0};
+    vx__buffer_destroy(g, &nb);
+    if (placed) {
         rs->grid_at[mi] = a32;
+        *stale = false; /* the GPU's table word is the new grid's */
         sl->addr = a32, sl->top = top;
         if (at_end) sl->words = (uint32_t)(room - addr), rs->grid_end = room;
         rs->layout.grid_bytes = rs->grid_end * 4;
@@ -2032,9 +2071,10 @@ static vx_result regrid(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi,
     return r;
 }
 
-vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, uint32_t words_from,
-                                       uint32_t records_from, vx_error* err) {
-    if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+/* vx_render_scene_update_model's work; *stale set where the model's grid was dropped on the host and the GPU's
+ * table word still names it (written by the next submission: the update's, regrid's, else the caller's) */
+static vx_result update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, uint32_t words_from,
+                              uint32_t records_from, bool* stale, vx_error* err) {
     if (s->model_count != rs->model_count || mi >= s->model_count)
         return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "model %u: the scene has %u models, the GPU scene was made with %u",
                        mi, s->model_count, rs->model_count);
@@ -2056,8 +2096,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         /* the edited model walks its octree until its grid is made again at the end (regrid, where that is
          * cheap; else from now on): its old grid does not hold the new cells. Models without one need no upload */
         uint32_t none = UINT32_MAX;
-        vx_result gr = vx__buffer_upload_at(g, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, err);
-        if (gr) return gr;
+        if (rs->grid.map) memcpy((uint32_t*)rs->grid.map + mi, &none, 4); /* settled: no frame reads it */
+        else *stale = true;
         rs->grid_at[mi] = UINT32_MAX;
         rs->grid_top &= 3u | 32u; /* not every model has a grid now: the octree walk is compiled in (and the
                                    * root level taken from each grid's depth: its bits 2-3 off) */
@@ -2157,6 +2197,8 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
             vkCmdCopyBuffer(g->cmd, rs->stage.buf, ct->buf, 1, &c);
         }
         if (!rs->models.map) vkCmdUpdateBuffer(g->cmd, rs->models.buf, (VkDeviceSize)mi * sizeof gm, sizeof gm, &gm);
+        const uint32_t none = UINT32_MAX;
+        if (*stale) vkCmdUpdateBuffer(g->cmd, rs->grid.buf, (VkDeviceSize)mi * 4, 4, &none);
         VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                               .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
                               .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT};
@@ -2164,6 +2206,7 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, NULL,
                              0, NULL);
         if ((r = vx__cmd_submit_wait(g, err))) goto fail;
+        *stale = false;
     }
     /* mapped targets (lavapipe, resizable BAR): written in place */
     if (wn && !wst) dform_put((uint32_t*)wt->map + wp.off + wvalid, m->nodes, wvalid, wn, put_bits);
@@ -2207,13 +2250,29 @@ vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* 
         if ((r = set_frame(rs, s, f, false, err))) return r;
     }
     /* its grid made again (dropped above) where that is cheap */
-    if (rs->grid_at && (r = regrid(rs, s, mi, err))) return r;
+    if (rs->grid_at && (r = regrid(rs, s, mi, stale, err))) return r;
     return VX_OK;
 fail:
     vx__buffer_destroy(g, &nwb);
     vx__buffer_destroy(g, &ncb);
     vx_free(&rs->alloc, col);
     vx_free(&rs->alloc, nf.bits);
+    return r;
+}
+
+vx_result vx_render_scene_update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32_t mi, uint32_t words_from,
+                                       uint32_t records_from, vx_error* err) {
+    if (!rs || !s) return vx_fail(err, VX_ERR_INVALID_ARG, VX_NO_OFFSET, "NULL argument");
+    bool stale = false;
+    vx_result r = update_model(rs, s, mi, words_from, records_from, &stale, err);
+    /* the dropped grid's table word, where no submission wrote it (an error on the way, or no upload was needed
+     * and no grid was made again): the model walks its octree */
+    if (stale) {
+        const uint32_t none = UINT32_MAX;
+        vx_error e = {0};
+        vx_result wr = vx__buffer_upload_at(rs->gpu, &rs->grid, (VkDeviceSize)mi * 4, &none, 4, r ? &e : err);
+        if (!r) r = wr;
+    }
     return r;
 }
 
