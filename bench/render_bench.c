@@ -31,7 +31,8 @@
  * --octree: voxkit's rows again with every model on its octree walk (the
  * grid walk off, render/grid.h; rows end "[kernel octree walk]", "px differ"
  * then counts the pixels whose hits differ from the grid walk's). --grid: the
- * grids built on a CPU device too (none there by default). --regions:
+ * grids' budget asked for (VX_RENDER_GRID_BUDGET: since stop 87 the default on
+ * every device, so the flag changes nothing; kept for old command lines). --regions:
  * voxkit's rows again with a converter's regions each walked under the BVH
  * (the union grid off, render_scene.c grid_union; rows end "[kernel regions
  * apart]").
@@ -781,7 +782,7 @@ int main(int argc, char** argv) {
         }
         double t_load = vx_time_now() - t0;
         vx_render_scene* rs;
-        /* --grid: the grids also on a CPU device (render.h grid_budget: none there by default) */
+        /* --grid: the grids' budget asked for (render.h grid_budget; the default on every device now) */
         vx_render_scene_desc sdesc = {.grid_budget = force_grid ? VX_RENDER_GRID_BUDGET : 0};
         if (vx_render_scene_create_ex(gpu, &s, &sdesc, &rs, &err)) {
             fprintf(stderr, "render_bench: %s: %s\n", name, err.msg);

@@ -21,8 +21,8 @@
  *        undo (header restored + update), against the path before (the model
  *        decoded and built again, the render scene made again) on the same
  *        strokes. terrain256: the tracer benchmarks' terrain at 256^3. GRID:
- *        the render scenes' grids asked for or none (default: a GPU builds
- *        them, a CPU device does not); with grids a stroke's update makes its
+ *        the render scenes' grids asked for or none (default: built, on a CPU
+ *        device too); with grids a stroke's update makes its
  *        model's grid again where it is small (render_scene.c regrid).
  *        view_bench --frame IN.svo [W H (default 1920 1080)] [FRAMES (default 30)] [PASSES]:
  *        svo_view's colour frame without a window, on each path, medians:
@@ -195,7 +195,7 @@ static int stroke_bench(const char* in, uint32_t strokes, uint32_t radius, const
     }
     vx_gpu* gpu;
     vx_render_scene *rs = NULL, *rs2 = NULL;
-    /* GRID: the render scenes' grids (the default: a GPU's budget, none on a CPU device; "on": asked for;
+    /* GRID: the render scenes' grids (the default: the budget on every device; "on": asked for;
      * "off": none), so that a stroke's update includes its grid's rebuild (render_scene.c regrid) */
     vx_render_scene_desc sd = {.grid_budget = !grid                   ? 0
                                               : !strcmp(grid, "on")  ? VX_RENDER_GRID_BUDGET

@@ -384,10 +384,11 @@ typedef struct vx_render_scene_desc {
      * skipping empty space by distance, instead of descending its octree (the
      * same cells and hits). Grids are built from the plain layout's models of
      * at most VX_RENDER_GRID_DEPTH levels at creation, in model order while
-     * their bytes stay within grid_budget: 0 VX_RENDER_GRID_BUDGET on a GPU
-     * and none on a CPU device (lavapipe traced the grid walk at 0.2-0.7 of
-     * the octree walk's rays/s; a budget given builds them there too),
-     * VX_RENDER_NO_GRID none. An edited model's grid (vx_render_scene_update_model)
+     * their bytes stay within grid_budget: 0 VX_RENDER_GRID_BUDGET on every
+     * device (on lavapipe too since issue 21's stop 87: there the grid walk
+     * was at least 1.0x the ESVO baseline per CPU second on 17 of 21 bench
+     * views, the octree walk on 16, terrain4096's close-up 1.4-1.7x against
+     * 0.7x), VX_RENDER_NO_GRID none. An edited model's grid (vx_render_scene_update_model)
      * is made again where it took at most 1 MiB (a few ms a stroke); a larger
      * one is dropped and the model walks its octree. The pass pipeline's kernels that trace
      * (G-buffer, direct, AO, the merged frame: render/pipeline.h) take the

@@ -747,8 +747,8 @@ static bool union_holds(const vx_render_scene* rs) { return rs->uni.insts && rs-
  * them instead of the octrees): one per model of at most
  * VX_RENDER_GRID_DEPTH levels, built from its octree, in model order while
  * their words stay within the budget (desc->grid_budget) and one storage
- * buffer's range; by default none on a CPU device, and none for the float64
- * variant's scenes. A model the grid cannot lay out keeps its octree walk. */
+ * buffer's range (on every device: lavapipe too since stop 87), and none for
+ * the float64 variant's scenes. A model the grid cannot lay out keeps its octree walk. */
 /* grid_walk.glsl's GRID from the grids the models have now (prepare_grids, regrid): the greatest root level,
  * GRID_ALL where every model that holds a cell has a grid, GRID_EXACT where every root is at that level and it is
  * 2 or more (at 1 the level is a constant already), GRID_CUBE as the grids were laid out (rs->grid_cube) */
@@ -769,8 +769,6 @@ static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
 static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
                                vx_error* err) {
     uint64_t budget = desc && desc->grid_budget ? desc->grid_budget : VX_RENDER_GRID_BUDGET;
-    /* by default none on a CPU device: lavapipe traced the grid walk at 0.2-0.7 of the octree walk's rays/s */
-    if (!(desc && desc->grid_budget) && vx_gpu_is_cpu(rs->gpu)) return VX_OK;
     if (budget == VX_RENDER_NO_GRID || rs->precise || !s->model_count) return VX_OK;
     if (budget > rs->buffer_range) budget = rs->buffer_range;
     double t0 = vx_time_now();

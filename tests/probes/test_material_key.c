@@ -311,7 +311,9 @@ static void test_compact_materials(void) {
         vx_error err = {0};
         vx_render_scene *rs = NULL, *ps = NULL;
         REQUIRE(vx_render_scene_create_ex(gpu, &R.s[i], &cd, &rs, &err) == VX_OK);
-        REQUIRE(vx_render_scene_create(gpu, &R.s[i], &ps, &err) == VX_OK);
+        /* the plain layout's octree walk, which the compact kernels mirror float for float (no grids) */
+        REQUIRE(vx_render_scene_create_ex(gpu, &R.s[i], &(vx_render_scene_desc){.grid_budget = VX_RENDER_NO_GRID}, &ps,
+                                          &err) == VX_OK);
         vx_render_layout_info li;
         vx_render_scene_layout(rs, &li);
         printf("  compact %-16s material ids: %llu bytes (%llu cells; layout %llu bytes)\n", room_name[i],

@@ -38,8 +38,11 @@ typedef struct side {
 static bool side_open(const vx_svo_scene* s, vx_render_layout layout, uint32_t bricks, side* o) {
     vx_error err = {0};
     memset(o, 0, sizeof *o);
-    /* the whole compact layout: a budget no scene here reaches, so that it is not paged */
-    vx_render_scene_desc d = {.layout = layout, .memory_budget = 1ull << 40, .compact_bricks = bricks};
+    /* the whole compact layout: a budget no scene here reaches, so that it is not paged. No grids: the compact
+     * kernels mirror the plain layout's octree walk float for float, and the grid walk (which the plain layout
+     * takes by default, render.h grid_budget) reaches the same cells by other arithmetic, so ties may differ */
+    vx_render_scene_desc d = {
+        .layout = layout, .memory_budget = 1ull << 40, .compact_bricks = bricks, .grid_budget = VX_RENDER_NO_GRID};
     if (vx_render_scene_create_ex(gpu, s, &d, &o->rs, &err) || vx_frame_renderer_create(o->rs, s, &o->fr, &err)) {
         fprintf(stderr, "  create (%s): %s\n", vx_render_layout_name(layout), err.msg);
         vx_render_scene_destroy(o->rs);

@@ -152,8 +152,8 @@ static void test_default_equals_color(void) {
     if (!done) fprintf(stderr, "  corpus not available: generated scene only\n");
 }
 
-/* The grid walk in the pass kernels (pass_grid.glsl; render/grid.h), with the grids asked for (a CPU device
- * builds none by default): (1) the default list equals vx_render_frame's colour mode bit for bit, merged and
+/* The grid walk in the pass kernels (pass_grid.glsl; render/grid.h), with the grids asked for (the default on
+ * every device): (1) the default list equals vx_render_frame's colour mode bit for bit, merged and
  * separate, as without grids: trace.comp and the passes take the walk by one rule (vx__render_scene_grid_spec),
  * so a kernel left on the octree walk would show as a t's last bits apart; (2) against the octree walk (the same
  * scene, its grids switched off) the lists with shadow and AO rays hit the same pixels with near colours: the

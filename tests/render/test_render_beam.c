@@ -40,6 +40,9 @@
 
 static vx_gpu* gpu;
 static const char* gpu_skip;
+/* the scenes without grids: the beam pass runs only where the models walk their octrees (with grids, the
+ * default on every device, it is off: the grid walk skips empty space by distance itself) */
+static const vx_render_scene_desc no_grid = {.grid_budget = VX_RENDER_NO_GRID};
 
 typedef struct beam_stats {
     double iter_off, iter_on; /* mean loop iterations per pixel */
@@ -141,7 +144,7 @@ static void terrain_views(uint32_t extent) {
     vx_error err = {0};
     CHECK(bench_terrain(&s, extent, 0, &err) == 0);
     vx_render_scene* rs = NULL;
-    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &no_grid, &rs, &err);
     CHECKF(r == VX_OK, "terrain: %s", err.msg);
     if (r) {
         vx_svo_scene_free(&s);
@@ -204,7 +207,7 @@ static void test_grazing(void) {
     ts_scene(&s, &m, 1, &in, 1);
     vx_render_scene* rs = NULL;
     vx_error err = {0};
-    r = vx_render_scene_create(gpu, &s, &rs, &err);
+    r = vx_render_scene_create_ex(gpu, &s, &no_grid, &rs, &err);
     CHECKF(r == VX_OK, "floor: %s", err.msg);
     static const double dz[] = {0, 1e-4, -1e-4, 0.5};
     for (size_t i = 0; !r && i < sizeof dz / sizeof dz[0]; i++) {
@@ -232,7 +235,7 @@ static void test_instances(void) {
     ts_scene(&s, m, 3, in, 6);
     vx_render_scene* rs = NULL;
     vx_error err = {0};
-    vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &no_grid, &rs, &err);
     CHECKF(r == VX_OK, "instances: %s", err.msg);
     if (!r) {
         check_view("instances overview", rs, persp(90, 70, -60, -80, 90, 30, 30, 10), 8);
@@ -256,7 +259,7 @@ static void test_far_pointers(void) {
         int br = bench_terrain_desc(&s, 256, 0, &(vx_svo_build_desc){.testing.far_limit = lim ? 3 : 0}, &err);
         REQUIRE(br == 0);
         vx_render_scene* rs = NULL;
-        vx_result r = vx_render_scene_create(gpu, &s, &rs, &err);
+        vx_result r = vx_render_scene_create_ex(gpu, &s, &no_grid, &rs, &err);
         CHECKF(r == VX_OK, "far pointers: %s", err.msg);
         CHECKF(r || vx__render_scene_far(rs) == (lim == 1), "far limit %s: FAR %d", lim ? "3" : "default",
                r ? -1 : (int)vx__render_scene_far(rs));

@@ -185,7 +185,7 @@ static bool stroke(vx_svo_editor* e, const vx_svo_model* m, bool palette, int64_
     return res == VX_OK;
 }
 
-/* With grids (the grid walk; a CPU device builds none unless asked): each
+/* With grids (the grid walk; asked for, as every device's default): each
  * edited model's grid is made again (render_scene.c regrid), in its place or
  * after the others as it grows, and the frames must still equal the
  * reference's, which walks the compacted models' octrees. */

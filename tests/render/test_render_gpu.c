@@ -268,7 +268,7 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     vx_render_scene* rs = NULL;
     vx_render_image gi = {0}, ci = {0};
     cmp_result c = {0};
-    /* the grids asked for (a CPU device builds none by default) */
+    /* the grids asked for (the default on every device) */
     vx_render_scene_desc sd = {.grid_budget = VX_RENDER_GRID_BUDGET};
     vx_result r = vx_render_scene_create_ex(gpu, s, &sd, &rs, &err);
     CHECKF(r == VX_OK, "%s: %s", name, err.msg);

@@ -190,7 +190,7 @@ _Noreturn static void usage(int status) {
             "  --grid SIZE|off      GPU memory the grid walk may take (render/grid.h: the single-shader modes\n"
             "                       walk a model's grid of 8^3-cell bricks with empty-space distances instead\n"
             "                       of its octree, the same hits; grids for models of at most 13 levels, in\n"
-            "                       model order; default 1G on a GPU, off on a CPU device); off: none\n"
+            "                       model order; default 1G, on a CPU device too); off: none\n"
             "  --page-level L       the paged layout's page level (default: %u, pages of 512^3 cells)\n"
             "  --host-budget SIZE   paging from the file (--load models, the compact layout): the layout is\n"
             "                       paged whatever its size and the host holds its top and a cache of at\n"
