@@ -800,7 +800,7 @@ int main(int argc, char** argv) {
         uint32_t uni = vx__render_scene_grid_union(rs, -1); /* (the library's default) */
         if (rli.grid_models)
             printf("grid: %s: %u of %u models%s%.0u%s, %.2f MiB, built in %.3f s%s%.0u%s\n", name, rli.grid_models,
-                   s.model_count, uni ? " and the union of " : "", uni, uni ? " regions" : "",
+                   s.model_count, uni ? " and the union grid of " : "", uni, uni ? " instances" : "",
                    rli.grid_bytes / 1048576.0, rli.grid_seconds, rli.grid_cubes ? " (" : "", rli.grid_cubes,
                    rli.grid_cubes ? " over their cells' cube)" : "");
         bool dense = !is_deep && vx__dense_prepare(rs, &s, UINT64_C(1) << 30, &err) == VX_OK;

@@ -48,18 +48,23 @@ typedef struct inst_host {
     float cell;
 } inst_host;
 
-/* One grid over the cells of several instances (grid_walk.glsl's GRID_UNION): where every drawn instance's
- * model-from-world map has the same linear part and translations that differ by whole bricks (8 cells),
- * and each instance's cells lie in an aligned cube of 2^shift cells of their own (a converter's regions:
- * vox2svo's mesh regions, each a model at a whole region's offset), trace.comp's kernel of one instance
- * walks that grid without the BVH and maps a hit's cell to its cube's instance and model cell
- * (prepare_union). The instances it was built for are kept: it is used while they hold (a move or an
- * animation's frame that changes them walks the BVH again; set_frame compares them once, not each frame);
- * an edit of a model drops it. */
+/* One grid over the cells of several instances (grid_walk.glsl's GRID_UNION), of two kinds:
+ * - regions (prepare_union): every drawn instance's model-from-world map has the same linear part and
+ *   translations that differ by whole bricks (8 cells), and each instance's cells lie in an aligned cube of
+ *   2^shift cells of their own (a converter's regions: vox2svo's mesh regions, each a model at a whole
+ *   region's offset); its bricks are shared with the models' own grids, a hit's cell mapped to its cube's
+ *   instance and model cell;
+ * - turned instances (prepare_union_turned): the maps differ by signed permutations and whole cells (a .vox
+ *   scene's turned and mirrored models anywhere), no two instances holding the same cell; bricks of its own,
+ *   a hit's instance from its brick's owner word.
+ * trace.comp's kernel of one instance walks it without the BVH. The instances it was built for are kept: it
+ * is used while they hold (a move or an animation's frame that changes them walks the BVH again; set_frame
+ * compares them once, not each frame); an edit of a model drops it. */
 typedef struct grid_union {
     uint32_t insts;      /* instances it holds (0: none built or dropped) */
     uint32_t addr;       /* its header's word in rs->grid (grid_walk.glsl's groot: the header, then the grid) */
-    uint32_t table;      /* its cube table's word: shift, nx, ny, nz, then per cube instance, cell offset xyz */
+    uint32_t table;      /* its table's word (regions: shift, nx, ny, nz, then per cube instance, cell offset xyz;
+                          * turned instances: prepare_union_turned) */
     uint32_t depth, top; /* its cube of 2^depth cells and root level */
     uint32_t box[6];     /* its cells' box, hi exclusive */
     uint32_t flags;      /* its model record's (VX__MODEL_HAS_COLOR, VX__MODEL_EXACT) */
@@ -730,6 +735,263 @@ static void prepare_union(vx_render_scene* rs, const vx_svo_scene* s, uint64_t b
     vx_free(&rs->alloc, e);
 }
 
+/* The union of turned instances (grid_union, its table's word 0 UNION_TURNED): where the regions' union does not
+ * hold, every drawn instance whose model holds a cell maps the first one's cells to its own by a signed
+ * permutation and whole cells (a .vox scene's turned and mirrored models at any cell offset: p = A u + b, A's
+ * entries 0 or +-1, b whole), and no two instances hold the same cell, one grid is built over all their cells
+ * (bricks of its own: the instances' cells need not fill bricks of their own). A hit's cell maps back through
+ * its brick's owner word (render/shaders/grid_walk.glsl): the instance whose cells fill the brick, or
+ * UNION_MIXED | the word address of 16-bit instance indices, one per set cell of the brick in bit order. The
+ * table: word 0 UNION_TURNED, word 1 the owner words' key (brick word address w: key + (w >> 4)), then per
+ * instance i at 4 + 4 i: i | per model axis c its union axis (2 bits at 16 + 2 c) and sign (bit 22 + c: -1),
+ * then o_c: model cell p_c = s_c u_ax + o_c of union cell u. Its hits' records descend from the model's root
+ * (header word 3: 0). Overlapping cells would need the walks' tie rule between instances: no union then. */
+enum { UNION_TURNED = 0x80000000u, UNION_MIXED = 0x80000000u, UNION_TURNED_MAX = 0xFFFF };
+
+typedef struct turn_map {
+    int32_t q[3];  /* union cell u_r = s_c p_c + q_r, r = ax[c] */
+    uint8_t ax[3]; /* per model axis c: its union axis */
+    int8_t s[3];   /* and sign */
+} turn_map;
+
+typedef struct turn_ctx {
+    vx__grid_bricks* b;
+    const vx_allocator* a;
+    const turn_map* map;
+    uint32_t slot;
+    uint32_t* owner; /* per brick: the instance that set its cells, or UNION_MIXED */
+    size_t owner_cap;
+    uint16_t* cells; /* pass 2: per mixed brick 512 instance indices (by its index in mixed) */
+    const uint32_t* mixed;
+    uint64_t count;
+    bool clash, nomem;
+} turn_ctx;
+
+static bool turn_block(void* user, uint32_t bx, uint32_t by, uint32_t bz, const uint32_t bits[16]) {
+    turn_ctx* c = user;
+    const turn_map* t = c->map;
+    const uint32_t bo[3] = {bx << 3, by << 3, bz << 3};
+    for (uint32_t k = 0; k < 512; k++) {
+        if (!(bits[k >> 5] >> (k & 31) & 1u)) continue;
+        const uint32_t p[3] = {bo[0] + (k & 7), bo[1] + (k >> 3 & 7), bo[2] + (k >> 6)};
+        uint32_t u[3];
+        for (int m = 0; m < 3; m++) u[t->ax[m]] = (uint32_t)(t->s[m] * (int64_t)p[m] + t->q[t->ax[m]]);
+        uint32_t i = (u[0] & 7) | (u[1] & 7) << 3 | (u[2] & 7) << 6;
+        if (c->cells) { /* pass 2: the mixed bricks' cells */
+            uint32_t* w = vx__grid_brick_at(c->b, u[0] >> 3, u[1] >> 3, u[2] >> 3);
+            if (!w) return c->nomem = true, false;
+            uint32_t j = c->mixed[(size_t)(w - c->b->bits.w) / 16];
+            if (j != UINT32_MAX) c->cells[512 * (size_t)j + i] = (uint16_t)c->slot;
+            continue;
+        }
+        if (++c->count > (UINT64_C(1) << 26)) return c->nomem = true, false; /* (seconds of this loop) */
+        uint32_t* w = vx__grid_brick_at(c->b, u[0] >> 3, u[1] >> 3, u[2] >> 3);
+        if (!w) return c->nomem = true, false;
+        size_t j = (size_t)(w - c->b->bits.w) / 16;
+        if (w[i >> 5] >> (i & 31) & 1u) return c->clash = true, false;
+        w[i >> 5] |= 1u << (i & 31);
+        if (j >= c->owner_cap) {
+            void* o = c->owner;
+            size_t cap = c->owner_cap;
+            if (!vx_grow(c->a, &o, &c->owner_cap, j + 1, 4)) return c->nomem = true, false;
+            c->owner = o;
+            for (size_t z = cap; z < c->owner_cap; z++) c->owner[z] = UINT32_MAX;
+        }
+        if (c->owner[j] == UINT32_MAX) c->owner[j] = c->slot;
+        else if (c->owner[j] != c->slot) c->owner[j] = UNION_MIXED;
+    }
+    return true;
+}
+
+/* The instances' maps from the first's cells (turn_map, table entries) for prepare_union_turned; false where
+ * one is not a signed permutation and whole cells. */
+static bool turn_maps(const vx_render_scene* rs, const vx_svo_scene* s, uint32_t first, turn_map* tm,
+                      uint32_t* ent, int64_t emin[3], uint64_t ext[3], uint32_t box[6]) {
+    const inst_host* in = rs->inst;
+    const double* f = in[first].inv;
+    /* the first's linear part inverted (its cells to world) */
+    double L[9], det, I[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) L[3 * r + c] = f[4 * r + c];
+    I[0] = L[4] * L[8] - L[5] * L[7], I[1] = L[2] * L[7] - L[1] * L[8], I[2] = L[1] * L[5] - L[2] * L[4];
+    I[3] = L[5] * L[6] - L[3] * L[8], I[4] = L[0] * L[8] - L[2] * L[6], I[5] = L[2] * L[3] - L[0] * L[5];
+    I[6] = L[3] * L[7] - L[4] * L[6], I[7] = L[1] * L[6] - L[0] * L[7], I[8] = L[0] * L[4] - L[1] * L[3];
+    det = L[0] * I[0] + L[1] * I[3] + L[2] * I[6];
+    if (!(fabs(det) > 1e-300)) return false;
+    for (int k = 0; k < 9; k++) I[k] /= det;
+    int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+    for (uint32_t i = 0; i < rs->inst_count; i++) {
+        if (s->models[in[i].model].root == VX_SVO_ROOT_EMPTY) continue;
+        const double* g = in[i].inv;
+        double A[9], b[3];
+        uint32_t used = 0;
+        for (int r = 0; r < 3; r++) {
+            for (int c = 0; c < 3; c++)
+                A[3 * r + c] = g[4 * r] * I[c] + g[4 * r + 1] * I[3 + c] + g[4 * r + 2] * I[6 + c];
+            b[r] = g[4 * r + 3] - (A[3 * r] * f[3] + A[3 * r + 1] * f[7] + A[3 * r + 2] * f[11]);
+        }
+        turn_map* t = &tm[i];
+        uint32_t code = 0;
+        for (int c = 0; c < 3; c++) { /* model axis c: row c of A, one entry +-1 */
+            int ax = -1;
+            for (int r = 0; r < 3; r++) {
+                double v = A[3 * c + r], rv = rint(v);
+                if (fabs(v - rv) > 1e-9 || fabs(rv) > 1) return false;
+                if (rv != 0) {
+                    if (ax >= 0) return false;
+                    ax = r, t->s[c] = (int8_t)rv;
+                }
+            }
+            if (ax < 0 || used >> ax & 1u) return false;
+            used |= 1u << ax, t->ax[c] = (uint8_t)ax;
+            double rb = rint(b[c]);
+            if (fabs(b[c] - rb) > 1e-9 || fabs(rb) > 0x1p20) return false;
+            /* cell p_c = s u + b - [s < 0] (the cell [u, u + 1] of the union lands on [p, p + 1]) */
+            int64_t bc = (int64_t)rb, neg = t->s[c] < 0;
+            t->q[ax] = (int32_t)(t->s[c] * (neg - bc));
+            const uint32_t* mc = &rs->mcells[6 * in[i].model];
+            int64_t ulo = t->s[c] > 0 ? (int64_t)mc[c] - bc : bc - (int64_t)mc[3 + c];
+            int64_t uhi = t->s[c] > 0 ? (int64_t)mc[3 + c] - bc : bc - (int64_t)mc[c];
+            if (ulo < lo[ax]) lo[ax] = ulo;
+            if (uhi > hi[ax]) hi[ax] = uhi;
+            code |= (uint32_t)ax << (16 + 2 * c) | (uint32_t)neg << (22 + c);
+        }
+        ent[4 * i] = i | code;
+    }
+    for (int k = 0; k < 3; k++) {
+        if (lo[k] < -(INT64_C(1) << 20) || hi[k] - lo[k] > (INT64_C(1) << 20)) return false;
+        emin[k] = lo[k], ext[k] = (uint64_t)(hi[k] - lo[k]) < 8 ? 8 : (uint64_t)(hi[k] - lo[k]);
+        box[k] = 0, box[3 + k] = (uint32_t)(hi[k] - lo[k]);
+    }
+    /* the maps in the union's cells (less emin): u = s p + q - emin, p = s u + o with o = s (emin - q) */
+    for (uint32_t i = 0; i < rs->inst_count; i++) {
+        if (s->models[in[i].model].root == VX_SVO_ROOT_EMPTY) continue;
+        turn_map* t = &tm[i];
+        for (int c = 0; c < 3; c++) {
+            int ax = t->ax[c];
+            ent[4 * i + 1 + c] = (uint32_t)(int32_t)(t->s[c] * (emin[ax] - (int64_t)t->q[ax]));
+        }
+        for (int r = 0; r < 3; r++) t->q[r] = (int32_t)(t->q[r] - emin[r]);
+    }
+    return true;
+}
+
+static void prepare_union_turned(vx_render_scene* rs, const vx_svo_scene* s, uint64_t budget, vx__grid_words* out) {
+    uint32_t n = rs->inst_count, first = UINT32_MAX, held = 0;
+    if (n < 2 || n > UNION_TURNED_MAX) return;
+    const inst_host* in = rs->inst;
+    bool color = false;
+    for (uint32_t i = 0; i < n; i++) {
+        const vx_svo_model* m = &s->models[in[i].model];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        if (m->depth > VX_RENDER_GRID_DEPTH || (m->node_count && !m->nodes)) return;
+        color |= (rs->gm[in[i].model].flags & VX__MODEL_HAS_COLOR) != 0;
+        if (first == UINT32_MAX) first = i;
+        held++;
+    }
+    if (held < 2) return;
+    size_t nt = 4 + 4 * (size_t)n;
+    turn_map* tm = vx_calloc(&rs->alloc, n, sizeof *tm);
+    uint32_t* table = vx_calloc(&rs->alloc, nt, 4);
+    int64_t emin[3];
+    uint64_t ext[3];
+    uint32_t box[6];
+    vx__grid_bricks b = {.alloc = &rs->alloc};
+    turn_ctx tc = {.b = &b, .a = &rs->alloc};
+    uint32_t* mixed = NULL;
+    bool ok = tm && table && turn_maps(rs, s, first, tm, table + 4, emin, ext, box);
+    /* pass 1: every instance's cells into the bricks, each brick's owner; a cell set twice: no union */
+    for (uint32_t i = 0; ok && i < n; i++) {
+        const vx_svo_model* m = &s->models[in[i].model];
+        if (m->root == VX_SVO_ROOT_EMPTY) continue;
+        tc.map = &tm[i], tc.slot = i;
+        vx_error ge = {0};
+        ok = vx_svo_decode_blocks(m, turn_block, &tc, &ge) == VX_OK && !tc.clash && !tc.nomem;
+    }
+    size_t nb = b.bits.n / 16, nmix = 0;
+    for (size_t j = 0; ok && j < nb; j++) nmix += tc.owner[j] == UNION_MIXED;
+    /* pass 2: the mixed bricks' cells' instances */
+    if (ok && nmix) {
+        ok = (mixed = vx_alloc(&rs->alloc, nb * 4)) && (tc.cells = vx_calloc(&rs->alloc, nmix * 512, 2));
+        for (size_t j = 0, k = 0; ok && j < nb; j++) mixed[j] = tc.owner[j] == UNION_MIXED ? (uint32_t)k++ : UINT32_MAX;
+        tc.mixed = mixed;
+        for (uint32_t i = 0; ok && i < n; i++) {
+            const vx_svo_model* m = &s->models[in[i].model];
+            if (m->root == VX_SVO_ROOT_EMPTY) continue;
+            tc.map = &tm[i], tc.slot = i;
+            vx_error ge = {0};
+            ok = vx_svo_decode_blocks(m, turn_block, &tc, &ge) == VX_OK && !tc.nomem && b.bits.n / 16 == nb;
+        }
+    }
+    uint32_t depth = 3;
+    while (ok && depth < 40 && ((ext[0] - 1) >> depth || (ext[1] - 1) >> depth || (ext[2] - 1) >> depth)) depth++;
+    ok = ok && depth <= VX_RENDER_GRID_DEPTH;
+    uint32_t rebase, need = vx__render_model_deep(&(vx_svo_model){.depth = depth, .root = 0}, &rebase);
+    size_t before = out->n;
+    uint32_t top = vx__grid_top(depth, 0), addr = (uint32_t)out->n;
+    vx_error ge = {0};
+    ok = ok && vx__grid_words_grow(&rs->alloc, out, 4);
+    if (ok) {
+        grid_header(box, &out->w[out->n]);
+        out->w[out->n + 3] = 0; /* no record words: a hit's record from its model's root */
+        out->n += 4;
+    }
+    ok = ok && vx__grid_layout(&b, depth, top, NULL, 0, out, &ge) == VX_OK;
+    uint64_t R = (uint64_t)1 << (depth - 3 * top), brick0 = addr + 4 + R * R * R;
+    /* the table, the bricks' owner words, the mixed bricks' cell lists (16 bits a set cell) */
+    uint32_t taddr = (uint32_t)out->n;
+    size_t words = nt + nb;
+    for (size_t j = 0; ok && j < nb; j++)
+        if (tc.owner[j] == UNION_MIXED) {
+            uint32_t set = 0;
+            for (int k = 0; k < 16; k++) set += (uint32_t)__builtin_popcount(b.bits.w[16 * j + k]);
+            words += (set + 1) / 2;
+        }
+    ok = ok && vx__grid_words_grow(&rs->alloc, out, words) && (out->n + words) * 4 <= budget &&
+         out->n + words < UNION_MIXED && (rs->uni.held = vx_alloc(&rs->alloc, (size_t)n * sizeof *in));
+    if (ok) {
+        uint32_t* w = out->w + out->n;
+        table[0] = UNION_TURNED, table[1] = (uint32_t)(taddr + nt - (brick0 >> 4));
+        memcpy(w, table, nt * 4);
+        uint32_t* own = w + nt;
+        uint32_t list = (uint32_t)(taddr + nt + nb);
+        for (size_t j = 0; j < nb; j++) {
+            if (tc.owner[j] != UNION_MIXED) {
+                own[j] = tc.owner[j];
+                continue;
+            }
+            own[j] = UNION_MIXED | list;
+            const uint32_t* bits = &b.bits.w[16 * j];
+            const uint16_t* cs = &tc.cells[512 * (size_t)mixed[j]];
+            uint32_t r = 0, *lw = out->w + list;
+            for (uint32_t k = 0; k < 512; k++)
+                if (bits[k >> 5] >> (k & 31) & 1u) {
+                    if (!(r & 1)) lw[r >> 1] = 0;
+                    lw[r >> 1] |= (uint32_t)cs[k] << (16 * (r & 1));
+                    r++;
+                }
+            list += (r + 1) / 2;
+        }
+        out->n += words;
+        memcpy(rs->uni.held, in, (size_t)n * sizeof *in);
+        rs->uni.holds = true;
+        memcpy(rs->uni.inv, in[first].inv, sizeof rs->uni.inv);
+        for (int r = 0; r < 3; r++) rs->uni.inv[4 * r + 3] -= (double)emin[r]; /* exact: integers below 2^20 */
+        memcpy(rs->uni.box, box, sizeof box);
+        rs->uni.insts = held, rs->uni.n = n, rs->uni.addr = addr, rs->uni.table = taddr;
+        rs->uni.depth = depth, rs->uni.top = top, rs->uni.deep = need;
+        rs->uni.flags = (color ? VX__MODEL_HAS_COLOR : 0u) | (need ? VX__MODEL_EXACT : 0u);
+    } else {
+        out->n = before;
+    }
+    vx__grid_bricks_free(&b);
+    vx_free(&rs->alloc, tc.owner);
+    vx_free(&rs->alloc, tc.cells);
+    vx_free(&rs->alloc, mixed);
+    vx_free(&rs->alloc, table);
+    vx_free(&rs->alloc, tm);
+}
+
 /* Whether the instances as they are now are those the union grid was built for (set_frame's check). */
 static bool union_matches(const vx_render_scene* rs) {
     const grid_union* u = &rs->uni;
@@ -794,6 +1056,10 @@ static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const
      * a small group of cells in a large model, whose dense root is mostly empty), every grid is laid out
      * again over that cube where it is smaller (pass 1, GRID_CUBE: each walk then derives its cube, which
      * cost 1-5% of the rays/s on the H100 where it changed nothing, p85b; so not where no grid needs it) */
+    /* on a CPU device, turned instances as one grid too (stop 84's patch, stop 87): lavapipe traced the
+     * 104-instance scene's union 1.46-1.64x faster than its instances under the BVH (each instance box a ray
+     * enters sets up a walk, costlier on a CPU's lanes); on the H100 it was 0.97-1.00x, so a GPU keeps the BVH */
+    if (!rs->uni.insts && vx_gpu_is_cpu(rs->gpu)) prepare_union_turned(rs, s, budget, &out);
     size_t models_at = out.n;
     bool shrink = false;
     for (int pass = 0; pass < 2; pass++) {

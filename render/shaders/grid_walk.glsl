@@ -15,7 +15,8 @@
 // holds a cell has a grid, so the octree walk is compiled out; bit 3 (GRID_EXACT): every grid's root is at
 // level k (k >= 2), a constant too (terrain4096's root at level 2: its lookups and shifts fixed); bit 4
 // (GRID_UNION, trace_common.glsl, where GRID is declared): trace.comp's kernel of one instance walks the
-// union of a converter's regions, a hit's cell then mapped to its region's instance and model cell; bit 5
+// union grid of several instances (a converter's regions, or on a CPU device turned instances: render_scene.c
+// grid_union), a hit's cell then mapped to its instance and model cell; bit 5
 // (GRID_CUBE): some grid covers a cube other than its model's (render/grid.h vx__grid_cube: its cells' box's,
 // smaller), so each walk takes its cube from its header's box and its model's depth (grid_cube); without it
 // every grid's cube is its model's from cell 0 and that code is compiled out (stop 85, H100: deriving it in
@@ -309,13 +310,40 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     uint fa = axis == 0 ? flip.x : (axis == 1 ? flip.y : flip.z); // mirrored: the direction's sign bit set
     uint mflags = m.flags;
     if (GRID_UNION) {
-        // the union of regions (render_scene.c grid_union): the hit cell's cube of 2^shift cells holds one
-        // instance; its entry: the instance and its model's offset in the union's cells
+        // the union (render_scene.c grid_union), its table's word 0: regions (below bit 31: the hit cell's
+        // cube of 2^shift cells holds one instance; its entry: the instance and its model's offset in the
+        // union's cells) or turned instances
         uint tb = grid_union_table();
-        uvec3 rc = cell >> gwords[tb];
-        uint e = tb + 4u + 4u * ((rc.z * gwords[tb + 2u] + rc.y) * gwords[tb + 1u] + rc.x);
-        h.inst = gwords[e];
-        cell -= uvec3(gwords[e + 1u], gwords[e + 2u], gwords[e + 3u]);
+        uint t0 = gwords[tb];
+        if (t0 < 0x80000000u) {
+            uvec3 rc = cell >> t0;
+            uint e = tb + 4u + 4u * ((rc.z * gwords[tb + 2u] + rc.y) * gwords[tb + 1u] + rc.x);
+            h.inst = gwords[e];
+            cell -= uvec3(gwords[e + 1u], gwords[e + 2u], gwords[e + 3u]);
+        } else {
+            // turned instances (render_scene.c prepare_union_turned): the hit brick's owner word, the instance
+            // whose cells fill it or (bit 31) the address of its set cells' instances, 16 bits each in bit order
+            uint ow = gwords[gwords[tb + 1u] + (base0 >> 4)];
+            if (ow >= 0x80000000u) {
+                uint i = (cell.z & 7u) << 6 | (cell.y & 7u) << 3 | (cell.x & 7u), rank = 0u;
+                for (uint k = 0u; k < (i >> 5); k++) rank += uint(bitCount(gwords[base0 + k]));
+                rank += uint(bitCount(gwords[base0 + (i >> 5)] & ((1u << (i & 31u)) - 1u)));
+                ow = (gwords[(ow & 0x7FFFFFFFu) + (rank >> 1)] >> (16u * (rank & 1u))) & 0xFFFFu;
+            }
+            uint e = tb + 4u + 4u * ow, w0 = gwords[e];
+            h.inst = w0 & 0xFFFFu;
+            // model axis c: union axis ax[c], sign bit sg[c]; p_c = s_c u_ax[c] + o_c
+            uvec3 ax = uvec3(w0 >> 16, w0 >> 18, w0 >> 20) & 3u;
+            bvec3 sg = notEqual(uvec3(w0 >> 22, w0 >> 23, w0 >> 24) & 1u, uvec3(0u));
+            ivec3 u = ivec3(cell);
+            ivec3 up = ivec3(u[ax.x], u[ax.y], u[ax.z]);
+            cell = uvec3(mix(up, -up, sg) + ivec3(gwords[e + 1u], gwords[e + 2u], gwords[e + 3u]));
+            uint ua = uint(axis);
+            int ma = ax.x == ua ? 0 : (ax.y == ua ? 1 : 2);
+            // the face's side: the ray's sign along the hit axis, negated on a mirrored model axis
+            if (sg[ma]) fa = fa != 0u ? 0u : 1u;
+            axis = ma;
+        }
         mi = INST_AT(h.inst).model;
         mflags = model_at(mi).flags;
     }

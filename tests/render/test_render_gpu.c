@@ -1678,8 +1678,144 @@ static void test_grid_union(void) {
         vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(1, NULL, bad ? 8 : 20, 0, 0)};
         vx_svo_scene s;
         ts_scene(&s, m, 2, in, 2);
-        CHECKF(union_insts(&s, NULL) == 0, "%s: a union was built", bad ? "overlapping cubes" : "offset within a brick");
+        /* within a brick: the union of turned instances (test_grid_union_turned; a CPU device's only) holds both;
+         * overlapping cubes whose cells meet: none */
+        uint32_t want = bad || !vx_gpu_is_cpu(gpu) ? 0 : 2, got = union_insts(&s, NULL);
+        CHECKF(got == want, "%s: the union holds %u instances, expected %u", bad ? "overlapping cubes" : "offset within a brick",
+               got, want);
         check_scene(bad ? "overlapping cubes" : "offset within a brick", &s, cam(-30, -40, 50, 16, 8, 8), 100);
+        vx_svo_scene_free(&s);
+    }
+}
+
+/* Each hit pixel's world normal (VX_RENDER_NORMAL) on rs as it walks against the CPU reference's where both hit the
+ * same instance and cell: a turned instance's hit axis and side mapped back from the union's frame. */
+static void check_normals(const char* name, vx_render_scene* rs, const vx_svo_scene* s, vx_render_desc d) {
+    d.mode = VX_RENDER_NORMAL, d.want_hits = true;
+    vx_render_image g = {0}, c = {0};
+    vx_error err = {0};
+    CHECKF(vx_render_frame(rs, &d, &g, &err) == VX_OK, "%s normals: %s", name, err.msg);
+    CHECKF(vx_render_cpu(s, &d, NULL, &c, &err) == VX_OK, "%s normals reference: %s", name, err.msg);
+    size_t n = (size_t)d.width * d.height, same = 0, differ = 0;
+    for (size_t i = 0; g.hits && c.hits && i < n; i++) {
+        const vx_render_hit *a = &g.hits[i], *b = &c.hits[i];
+        if (a->instance == VX_RENDER_NO_HIT || a->instance != b->instance || memcmp(a->cell, b->cell, sizeof a->cell) ||
+            (b->flags & VX_RENDER_HIT_AMBIGUOUS))
+            continue;
+        same++;
+        bool near = true;
+        for (int k = 0; k < 3; k++) near &= fabsf(g.pixels[4 * i + k] - c.pixels[4 * i + k]) < 1e-4f;
+        if (!near && differ++ < 4)
+            fprintf(stderr, "  %s normal pixel %zu: %g %g %g, the reference's %g %g %g\n", name, i, g.pixels[4 * i],
+                    g.pixels[4 * i + 1], g.pixels[4 * i + 2], c.pixels[4 * i], c.pixels[4 * i + 1], c.pixels[4 * i + 2]);
+    }
+    CHECKF(same > 50 && differ == 0, "%s: %zu of %zu hit pixels' normals differ from the reference's", name, differ,
+           same);
+    vx_render_image_free(&g), vx_render_image_free(&c);
+}
+
+/* The union of turned instances (render_scene.c prepare_union_turned): models turned about each axis and mirrored,
+ * at cell offsets within bricks (bricks holding cells of two or three instances: the owner lists), one model drawn
+ * twice, one empty, as is and in a scaled and mirrored world (every instance's map times a common one); each view
+ * against the CPU reference and against the BVH's walk (check_scene), its normals against the reference's, axis
+ * views with pixel centres on cell edges. Two instances that hold the same cell build none. Built on a CPU device
+ * only; a GPU runs the same views under the BVH. */
+static void test_grid_union_turned(void) {
+    if (gpu_skip) SKIP("%s", gpu_skip);
+    static const double rots[6][9] = {{1, 0, 0, 0, 1, 0, 0, 0, 1},  {0, -1, 0, 1, 0, 0, 0, 0, 1},
+                                      {1, 0, 0, 0, 0, -1, 0, 1, 0}, {0, 0, 1, 0, 1, 0, -1, 0, 0},
+                                      {-1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 1, 0, 1, 0, 0, 0, 0, -1}};
+    static const double common[9] = {-0.5, 0, 0, 0, 0, 0.5, 0, 0.5, 0}; /* scaled, mirrored, y and z swapped */
+    for (int lin = 0; lin < 2; lin++) {
+        vx_svo_model m[4];
+        memset(m, 0, sizeof m);
+        REQUIRE(ts_random_model(&m[0], 5, 6, 7, 55, 921) == VX_OK);
+        REQUIRE(ts_random_model(&m[1], 6, 5, 4, 60, 922) == VX_OK);
+        REQUIRE(ts_random_model(&m[2], 7, 7, 3, 50, 923) == VX_OK);
+        REQUIRE(ts_model(&m[3], (uint32_t[3]){6, 6, 6}, NULL, NULL, 0) == VX_OK);
+        /* 3 rows of 4 boxes, each against the one before it in x, the rows 7 cells apart in y (every turned box at
+         * most 7 wide), off the bricks by 1-3 cells: most bricks hold cells of two or more instances (the owner
+         * lists) */
+        enum { NI = 12 };
+        vx_svo_instance in[NI];
+        int x = 1;
+        for (int i = 0; i < NI; i++) {
+            const double* r = rots[i % 6];
+            const uint32_t mi = (uint32_t)(i % 4), *sz = m[mi].size;
+            double mm[9], t[3];
+            if (i % 4 == 0) x = 1 + i / 4;
+            int org[3] = {x, 2 + 7 * (i / 4), 1 + i % 3};
+            x += (int)(fabs(r[0]) * sz[0] + fabs(r[1]) * sz[1] + fabs(r[2]) * sz[2]); /* its extent in x */
+            /* a turned box at its origin: its cells at [org, org + size) turned about the box's corner; the
+             * rotation's negative axes moved back by the model's size */
+            for (int a = 0; a < 3; a++) {
+                t[a] = org[a];
+                for (int c = 0; c < 3; c++) t[a] += r[3 * a + c] < 0 ? (double)sz[c] : 0;
+            }
+            memcpy(mm, r, sizeof mm);
+            if (lin) { /* world = common (r p + t) */
+                double cm[9], ct[3];
+                for (int a = 0; a < 3; a++) {
+                    ct[a] = 0;
+                    for (int c = 0; c < 3; c++) {
+                        cm[3 * a + c] = 0;
+                        for (int k = 0; k < 3; k++) cm[3 * a + c] += common[3 * a + k] * r[3 * k + c];
+                        ct[a] += common[3 * a + c] * t[c];
+                    }
+                }
+                memcpy(mm, cm, sizeof mm), memcpy(t, ct, sizeof t);
+            }
+            in[i] = ts_inst(mi, mm, t[0], t[1], t[2]);
+        }
+        vx_svo_scene s;
+        ts_scene(&s, m, 4, in, NI);
+        vx_render_scene* rs = NULL;
+        uint32_t held = union_insts(&s, &rs);
+        REQUIRE(rs);
+        /* a GPU keeps the BVH for turned instances (render_scene.c prepare_grids): the same views, no union */
+        uint32_t want = vx_gpu_is_cpu(gpu) ? 9 : 0;
+        CHECKF(held == want, "turned%s: the union holds %u instances, expected %u", lin ? " scaled" : "", held, want);
+        double lo[3], hi[3], c[3], sc = lin ? 0.5 : 1;
+        vx_svo_scene_world_bounds(&s, lo, hi);
+        for (int k = 0; k < 3; k++) c[k] = (lo[k] + hi[k]) / 2;
+        vx_render_desc views[3] = {cam(c[0] - 12 * sc, c[1] - 18 * sc, c[2] + 24 * sc, c[0], c[1], c[2]),
+                                   cam(lo[0] - 4 * sc, c[1] + 2 * sc, c[2] + 1 * sc, hi[0], c[1], c[2]),
+                                   cam(c[0] + 10 * sc, hi[1] + 12 * sc, lo[2] - 8 * sc, c[0], c[1], c[2])};
+        char nm[96];
+        /* strict: a hit on another instance's cell at the same t (check_scene's tie between coplanar instances)
+         * would hide a wrong owner */
+        g_strict = true;
+        for (int v = 0; v < 3; v++) {
+            views[v].width = 64, views[v].height = 48;
+            snprintf(nm, sizeof nm, "turned%s, view %d", lin ? " scaled" : "", v);
+            check_scene(nm, &s, views[v], 200);
+            check_normals(nm, rs, &s, views[v]);
+        }
+        g_strict = false;
+        /* along each axis, 32 pixels over 32 world units: pixel centres on cell edges (as is) */
+        for (int axis = 0; axis < 3 && !lin; axis++) {
+            vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 32, .height = 32};
+            d.camera.set = true, d.camera.ortho = true, d.camera.ortho_height = 32;
+            for (int k = 0; k < 3; k++) {
+                double e = k == axis ? lo[k] - 40 : floor(c[k]);
+                d.camera.eye[k] = e, d.camera.target[k] = k == axis ? c[k] : e;
+            }
+            d.camera.up[(axis + 1) % 3] = 1;
+            snprintf(nm, sizeof nm, "turned, axis %d on cell edges", axis);
+            check_scene(nm, &s, d, 40);
+        }
+        vx_render_scene_destroy(rs);
+        vx_svo_scene_free(&s);
+    }
+    /* one model twice at the same place, turned: their cells meet, no union */
+    {
+        vx_svo_model m;
+        REQUIRE(ts_random_model(&m, 8, 8, 8, 50, 931) == VX_OK);
+        vx_svo_instance in[2] = {ts_inst(0, NULL, 0, 0, 0), ts_inst(0, rots[1], 8, 0, 0)};
+        vx_svo_scene s;
+        ts_scene(&s, &m, 1, in, 2);
+        CHECKF(union_insts(&s, NULL) == 0, "turned instances whose cells meet: a union was built");
+        check_scene("turned instances whose cells meet", &s, cam(-20, -25, 30, 4, 4, 4), 100);
         vx_svo_scene_free(&s);
     }
 }
@@ -2020,6 +2156,7 @@ int main(void) {
     RUN(test_grid_cube);
     RUN(test_grid_sparse_blocks);
     RUN(test_grid_union);
+    RUN(test_grid_union_turned);
     RUN(test_axis_rays_on_edges);
     RUN(test_diagonal_edges_corners);
     RUN(test_ray_origins);
