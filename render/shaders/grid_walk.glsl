@@ -286,6 +286,12 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // DEEP kernels) take t from the cell's planes against the hi/lo origin instead (entry_tau, from oq made at
     // the setup), as trace_model; elsewhere o, d and o_lo need not live across the loop (registers, occupancy).
     precise vec3 tent = fma(vec3(ivec3(f) - if0), invd, bias);
+    // an axis the ray runs along (its component under 2^-23, walked as 2^-23: invd at 2^23) crosses none of
+    // the cell's planes, so it is never the hit's, as in the CPU reference (render/cpu_trace.c: -inf). Without
+    // this, a ray on a cell edge that enters its cell across the box's face ties its -0 there with the face
+    // axis's -0, and the first axis won: straight-down rays on x = 7.0 shaded with the x face's normal
+    // (test_sky's top face, 0.485 off, found when lavapipe took the grid walk by default in stop 87)
+    tent = mix(tent, vec3(uintBitsToFloat(0xFF800000u)), greaterThanEqual(invd, vec3(exp2(23.0))));
     int axis = 0;
     precise float ta = tent.x;
     if (tent.y > ta) { axis = 1; ta = tent.y; }

@@ -1185,11 +1185,16 @@ bool trace_model(uint mi, RVEC3 o, vec3 o_lo, RVEC3 d, REAL t0, REAL t1, bool an
     // component accesses (c[axis] = ..., d[axis], p[axis]) into code that
     // never finished for some pixels of a 1920x1080 frame (issue 21);
     // explicit selects compute the same cell.
+    // An axis the ray runs along (|dl| at eps: -coef at 1 / eps) crosses none of the cube's planes, so it is
+    // never the entry's, as in the CPU reference (render/cpu_trace.c: -inf): axis-parallel rays through cell
+    // centres had tent of the parallel axis first and took its face's normal (test_render_gpu
+    // test_axis_rays_on_edges' normals, stop 87)
     WPREC RVEC3 tent = (pos + scale_exp2) * coef - bias;
-    int axis = 0;
-    REAL ta = tent.x;
-    if (tent.y > ta) { axis = 1; ta = tent.y; }
-    if (tent.z > ta) axis = 2;
+    bvec3 par = greaterThanEqual(-coef, RVEC3(1.0 / eps));
+    int axis = par.x ? (par.y ? 2 : 1) : 0; // the first axis the ray crosses (d is not 0)
+    REAL ta = axis == 0 ? tent.x : (axis == 1 ? tent.y : tent.z);
+    if (!par.y && tent.y > ta) { axis = 1; ta = tent.y; }
+    if (!par.z && tent.z > ta) axis = 2;
     // unmirror the leaf cube and find the cell holding the hit point
     WPREC RVEC3 lo, c;
     WPREC REAL sz;

@@ -687,11 +687,13 @@ bool trace_model(uint mi, vec3 o, vec3 o_lo, vec3 d, float t0, float t1, bool an
         if (!(t <= h.t)) return false;
         if (any_hit) { h.t = t; return true; }
     }
+    // an axis the ray runs along (|dl| at eps) is never the entry's: trace_common.glsl's rule (stop 87)
     vec3 tent = (pos + scale_exp2) * coef - bias;
-    int axis = 0;
-    float ta = tent.x;
-    if (tent.y > ta) { axis = 1; ta = tent.y; }
-    if (tent.z > ta) axis = 2;
+    bvec3 par = greaterThanEqual(-coef, vec3(1.0 / eps));
+    int axis = par.x ? (par.y ? 2 : 1) : 0;
+    float ta = axis == 0 ? tent.x : (axis == 1 ? tent.y : tent.z);
+    if (!par.y && tent.y > ta) { axis = 1; ta = tent.y; }
+    if (!par.z && tent.z > ta) axis = 2;
     vec3 lo, c;
     float sz;
     if (REBASE && koff != 0) {

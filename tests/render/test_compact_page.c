@@ -16,7 +16,8 @@
  * refused, bytes over) and draws the rest coarse. Scenes: generated palette
  * and RGBA models with rotated instances at page levels 3 and 4, and a
  * height field of 11 levels (the two-frame walk) at page level 6, 9 (the
- * default: the rebase level, VX_RENDER_FRAME_LEVELS) and 10. */
+ * default: the rebase level, VX_RENDER_FRAME_LEVELS) and 10. The plain scenes ask for no grids: the compact
+ * kernels mirror the octree walk's t bits, the grid walk takes t from its own planes (render.h grid_budget). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -82,7 +83,7 @@ static void run(const vx_svo_scene* s, uint32_t page_level, uint32_t pool_div, c
     vx_compact_scene c;
     vx_compact_paged p;
     vx_compact_gpu *full = NULL, *cg = NULL;
-    REQUIRE(vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rs, &err) ==
+    REQUIRE(vx_render_scene_create_ex(gpu, s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN, .grid_budget = VX_RENDER_NO_GRID}, &rs, &err) ==
             VX_OK);
     REQUIRE(vx_compact_build(NULL, s, &c, &err) == VX_OK);
     REQUIRE(vx_compact_gpu_create(rs, s, &c, &full, &err) == VX_OK);
@@ -209,7 +210,7 @@ static void test_render_scene(void) {
     ts_scene(&s, &m, 1, in, 2);
     vx_error err = {0};
     vx_render_scene *rp = NULL, *rc = NULL, *rg = NULL;
-    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN}, &rp, &err) ==
+    REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_PLAIN, .grid_budget = VX_RENDER_NO_GRID}, &rp, &err) ==
             VX_OK);
     REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.layout = VX_RENDER_LAYOUT_COMPACT}, &rc, &err) ==
             VX_OK);
@@ -217,7 +218,7 @@ static void test_render_scene(void) {
     vx_render_scene_layout(rc, &lc);
     CHECK(lc.layout == VX_RENDER_LAYOUT_COMPACT && lc.pages == 0 && lc.compact_bytes > 0);
     uint64_t budget = lc.compact_bytes * 3 / 4;
-    vx_result r = vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = budget, .page_level = 4},
+    vx_result r = vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = budget, .page_level = 4, .grid_budget = VX_RENDER_NO_GRID},
                                             &rg, &err);
     CHECKF(r == VX_OK, "paged: %s", err.msg);
     if (!r) {
@@ -250,7 +251,7 @@ static void test_render_scene(void) {
         /* a budget below the top and the largest page: the whole compact layout, over it */
         vx_render_scene* rt = NULL;
         vx_render_layout_info lt;
-        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = 64, .page_level = 4}, &rt,
+        REQUIRE(vx_render_scene_create_ex(gpu, &s, &(vx_render_scene_desc){.memory_budget = 64, .page_level = 4, .grid_budget = VX_RENDER_NO_GRID}, &rt,
                                           &err) == VX_OK);
         vx_render_scene_layout(rt, &lt);
         CHECK(lt.layout == VX_RENDER_LAYOUT_COMPACT && lt.pages == 0 && lt.bytes > lt.budget);
