@@ -2431,14 +2431,7 @@ static vx_result update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32
     vx__buffer *wt = nwb.buf ? &nwb : &rs->nodes, *ct = ncb.buf ? &ncb : &rs->colors;
     /* staged where the target is not mapped (a discrete GPU's device-local memory) */
     VkDeviceSize wst = wt->map ? 0 : (VkDeviceSize)wn * 4, cst = ct->map ? 0 : (VkDeviceSize)cn * 4;
-    if (wst + cst > rs->stage.size) {
-        vx__buffer_destroy(g, &rs->stage);
-        if ((r = vx__buffer_create(g, (wst + cst) * 2, 0, true, "update staging", &rs->stage, err))) goto fail;
-        if (!rs->stage.map) {
-            r = vx_fail(err, VX_ERR_GPU, VX_NO_OFFSET, "staging buffer is not host visible");
-            goto fail;
-        }
-    }
+    if ((r = stage_room(rs, wst + cst, err))) goto fail;
     vx__gpu_model gm = rs->gm[mi];
     gm.node_off = wp.off, gm.color_off = cp.off, gm.depth = m->depth, gm.root = m->root, gm.root_attr = m->root_attr;
     /* the words below wvalid stay: the FAR bit is kept and ORed with the new ones' */
