@@ -4,7 +4,7 @@
 
 #include "render/grid.h"
 
-enum { DIST_CAP = 0xFFFF };
+enum { DIST_CAP = VX__GRID_DIST_MASK, OCT_MAX = 7 };
 #define EMPTY VX__GRID_EMPTY
 
 static uint32_t popc(uint32_t m) { return (uint32_t)__builtin_popcount(m); }
@@ -101,6 +101,47 @@ static void fill_distances(uint32_t* g, uint64_t n, uint32_t* queue) {
     }
 }
 
+/* After fill_distances: each empty entry of the n^3 grid g also gets, per octant o of directions (bit a set:
+ * toward -a), how much further than its distance d the empty cube from it toward o reaches (render/grid.h
+ * VX__GRID_OCT_SHIFT): the largest k with every entry of [P, P + s (k - 1)] in the grid empty, less d, at most
+ * 7. A ray leaves that cube, not only the cube around P (stop 88: beside a model's surface the cube around an
+ * entry stops at the surface behind the ray as well). The largest cube by the usual recurrence over the octant's
+ * 7 neighbours, k(P) = 1 + min k(P + s delta) (outside the grid: unbounded), an entry visited after those
+ * neighbours. k: n^3 bytes of scratch. k >= d always (the Chebyshev cube of radius d - 1 holds P's octant cube
+ * of side d). */
+static void fill_octants(uint32_t* g, uint32_t n, uint8_t* k) {
+    for (uint32_t o = 0; o < 8; o++) {
+        int s[3] = {o & 1 ? -1 : 1, o & 2 ? -1 : 1, o & 4 ? -1 : 1};
+        for (uint32_t zi = 0; zi < n; zi++)
+            for (uint32_t yi = 0; yi < n; yi++)
+                for (uint32_t xi = 0; xi < n; xi++) {
+                    /* toward +a the neighbours are at higher a: visit a from the far end */
+                    int64_t x = s[0] > 0 ? n - 1 - xi : xi, y = s[1] > 0 ? n - 1 - yi : yi,
+                            z = s[2] > 0 ? n - 1 - zi : zi;
+                    uint64_t i = ((uint64_t)z * n + (uint64_t)y) * n + (uint64_t)x;
+                    if (g[i] < EMPTY) {
+                        k[i] = 0;
+                        continue;
+                    }
+                    unsigned m = 255;
+                    for (int dl = 1; dl < 8; dl++) {
+                        int64_t X = x + (dl & 1 ? s[0] : 0), Y = y + (dl & 2 ? s[1] : 0), Z = z + (dl & 4 ? s[2] : 0);
+                        if (X < 0 || Y < 0 || Z < 0 || X >= (int64_t)n || Y >= (int64_t)n || Z >= (int64_t)n) continue;
+                        unsigned v = k[((uint64_t)Z * n + (uint64_t)Y) * n + (uint64_t)X];
+                        if (v < m) m = v;
+                    }
+                    k[i] = (uint8_t)(m < 255 ? m + 1 : 255);
+                    uint32_t d = g[i] & DIST_CAP, e = k[i] > d ? k[i] - d : 0;
+                    g[i] |= (e < OCT_MAX ? e : OCT_MAX) << (VX__GRID_OCT_SHIFT + 3 * o);
+                }
+    }
+}
+
+static void fill_empty(uint32_t* g, uint32_t n, uint32_t* queue, bool octants) {
+    fill_distances(g, n, queue);
+    if (octants) fill_octants(g, n, (uint8_t*)queue); /* (the queue's n^3 words are done with: n^3 bytes of them) */
+}
+
 static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const uint32_t org[3], uint64_t base,
                         const uint32_t* at, vx__grid_words* out, vx_error* err);
 
@@ -117,6 +158,7 @@ static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const 
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: no layout for a 2^%u cube with its root at level %u",
                        depth, top);
     uint64_t R = (uint64_t)1 << (depth - 3 * top), R3 = R * R * R;
+    bool oct = depth - 3 * top >= VX__GRID_OCT_ROOT_LOG; /* the empty entries' octant extents (render/grid.h) */
     size_t root = out->n, nb = b->bits.n / 16;
     /* every address below EMPTY: root, bricks and at most one node per brick and level */
     if (base + root + R3 + 16 * (uint64_t)nb + 512 * (uint64_t)nb * (top - 1) >= EMPTY)
@@ -175,14 +217,14 @@ static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const 
             uint32_t e = (cc.w[3 * i] & 7) | (cc.w[3 * i + 1] & 7) << 3 | (cc.w[3 * i + 2] & 7) << 6;
             out->w[pa.w[ni] - base + e] = ca.w[i];
         }
-        for (size_t i = 0; i < pa.n && !r; i++) fill_distances(out->w + (pa.w[i] - base), 8, queue);
+        for (size_t i = 0; i < pa.n && !r; i++) fill_empty(out->w + (pa.w[i] - base), 8, queue, oct);
         vx_free(a, pk), vx_free(a, pv), vx_free(a, cc.w), vx_free(a, ca.w);
         cc = pc, ca = pa;
     }
     if (!r) {
         for (size_t i = 0; i < ca.n; i++)
             out->w[root + ((uint64_t)cc.w[3 * i + 2] * R + cc.w[3 * i + 1]) * R + cc.w[3 * i]] = ca.w[i];
-        fill_distances(out->w + root, R, queue);
+        fill_empty(out->w + root, (uint32_t)R, queue, oct);
     }
 done:
     vx_free(a, cc.w), vx_free(a, ca.w), vx_free(a, queue);

@@ -13,7 +13,9 @@
  * empty cell whose nearest occupied cell of the same level is d cells away in
  * the Chebyshev metric, within its node (nodes) or the root, so every cell
  * there within d - 1 of it is empty: a ray leaves that whole cube in one
- * step. Words: the root, the bricks, then each level's nodes bottom up, then
+ * step; and per octant of directions how much further the empty cube from
+ * it toward that octant reaches (VX__GRID_OCT_SHIFT below). Words: the
+ * root, the bricks, then each level's nodes bottom up, then
  * (a model with attributes) one record word a brick, in the bricks' order
  * (vx__grid_brick_record: where a hit's octree descent for its attribute
  * record starts, so that it walks the last three levels, not all).
@@ -28,6 +30,18 @@
 #include "svo/svo.h"
 
 #define VX__GRID_EMPTY UINT32_C(0x80000000)
+/* An empty entry's word (stop 88): VX__GRID_EMPTY | d | the 8 octants' 3-bit extents from bit
+ * VX__GRID_OCT_SHIFT, octant o's (bit a of o set: toward -a) at VX__GRID_OCT_SHIFT + 3 o. d (at most
+ * VX__GRID_DIST_MASK: no occupied entry nearer, or none) is the Chebyshev distance above; d + e_o is the side
+ * of the empty cube from the entry toward o (capped at d + 7; outside the node or root counts as empty), which
+ * a ray whose direction lies in o leaves in one step. */
+#define VX__GRID_DIST_MASK UINT32_C(0x7F)
+/* The extents are made only in grids whose root is at least 2^VX__GRID_OCT_ROOT_LOG entries a side (their
+ * nodes too); elsewhere they are 0, which is valid (the cube toward o is at least the distance's). The kernel
+ * reads them only where some grid's root is that wide (render_scene.c grid_bits, grid_walk.glsl GRID_OCT): on
+ * smaller roots they saved fewer steps than they cost (stop 88), and an edited small model's grid is made
+ * again without them. */
+enum { VX__GRID_OCT_SHIFT = 7, VX__GRID_OCT_ROOT_LOG = 6 };
 /* The default root: at most 2^7 = 128 cells of level `top` a side (8 MiB). */
 enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
 

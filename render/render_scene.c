@@ -137,7 +137,8 @@ struct vx_render_scene {
      * (UINT32_MAX: none), then the grids, each after a 4-word header (its cells' box: lo.x | lo.y << 16,
      * lo.z | hi.x << 16, hi.y | hi.z << 16, 0; hi exclusive); grid_top the kernel's GRID: the greatest root level (0: no grid),
      * | 4 where every model that holds a cell has one (the octree walk compiled out), | 8 every root at the
-     * greatest level (>= 2), | 32 some grid's cube is not its model's (vx__grid_cube: GRID_CUBE);
+     * greatest level (>= 2), | 32 some grid's cube is not its model's (vx__grid_cube: GRID_CUBE), | 64 some
+     * grid's root is wide (GRID_OCT: grid_bits);
      * grid_on: vx__render_scene_grid (-1 the default: on where a grid was built) */
     vx__buffer grid;
     uint32_t* grid_at; /* host copy of the table's words 0 .. model_count - 1 (NULL: no grid) */
@@ -1013,19 +1014,25 @@ static bool union_holds(const vx_render_scene* rs) { return rs->uni.insts && rs-
  * the float64 variant's scenes. A model the grid cannot lay out keeps its octree walk. */
 /* grid_walk.glsl's GRID from the grids the models have now (prepare_grids, regrid): the greatest root level,
  * GRID_ALL where every model that holds a cell has a grid, GRID_EXACT where every root is at that level and it is
- * 2 or more (at 1 the level is a constant already), GRID_CUBE as the grids were laid out (rs->grid_cube) */
+ * 2 or more (at 1 the level is a constant already), GRID_CUBE as the grids were laid out (rs->grid_cube),
+ * GRID_OCT where some grid's root is at least 2^VX__GRID_OCT_ROOT_LOG a side (render/grid.h: those grids hold
+ * the octant extents; stop 88, H200: the terrains' roots of 64-128 1.14-1.35x their rays/s, the corpus's of 16-32
+ * 0.92-1.00x), from its model's depth (a grid over its cells' cube may be narrower: its extents are 0 then) */
 static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
     uint32_t made = 0, cells = 0, top = 0, low = UINT32_MAX;
+    bool wide = false;
     for (uint32_t i = 0; i < rs->model_count; i++) {
         cells += s->models[i].root != VX_SVO_ROOT_EMPTY;
         if (rs->grid_at[i] == UINT32_MAX) continue;
-        uint32_t t = rs->grid_slot[i].top;
+        uint32_t t = rs->grid_slot[i].top, d = s->models[i].depth < 3 ? 3 : s->models[i].depth;
         made++;
         if (t > top) top = t;
         if (t < low) low = t;
+        wide |= d >= 3 * t + VX__GRID_OCT_ROOT_LOG;
     }
     rs->grid_top = !made ? 0u
-                         : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) | (rs->grid_cube ? 32u : 0u);
+                         : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) |
+                               (rs->grid_cube ? 32u : 0u) | (wide ? 64u : 0u);
 }
 
 static vx_result prepare_grids(vx_render_scene* rs, const vx_svo_scene* s, const vx_render_scene_desc* desc,
@@ -2363,8 +2370,8 @@ static vx_result update_model(vx_render_scene* rs, const vx_svo_scene* s, uint32
         if (rs->grid.map) memcpy((uint32_t*)rs->grid.map + mi, &none, 4); /* settled: no frame reads it */
         else *stale = true;
         rs->grid_at[mi] = UINT32_MAX;
-        rs->grid_top &= 3u | 32u; /* not every model has a grid now: the octree walk is compiled in (and the
-                                   * root level taken from each grid's depth: its bits 2-3 off) */
+        rs->grid_top &= 3u | 32u | 64u; /* not every model has a grid now: the octree walk is compiled in (and
+                                         * the root level taken from each grid's depth: its bits 2-3 off) */
     }
     /* the shadow map's node list is the models' as made: an edited scene has
      * no map (listing the nodes again would cost a stroke tens of ms on a

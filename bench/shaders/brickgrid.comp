@@ -145,7 +145,7 @@ void main() {
                 continue;
             }
             // empty: leave the empty cube [P - dist + 1, P + dist) (within the node below the root)
-            uint dist = SKIP != 0u ? (w & 0xFFFFu) : 1u;
+            uint dist = SKIP != 0u ? (w & 0x7Fu) : 1u; // (render/grid.h: its octant extents above bit 6 not read)
             uvec3 up = P + dist;
             if (LV < TOP) up = min(up, (P | 7u) + 1u);
             vec3 tc = fma(vec3(up << SH), invd, bias);

@@ -20,11 +20,18 @@
 // (GRID_CUBE): some grid covers a cube other than its model's (render/grid.h vx__grid_cube: its cells' box's,
 // smaller), so each walk takes its cube from its header's box and its model's depth (grid_cube); without it
 // every grid's cube is its model's from cell 0 and that code is compiled out (stop 85, H100: deriving it in
-// every walk cost 1-5% of the rays/s on the scenes whose cubes it does not change)
+// every walk cost 1-5% of the rays/s on the scenes whose cubes it does not change); bit 6 (GRID_OCT) below
 const uint GRID_TOP = GRID & 3u;
 const bool GRID_CUBE = (GRID & 32u) != 0u;
 const bool GRID_ALL = (GRID & 4u) != 0u;
 const bool GRID_EXACT = (GRID & 8u) != 0u;
+// bit 6 (GRID_OCT): an empty entry is left by its empty cube toward the ray's octant (render/grid.h
+// VX__GRID_OCT_SHIFT: its distance plus the octant's extent), not only by the cube around it; set where some grid's
+// root is at least 64 entries a side (render_scene.c grid_bits). Stop 88 (H200, bench/results/p88d_h200.txt): the
+// terrains' views 1.14-1.35x their rays/s, the corpus's small roots (16-32 a side) 0.92-1.00x (fewer steps saved
+// than the skip's extra work costs: eph_dragon's oblique 9.9 -> 9.1 steps at 0.99x), so they keep the cube around
+// the entry (the words' extents not read)
+const bool GRID_OCT = (GRID & 64u) != 0u;
 // words 0 .. model count - 1: each model's grid address (NO_HIT: none), then the grids, each a 4-word header
 // (its cells' box, render_scene.c prepare_grids; word 3 its bricks' record key, render/grid.h vx__grid_records)
 // and the grid (render/grid.h) from its root. Binding 14 in
@@ -177,8 +184,11 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
     // GRID_LOOKUP: P's entry w from the root down, s3 the shift from level-1 cells to w's level (a root at level
     // 1 holds the bricks).
     // GRID_ENTER: w is a brick: the cell the ray is in.
-    // GRID_SKIP: w is empty at level s3 / 3 + 1: leave its empty cube [Pk - dist + 1, Pk + dist) (within its
-    // node below the root), in level-1 cells; out of the cells' box or past the ray's end, the walk ends.
+    // GRID_SKIP: w is empty at level s3 / 3 + 1: leave its empty cube [Pk - dist + 1, Pk + dist), or with
+    // GRID_OCT its empty cube toward the ray's octant, [Pk, Pk + dist) in the walk's (mirrored) cells, dist its
+    // distance plus the octant's extent (render/grid.h; stored coordinates: a mirrored axis is a negative
+    // direction, negm's bit); either within its node below the root, in level-1 cells. The walk moves up only,
+    // so both are left by their upper planes. Out of the cells' box or past the ray's end, the walk ends.
 #define GRID_FINE \
             uint i = (((f.z & 7u) << 6) | ((f.y & 7u) << 3) | (f.x & 7u)) ^ bflip;                                  \
             uint wd = gwords[base0 + (i >> 5)];                                                                     \
@@ -221,7 +231,7 @@ bool trace_model_grid(uint mi, uint groot, vec3 o, vec3 o_lo, vec3 d, float t0, 
                 base0 = w;                                                                                          \
                 f = clamp(c, lo8, lo8 + 7u);
 #define GRID_SKIP \
-            uint dist = w & 0xFFFFu;                                                                                \
+            uint dist = GRID_OCT ? (w & 0x7Fu) + ((w >> (7u + 3u * negm)) & 7u) : w & 0x7Fu;                         \
             uvec3 Pk = P >> s3;                                                                                     \
             uvec3 up = Pk + dist;                                                                                   \
             if (s3 < top3) up = min(up, (Pk | 7u) + 1u);                                                            \

@@ -5,6 +5,7 @@
  * by brute force (no occupied entry nearer, one at that distance); the root
  * level rule against the shader's (grid_walk.glsl grid_top). CPU only. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "tests/test.h"
@@ -77,33 +78,91 @@ static bool rec_cell(void* user, uint32_t x, uint32_t y, uint32_t z, uint32_t at
     return true;
 }
 
+/* The occupied entries of an n^3 grid (x fastest) as a summed-volume table:
+ * sv[(z * (n + 1) + y) * (n + 1) + x] counts those below (x, y, z). */
+static uint32_t* summed_volume(const uint32_t* g, uint32_t n) {
+    uint64_t m = n + 1;
+    uint32_t* sv = calloc(m * m * m, 4);
+    CHECK(sv != NULL);
+    for (uint64_t z = 1; sv && z <= n; z++)
+        for (uint64_t y = 1; y <= n; y++)
+            for (uint64_t x = 1; x <= n; x++)
+                sv[(z * m + y) * m + x] = (g[((z - 1) * n + y - 1) * n + x - 1] < VX__GRID_EMPTY) +
+                                          sv[(z * m + y) * m + x - 1] + sv[(z * m + y - 1) * m + x] +
+                                          sv[((z - 1) * m + y) * m + x] - sv[(z * m + y - 1) * m + x - 1] -
+                                          sv[((z - 1) * m + y) * m + x - 1] - sv[((z - 1) * m + y - 1) * m + x] +
+                                          sv[((z - 1) * m + y - 1) * m + x - 1];
+    return sv;
+}
+
+/* The occupied entries in the box [lo, hi] (inclusive, clipped to the grid) */
+static uint32_t occupied(const uint32_t* sv, uint32_t n, const int64_t lo[3], const int64_t hi[3]) {
+    int64_t a[3], b[3], m = n + 1;
+    for (int k = 0; k < 3; k++) {
+        a[k] = lo[k] < 0 ? 0 : lo[k], b[k] = hi[k] >= (int64_t)n ? (int64_t)n - 1 : hi[k];
+        if (a[k] > b[k]) return 0;
+        b[k]++;
+    }
+#define SV(x, y, z) (int64_t) sv[((z)*m + (y)) * m + (x)]
+    return (uint32_t)(SV(b[0], b[1], b[2]) - SV(a[0], b[1], b[2]) - SV(b[0], a[1], b[2]) - SV(b[0], b[1], a[2]) +
+                      SV(a[0], a[1], b[2]) + SV(a[0], b[1], a[2]) + SV(b[0], a[1], a[2]) - SV(a[0], a[1], a[2]));
+#undef SV
+}
+
 /* Every empty entry of an n^3 grid g (x fastest): no occupied entry within
  * Chebyshev distance d - 1, and one at d exactly (where any is occupied and
- * d is below the cap). Returns the entries that fail. */
-static size_t check_distances(const uint32_t* g, uint32_t n) {
+ * d is below the cap); and per octant o (bit a: toward -a) its extent e_o
+ * (render/grid.h VX__GRID_OCT_SHIFT): where octants, the empty cube from the
+ * entry toward o of side d + e_o is empty and, below the cap of 7, the one
+ * of side d + e_o + 1 is not (outside the grid counts as empty); else 0.
+ * Counted by a summed-volume table, not by the build's search and recurrence.
+ * Returns the entries that fail. */
+static size_t check_distances(const uint32_t* g, uint32_t n, bool octants) {
     size_t bad = 0;
-    bool any = false;
-    for (uint64_t i = 0; i < (uint64_t)n * n * n; i++) any |= g[i] < VX__GRID_EMPTY;
+    uint32_t* sv = summed_volume(g, n);
+    if (!sv) return 1;
+    bool any = sv[(uint64_t)(n + 1) * (n + 1) * (n + 1) - 1] > 0;
     for (uint32_t z = 0; z < n; z++)
         for (uint32_t y = 0; y < n; y++)
             for (uint32_t x = 0; x < n; x++) {
                 uint32_t e = g[((uint64_t)z * n + y) * n + x];
                 if (e < VX__GRID_EMPTY) continue;
-                uint32_t d = e & 0xFFFF, nearest = 0xFFFF;
-                for (uint32_t Z = 0; Z < n; Z++)
-                    for (uint32_t Y = 0; Y < n; Y++)
-                        for (uint32_t X = 0; X < n; X++) {
-                            if (g[((uint64_t)Z * n + Y) * n + X] >= VX__GRID_EMPTY) continue;
-                            uint32_t c = (uint32_t)abs((int)X - (int)x);
-                            if ((uint32_t)abs((int)Y - (int)y) > c) c = (uint32_t)abs((int)Y - (int)y);
-                            if ((uint32_t)abs((int)Z - (int)z) > c) c = (uint32_t)abs((int)Z - (int)z);
-                            if (c < nearest) nearest = c;
+                int64_t p[3] = {x, y, z}, lo[3], hi[3];
+                uint32_t d = e & VX__GRID_DIST_MASK;
+                bool ok = d >= 1;
+                /* radius d - 1 empty; radius d holds one (below the cap) */
+                for (int r = 0; r < 2 && ok; r++) {
+                    int64_t rad = (int64_t)d - 1 + r;
+                    for (int k = 0; k < 3; k++) lo[k] = p[k] - rad, hi[k] = p[k] + rad;
+                    uint32_t c = occupied(sv, n, lo, hi);
+                    ok = r == 0 ? c == 0 : (!any ? d == VX__GRID_DIST_MASK : (c > 0 || d == VX__GRID_DIST_MASK));
+                }
+                for (int o = 0; o < 8 && ok; o++) {
+                    uint32_t eo = e >> (VX__GRID_OCT_SHIFT + 3 * o) & 7;
+                    if (!octants) {
+                        ok = eo == 0;
+                        continue;
+                    }
+                    for (int r = 0; r < 2 && ok; r++) {
+                        if (r == 1 && eo == 7) break;
+                        int64_t side = (int64_t)d + eo + r;
+                        for (int k = 0; k < 3; k++) {
+                            bool negk = (o >> k) & 1;
+                            lo[k] = negk ? p[k] - side + 1 : p[k], hi[k] = negk ? p[k] : p[k] + side - 1;
                         }
-                if (d < 1 || (any && d != nearest) || (!any && d != 0xFFFF)) {
-                    if (bad < 4) fprintf(stderr, "  entry %u,%u,%u of %u^3: distance %u, nearest %u\n", x, y, z, n, d, nearest);
+                        /* (a cube of side + 1 empty in the grid would have made the extent larger: outside
+                         * the grid counts as empty, so its extent is 7 there) */
+                        uint32_t c = occupied(sv, n, lo, hi);
+                        ok = r == 0 ? c == 0 : c > 0;
+                    }
+                    if (!ok) fprintf(stderr, "  entry %u,%u,%u of %u^3: octant %d extent %u (distance %u)\n", x, y, z, n, o, eo, d);
+                }
+                if (!ok) {
+                    if (bad < 4) fprintf(stderr, "  entry %u,%u,%u of %u^3: distance %u\n", x, y, z, n, d);
                     bad++;
                 }
             }
+    free(sv);
     return bad;
 }
 
@@ -152,14 +211,15 @@ static void check_model(const char* name, const vx_svo_model* m, bool every_cell
         }
     }
     CHECKF(wrong == 0, "%s: %zu cells differ", name, wrong);
-    /* the distances: the root by brute force where small, and every node */
-    if (R <= 16) CHECKF(check_distances(w + root, R) == 0, "%s: root distances", name);
+    /* the distances and the octant extents (made where the root is wide: render/grid.h), the root and every node */
+    bool wide = depth - 3 * top >= VX__GRID_OCT_ROOT_LOG;
+    CHECKF(check_distances(w + root, R, wide) == 0, "%s: root distances", name);
     size_t nodes = 0, bad_nodes = 0;
     for (uint64_t i = 0; i < (uint64_t)R * R * R; i++) {
         uint32_t e = w[root + i];
         if (e >= VX__GRID_EMPTY || top < 2) continue;
         nodes++;
-        bad_nodes += check_distances(w + (e - base), 8) != 0;
+        bad_nodes += check_distances(w + (e - base), 8, wide) != 0;
     }
     CHECKF(bad_nodes == 0, "%s: %zu of %zu level-%u nodes with wrong distances", name, bad_nodes, nodes, top);
     printf("%-28s depth %2u top %u root %3u^3: %zu words, %zu cells checked set%s, %zu records from their bricks\n",
@@ -184,7 +244,10 @@ static void test_models(void) {
  * block (a uniform leaf: full bricks without cells), sampled plus every set
  * cell's neighbourhood through the random samples' misses. */
 static void test_deep_levels(void) {
-    for (uint32_t depth = 11; depth <= 14; depth += 3) {
+    /* (and 9 and 12: roots of 64 at levels 1 and 2, which hold the octant extents) */
+    static const uint32_t depths[] = {9, 11, 12, 14};
+    for (size_t di = 0; di < sizeof depths / sizeof depths[0]; di++) {
+        uint32_t depth = depths[di];
         uint32_t n = 0, xyz[3 * 600];
         uint32_t seed = depth, side = (1u << depth) - 1;
         for (int i = 0; i < 88; i++, n++)
@@ -374,7 +437,7 @@ static void test_cube(void) {
             CHECKF(wrong == 0 && cells > 0 && cells == m.voxel_count, "%s: %zu cells differ, %zu of %llu found", nm,
                    wrong, cells, (unsigned long long)m.voxel_count);
             uint32_t R = 1u << (depth - 3 * top);
-            if (R <= 16) CHECKF(check_distances(out.w + 5, R) == 0, "%s: root distances", nm);
+            CHECKF(check_distances(out.w + 5, R, depth - 3 * top >= VX__GRID_OCT_ROOT_LOG) == 0, "%s: root distances", nm);
             rec_check rc = {&m, out.w, 71, 5, depth, top, rec, 0, 0, nm, {org[0], org[1], org[2]}};
             CHECK(vx_svo_decode_model(&m, rec_cell, &rc, &err) == VX_OK);
             CHECKF(rc.wrong == 0 && rc.cells == m.voxel_count, "%s: %zu of %zu cells' records differ", nm, rc.wrong,

@@ -41,6 +41,9 @@ typedef struct cmp_result {
  * g_force: -1 lets the scene pick the float/float64 variant, 0/1 forces one. */
 static double g_min_share = 0.9999, g_max_ambiguous = 0.125;
 static bool g_strict;
+/* check_scene: 0 or 1, whether the grid walk's kernel must read the empty entries' octant extents (GRID_OCT,
+ * grid_walk.glsl: some grid's root at least 64 wide, render/grid.h VX__GRID_OCT_ROOT_LOG); -1 not checked */
+static int g_want_oct = -1;
 static int g_force = -1;
 
 static cmp_result compare(const char* name, const vx_render_image* g, const vx_render_image* c) {
@@ -291,6 +294,12 @@ static cmp_result check_scene(const char* name_in, const vx_svo_scene* s, vx_ren
     /* a converter's regions walked as one grid by default (render_scene.c grid_union): then each region's grid
      * under the BVH too */
     bool uni = grids && vx__render_scene_grid_union(rs, -1) > 0;
+    if (grids && g_want_oct >= 0) {
+        vx__frame f = {0};
+        vx__buffer* gb = NULL;
+        uint32_t spec = vx__render_scene_grid_spec(rs, &f, &gb);
+        CHECKF(((spec & 64u) != 0) == (g_want_oct == 1), "%s: GRID %u, want GRID_OCT %d", name, spec, g_want_oct);
+    }
     /* with grids: each walk's albedo against the reference's (check_albedo) */
     vx_render_image ca = {0};
     if (grids && !rc) {
@@ -361,7 +370,9 @@ static void test_corpus(void) {
         done++; /* found: a file that fails to load fails the test, not skips it */
         CHECKF(st == VX_TEST_VOX_OK, "%s: not loaded", files[i]);
         if (st != VX_TEST_VOX_OK) continue;
+        g_want_oct = 0; /* the corpus's roots are 16-32 wide: main's walk, the extents not read */
         check_scene(files[i], &s, (vx_render_desc){.mode = VX_RENDER_DEPTH, .width = 64, .height = 48}, 100);
+        g_want_oct = -1;
         /* another view, orthographic from above */
         vx_render_desc d = {.mode = VX_RENDER_DEPTH, .width = 40, .height = 40};
         d.camera.ortho = true;
@@ -1418,7 +1429,9 @@ static void test_grid_mixed_roots(void) {
         views[v].width = 64, views[v].height = 48;
         char nm[64];
         snprintf(nm, sizeof nm, "mixed root levels, view %d", v);
+        g_want_oct = 1; /* the 2^12 model's root is 64 wide: both models walked with the octant extents */
         check_scene(nm, &s, views[v], 200);
+        g_want_oct = -1;
     }
     vx_svo_scene_free(&s);
     for (int copies = 1; copies <= 2; copies++) {
@@ -1431,7 +1444,9 @@ static void test_grid_mixed_roots(void) {
         for (int v = 0; v < 3; v++) {
             char nm[64];
             snprintf(nm, sizeof nm, "root level 2 only, %d instance%s, view %d", copies, copies > 1 ? "s" : "", v);
+            g_want_oct = 1;
             check_scene(nm, &s, views[v], 200);
+            g_want_oct = -1;
         }
         vx_svo_scene_free(&s);
     }
