@@ -158,7 +158,7 @@ static vx_result layout(vx__grid_bricks* b, uint32_t depth, uint32_t top, const 
         return vx_fail(err, VX_ERR_LIMIT, VX_NO_OFFSET, "grid: no layout for a 2^%u cube with its root at level %u",
                        depth, top);
     uint64_t R = (uint64_t)1 << (depth - 3 * top), R3 = R * R * R;
-    bool oct = depth - 3 * top >= VX__GRID_OCT_ROOT_LOG; /* the empty entries' octant extents (render/grid.h) */
+    bool oct = vx__grid_octants(depth, top); /* the empty entries' octant extents (render/grid.h) */
     size_t root = out->n, nb = b->bits.n / 16;
     /* every address below EMPTY: root, bricks and at most one node per brick and level */
     if (base + root + R3 + 16 * (uint64_t)nb + 512 * (uint64_t)nb * (top - 1) >= EMPTY)

@@ -42,6 +42,11 @@
  * smaller roots they saved fewer steps than they cost (stop 88), and an edited small model's grid is made
  * again without them. */
 enum { VX__GRID_OCT_SHIFT = 7, VX__GRID_OCT_ROOT_LOG = 6 };
+/* Whether a grid of a 2^depth cube with its root at level top is wide enough to hold the extents (the one rule
+ * for render/grid.c, which makes them, and render_scene.c, which sets the kernel's GRID_OCT). */
+static inline bool vx__grid_octants(uint32_t depth, uint32_t top) {
+    return depth >= 3 * top + VX__GRID_OCT_ROOT_LOG;
+}
 /* The default root: at most 2^7 = 128 cells of level `top` a side (8 MiB). */
 enum { VX__GRID_ROOT_LOG = 7, VX__GRID_MAX_TOP = 3 };
 

@@ -1028,7 +1028,7 @@ static void grid_bits(vx_render_scene* rs, const vx_svo_scene* s) {
         made++;
         if (t > top) top = t;
         if (t < low) low = t;
-        wide |= d >= 3 * t + VX__GRID_OCT_ROOT_LOG;
+        wide |= vx__grid_octants(d, t);
     }
     rs->grid_top = !made ? 0u
                          : top | (made == cells ? 4u : 0u) | (low == top && top >= 2 ? 8u : 0u) |
