@@ -242,10 +242,11 @@ static const spec_row spec_rows[] = {
     {"trace_precise.comp.h", "DEEP", 1, {0}},
     {"*", "DEEP", 3, {0, 1, 2}},
     /* the grid walk's GRID (vx__render_scene_grid_spec: render_scene.c's grid_top, the greatest root level 1-3,
-     * | 4 where every model with cells has a grid, | 8 where every root is at that level (2 or 3); 0 none), in
-     * trace.comp and the pass kernels that trace (render/pipeline.c, pass_grid.glsl) */
-    {"trace.comp.h gbuffer.comp.h direct.comp.h ao.comp.h frame.comp.h frame_display.comp.h", "GRID", 10,
-     {0, 1, 2, 3, 5, 6, 7, 10, 14, 15}},
+     * | 4 where every model with cells has a grid, | 8 where every root is at that level (2 or 3), | 16 the union
+     * grid (with 4, and 8 at level 2 or 3), | 32 grids over their cells' cubes, | 64 the octant extents (a root at
+     * least 64 wide); 0 none), in trace.comp and the pass kernels that trace (render/pipeline.c, pass_grid.glsl) */
+    {"trace.comp.h gbuffer.comp.h direct.comp.h ao.comp.h frame.comp.h frame_display.comp.h", "GRID", 14,
+     {0, 1, 2, 3, 5, 6, 7, 10, 14, 15, 21, 33, 65, 78}},
     {"trace.comp.h beam.comp.h", "COMPACT_FORM", 1, {0}},
     {"*", "COMPACT_FORM", 3, {0, 1, 2}},
     /* the beam's block side: render_scene.c's f->beam where over 1 (svo_render --beam), probe_gpu.c's BAKE_BEAM */
