@@ -1,7 +1,8 @@
 #!/bin/bash
-# Stop 89 (issue 21), first run: two experiments beside main's kernel in the same processes, every bench scene and
-# view with ESVO, one round (ROUNDS="1 2": two); then test_render_gpu (main's tests; its GRID_OCT checks time the committed form of
-# stop 88, which p88e_gpu.sh was written for).
+# Stop 89 (issue 21), first run: three experiments beside main's kernel in the same processes, every bench scene
+# and view with ESVO, one round (ROUNDS="1 2": two); the default rows time stop 88's committed octant extents (what
+# p88e_gpu.sh was written for); then test_render_gpu. The experiments' code: bench/results/p89_experiments.patch
+# (applies to 0daaaea; the payload's binaries were built with it).
 # - the screen cull in one dispatch (render_bench --kernels @c2: trace.comp CULL_PASS 2, the misses' workgroups as
 #   rows after the rectangle's) against main's two dispatches (@c1, the default row and again last);
 # - GRID_HOLD (grid_walk.glsl: a brick's cell steps keep the two words of the cell's 8x4x2 cells in registers and
