@@ -22,6 +22,9 @@ flt() { sed -u -E "s|$T/||g; s/  *\[warps[^]]*\]//; s/  *\[traced[^]]*\]//; s/^(
 F='^scene|^terrain|^  \(|px differ|^device|^render_bench|^stats: '
 gpu_name() { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null | head -1; }
 clock_start() { nvidia-smi --query-gpu=timestamp,clocks.sm --format=csv,noheader -lms 250 > $T/smi.log 2>/dev/null & smipid=$!; }
+# gpu_warmup FILE: 2 s of FILE's close-up without ESVO, output dropped, so that the first timed
+# process starts at the SM's clocks (the line the payloads before stop 89 carried inline)
+gpu_warmup() { timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup "$1" > /dev/null 2>&1; }
 run() { # label max-seconds args...: one process if 8 s of the whole are left
   local x=$1 mx=$2; shift 2; local l=$(left $LIM); [ $l -gt $((8 * ${TS:-1})) ] || { echo "   $x: no time left"; return; }
   [ $l -gt $(($mx * ${TS:-1})) ] && l=$(($mx * ${TS:-1}))

@@ -18,7 +18,7 @@ V="payload/eph_monu1.vox payload/eph_menger.vox payload/eph_dragon.vox payload/o
 K=@c2,payload/gv/k_main.spv@c1,payload/gv/k_hold.spv@c1,@c1
 echo "== $(cat payload/REV | tr '\n' ' ') on $(gpu_name), $(nproc) CPUs, $(date -u +%T)"
 clock_start
-timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
+gpu_warmup payload/eph_monu1.vox
 for r in ${ROUNDS:-1}; do
   run corpus$r 75 $T/render_bench --kernels $K --sizes $SIZE --runs $RUNS --warmup $WU $V
   run terrain$r 75 $T/render_bench --generate --kernels $K --sizes $SIZE --runs $RUNS --warmup $WU

@@ -18,7 +18,7 @@ payload_setup p89b
 V="payload/eph_monu1.vox payload/eph_menger.vox payload/eph_dragon.vox payload/ogt_doom.vox payload/ogt_test_multiple_model_scene.vox"
 echo "== $(cat payload/REV | tr '\n' ' ') on $(gpu_name), $(nproc) CPUs, $(date -u +%T)"
 clock_start
-timeout 10 $T/render_bench --no-esvo --sizes $SIZE --runs 300 --warmup 2 --views closeup payload/eph_monu1.vox > /dev/null 2>&1
+gpu_warmup payload/eph_monu1.vox
 for r in ${ROUNDS:-}; do
   run corpus$r 60 $T/render_bench --sizes $SIZE --runs $RUNS --warmup $WU $V
   run terrain$r 75 $T/render_bench --generate --sizes $SIZE --runs $RUNS --warmup $WU
